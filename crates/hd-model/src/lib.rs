@@ -1,1 +1,38 @@
-//! hd-model
+//! Physics of the harmonic-drive workbench: a DC motor driving an inertial load through a
+//! harmonic drive whose stiffness is hysteretic (cubic spring plus fading memory) and whose
+//! friction is dynamic (LuGre). The equations are those of `shared/MODEL.md`.
+//!
+//! Main types:
+//! - [`Params`] and the [`registry`]: every parameter with one name, unit, default, range;
+//! - the laws in [`laws`] ([`laws::stiffness::StiffnessLaw`], [`laws::friction::FrictionLaw`],
+//!   [`laws::motor::DcMotor`], [`laws::input::Input`]) combined by a [`Variant`];
+//! - [`DriveSystem`], the assembled ODE with its analytic Jacobian;
+//! - [`solver`], the adaptive Dopri5 / Rodas4 integrators;
+//! - [`simulate`] with [`SimConfig`] → [`SimOutput`] ([`Trace`], [`Metrics`], [`SolverStats`]).
+//!
+//! No I/O happens here; everything is `Send + Sync` and the integration allocates nothing
+//! per step.
+
+pub mod error;
+pub mod laws;
+pub mod metrics;
+pub mod params;
+pub mod params_file;
+pub mod registry;
+pub mod signals;
+pub mod simulate;
+pub mod solver;
+pub mod state;
+pub mod system;
+pub mod trace;
+pub mod variant;
+
+pub use error::{ConfigError, ParamError, SolverError};
+pub use laws::input::{Input, Profile};
+pub use metrics::{MetricSettings, Metrics};
+pub use params::Params;
+pub use simulate::{SimConfig, SimError, SimOutput, simulate};
+pub use solver::{Method, SolverOptions, SolverStats};
+pub use system::{DriveSystem, FrictionVelocity};
+pub use trace::{TRACE_COLUMNS, Trace};
+pub use variant::Variant;

@@ -1,0 +1,180 @@
+//! Friction laws acting at the gear's sliding speed v (shared/MODEL.md §3).
+//!
+//! The LuGre law is written in torque units: its internal state is the bristle torque
+//! `w = σ0·s` [N·m], which keeps the state well scaled when σ0 is large; the mean bristle
+//! deflection `s = w/σ0` [rad] is what the workbench reports.
+
+use serde::{Deserialize, Serialize};
+
+/// A friction law evaluated at one instant, with partial derivatives.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct FrictionEval {
+    /// Friction torque Tf [N·m].
+    pub torque: f64,
+    /// ∂Tf/∂v [N·m·s/rad].
+    pub d_v: f64,
+    /// ∂Tf/∂w [–].
+    pub d_w: f64,
+    /// Rate of the internal state ẇ [N·m/s] (0 for static laws).
+    pub w_rate: f64,
+    /// ∂ẇ/∂v [N·m/rad].
+    pub w_rate_d_v: f64,
+    /// ∂ẇ/∂w [1/s].
+    pub w_rate_d_w: f64,
+}
+
+/// A friction law: torque from the sliding speed v [rad/s] and an internal state w [N·m].
+pub trait FrictionLaw: Send + Sync {
+    /// Torque, state rate and their partial derivatives.
+    fn eval(&self, v: f64, w: f64) -> FrictionEval;
+    /// Steady-state torque at constant speed v [N·m].
+    fn steady_torque(&self, v: f64) -> f64;
+    /// Mean bristle deflection s [rad] for internal state w.
+    fn deflection(&self, w: f64) -> f64;
+    /// Whether the law carries an internal state (dynamic friction).
+    fn has_state(&self) -> bool {
+        false
+    }
+}
+
+/// No friction (the `linear` variant).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct NoFriction;
+
+impl FrictionLaw for NoFriction {
+    fn eval(&self, _v: f64, _w: f64) -> FrictionEval {
+        FrictionEval::default()
+    }
+    fn steady_torque(&self, _v: f64) -> f64 {
+        0.0
+    }
+    fn deflection(&self, _w: f64) -> f64 {
+        0.0
+    }
+}
+
+/// Viscous friction `Tf = C̄0·v` (the `damped` variant).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Viscous {
+    /// Coefficient C̄0 [N·m·s/rad].
+    pub c0: f64,
+}
+
+impl FrictionLaw for Viscous {
+    fn eval(&self, v: f64, _w: f64) -> FrictionEval {
+        FrictionEval { torque: self.c0 * v, d_v: self.c0, ..Default::default() }
+    }
+    fn steady_torque(&self, v: f64) -> f64 {
+        self.c0 * v
+    }
+    fn deflection(&self, _w: f64) -> f64 {
+        0.0
+    }
+}
+
+/// LuGre dynamic friction.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct LuGre {
+    /// Bristle stiffness σ0 [N·m/rad].
+    pub sigma0: f64,
+    /// Bristle damping σ1 [N·m·s/rad].
+    pub sigma1: f64,
+    /// Viscous coefficient σ2 [N·m·s/rad].
+    pub sigma2: f64,
+    /// Coulomb torque Tc [N·m].
+    pub tc: f64,
+    /// Static torque Ts [N·m].
+    pub ts: f64,
+    /// Stribeck velocity ωs [rad/s].
+    pub ws: f64,
+}
+
+impl LuGre {
+    /// Stribeck level `σ0·g(v) = Tc + (Ts − Tc)·e^{−(v/ωs)²}` [N·m] and its derivative
+    /// with respect to v [N·m·s/rad].
+    #[inline]
+    pub fn stribeck(&self, v: f64) -> (f64, f64) {
+        let r = v / self.ws;
+        let e = (-(r * r)).exp();
+        let level = self.tc + (self.ts - self.tc) * e;
+        let slope = (self.ts - self.tc) * e * (-2.0 * r / self.ws);
+        (level, slope)
+    }
+}
+
+impl FrictionLaw for LuGre {
+    #[inline]
+    fn eval(&self, v: f64, w: f64) -> FrictionEval {
+        // ṡ = v − |v|·s/g(v); in torque units w = σ0·s: ẇ = σ0·(v − |v|·w/G(v)).
+        let (level, level_dv) = self.stribeck(v);
+        let av = v.abs();
+        let sv = if v > 0.0 {
+            1.0
+        } else if v < 0.0 {
+            -1.0
+        } else {
+            0.0
+        };
+        let s_rate = v - av * w / level; // ṡ [rad/s]
+        let s_rate_d_v = 1.0 - w * (sv * level - av * level_dv) / (level * level);
+        let s_rate_d_w = -av / level;
+        FrictionEval {
+            torque: w + self.sigma1 * s_rate + self.sigma2 * v,
+            d_v: self.sigma1 * s_rate_d_v + self.sigma2,
+            d_w: 1.0 + self.sigma1 * s_rate_d_w,
+            w_rate: self.sigma0 * s_rate,
+            w_rate_d_v: self.sigma0 * s_rate_d_v,
+            w_rate_d_w: self.sigma0 * s_rate_d_w,
+        }
+    }
+    fn steady_torque(&self, v: f64) -> f64 {
+        let (level, _) = self.stribeck(v);
+        let coulomb = if v == 0.0 { 0.0 } else { v.signum() * level };
+        coulomb + self.sigma2 * v
+    }
+    fn deflection(&self, w: f64) -> f64 {
+        w / self.sigma0
+    }
+    fn has_state(&self) -> bool {
+        true
+    }
+}
+
+/// The friction laws the workbench offers, as one type.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Friction {
+    /// No friction.
+    None(NoFriction),
+    /// `C̄0·v`.
+    Viscous(Viscous),
+    /// LuGre.
+    LuGre(LuGre),
+}
+
+impl FrictionLaw for Friction {
+    #[inline]
+    fn eval(&self, v: f64, w: f64) -> FrictionEval {
+        match self {
+            Friction::None(l) => l.eval(v, w),
+            Friction::Viscous(l) => l.eval(v, w),
+            Friction::LuGre(l) => l.eval(v, w),
+        }
+    }
+    fn steady_torque(&self, v: f64) -> f64 {
+        match self {
+            Friction::None(l) => l.steady_torque(v),
+            Friction::Viscous(l) => l.steady_torque(v),
+            Friction::LuGre(l) => l.steady_torque(v),
+        }
+    }
+    fn deflection(&self, w: f64) -> f64 {
+        match self {
+            Friction::None(l) => l.deflection(w),
+            Friction::Viscous(l) => l.deflection(w),
+            Friction::LuGre(l) => l.deflection(w),
+        }
+    }
+    fn has_state(&self) -> bool {
+        matches!(self, Friction::LuGre(_))
+    }
+}

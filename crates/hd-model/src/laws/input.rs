@@ -1,0 +1,223 @@
+//! Armature-voltage inputs u(t) (shared/MODEL.md §6).
+
+use crate::error::ConfigError;
+use serde::{Deserialize, Serialize};
+use std::f64::consts::TAU;
+
+/// A recorded voltage profile, linearly interpolated and held constant outside its range.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Profile {
+    /// Sample times [s], strictly increasing.
+    pub t: Vec<f64>,
+    /// Voltages [V].
+    pub u: Vec<f64>,
+}
+
+impl Profile {
+    /// Build a profile, checking that it has at least two samples, equal lengths, finite
+    /// values and strictly increasing time. `source` names the origin in errors.
+    pub fn new(t: Vec<f64>, u: Vec<f64>, source: &str) -> Result<Self, ConfigError> {
+        let bad = |value: String, expected: &str| ConfigError::Invalid {
+            field: source.to_string(),
+            value,
+            expected: expected.to_string(),
+        };
+        if t.len() != u.len() {
+            return Err(bad(format!("{} times, {} voltages", t.len(), u.len()), "equal lengths"));
+        }
+        if t.len() < 2 {
+            return Err(bad(format!("{} samples", t.len()), "at least 2 samples"));
+        }
+        for (k, (&tk, &uk)) in t.iter().zip(&u).enumerate() {
+            if !tk.is_finite() || !uk.is_finite() {
+                return Err(bad(format!("row {}: t = {tk}, u = {uk}", k + 1), "finite t and u"));
+            }
+            if k > 0 && tk <= t[k - 1] {
+                return Err(bad(
+                    format!("row {}: t = {tk} after t = {}", k + 1, t[k - 1]),
+                    "strictly increasing time",
+                ));
+            }
+        }
+        Ok(Self { t, u })
+    }
+
+    fn segment(&self, t: f64) -> usize {
+        // Index k with t[k] <= t < t[k+1], clamped to the valid segments.
+        let k = self.t.partition_point(|&tk| tk <= t);
+        k.saturating_sub(1).min(self.t.len() - 2)
+    }
+
+    fn value_and_rate(&self, t: f64) -> (f64, f64) {
+        let n = self.t.len();
+        if t <= self.t[0] {
+            return (self.u[0], 0.0);
+        }
+        if t >= self.t[n - 1] {
+            return (self.u[n - 1], 0.0);
+        }
+        let k = self.segment(t);
+        let slope = (self.u[k + 1] - self.u[k]) / (self.t[k + 1] - self.t[k]);
+        (self.u[k] + slope * (t - self.t[k]), slope)
+    }
+}
+
+/// The armature-voltage input.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
+pub enum Input {
+    /// `U·sin(2π·f·t)`.
+    Sine {
+        /// Amplitude U [V].
+        amplitude: f64,
+        /// Frequency f [Hz].
+        freq: f64,
+    },
+    /// 0 before `t0`, `U` from `t0` on.
+    Step {
+        /// Level U [V].
+        amplitude: f64,
+        /// Switching time t0 [s].
+        t0: f64,
+    },
+    /// Constant `U`.
+    Constant {
+        /// Level U [V].
+        amplitude: f64,
+    },
+    /// Linear chirp `U·sin(2π(f0·t + (f1−f0)·t²/(2T)))` for t ≤ T, then f1.
+    Chirp {
+        /// Amplitude U [V].
+        amplitude: f64,
+        /// Start frequency f0 [Hz].
+        f0: f64,
+        /// End frequency f1 [Hz].
+        f1: f64,
+        /// Sweep duration T [s].
+        duration: f64,
+    },
+    /// Stepped sine: each frequency held for `dwell` seconds, phase-continuous.
+    SteppedSine {
+        /// Amplitude U [V].
+        amplitude: f64,
+        /// Frequencies [Hz], in order.
+        freqs: Vec<f64>,
+        /// Time at each frequency [s].
+        dwell: f64,
+    },
+    /// A recorded profile.
+    Recorded(Profile),
+}
+
+impl Default for Input {
+    fn default() -> Self {
+        Input::Sine { amplitude: 24.0, freq: 50.0 }
+    }
+}
+
+impl Input {
+    /// Voltage u(t) [V] and its time derivative du/dt [V/s].
+    pub fn value_and_rate(&self, t: f64) -> (f64, f64) {
+        match self {
+            Input::Sine { amplitude, freq } => {
+                let w = TAU * freq;
+                (amplitude * (w * t).sin(), amplitude * w * (w * t).cos())
+            }
+            Input::Step { amplitude, t0 } => (if t >= *t0 { *amplitude } else { 0.0 }, 0.0),
+            Input::Constant { amplitude } => (*amplitude, 0.0),
+            Input::Chirp { amplitude, f0, f1, duration } => {
+                let (phase, f) = if t <= *duration {
+                    let k = (f1 - f0) / duration;
+                    (f0 * t + 0.5 * k * t * t, f0 + k * t)
+                } else {
+                    (f0 * duration + 0.5 * (f1 - f0) * duration + f1 * (t - duration), *f1)
+                };
+                (amplitude * (TAU * phase).sin(), amplitude * TAU * f * (TAU * phase).cos())
+            }
+            Input::SteppedSine { amplitude, freqs, dwell } => {
+                let (phase, f) = stepped_phase(freqs, *dwell, t);
+                (amplitude * (TAU * phase).sin(), amplitude * TAU * f * (TAU * phase).cos())
+            }
+            Input::Recorded(p) => p.value_and_rate(t),
+        }
+    }
+
+    /// Voltage u(t) [V].
+    pub fn value(&self, t: f64) -> f64 {
+        self.value_and_rate(t).0
+    }
+
+    /// The drive frequency of a periodic input [Hz], if it has one.
+    pub fn drive_frequency(&self) -> Option<f64> {
+        match self {
+            Input::Sine { freq, .. } => Some(*freq),
+            _ => None,
+        }
+    }
+
+    /// Times where u or du/dt jumps; the integrator restarts there.
+    pub fn breakpoints(&self) -> Vec<f64> {
+        match self {
+            Input::Step { t0, .. } if *t0 > 0.0 => vec![*t0],
+            Input::Chirp { duration, .. } => vec![*duration],
+            Input::SteppedSine { freqs, dwell, .. } => {
+                (1..freqs.len()).map(|k| k as f64 * dwell).collect()
+            }
+            Input::Recorded(p) => p.t.clone(),
+            _ => Vec::new(),
+        }
+    }
+
+    /// Check the input's settings.
+    pub fn validate(&self) -> Result<(), ConfigError> {
+        let bad = |field: &str, value: f64, expected: &str| {
+            Err(ConfigError::Invalid {
+                field: format!("input.{field}"),
+                value: value.to_string(),
+                expected: expected.to_string(),
+            })
+        };
+        let finite = |field: &str, v: f64| {
+            if v.is_finite() { Ok(()) } else { bad(field, v, "a finite number") }
+        };
+        let positive = |field: &str, v: f64| {
+            if v.is_finite() && v > 0.0 { Ok(()) } else { bad(field, v, "a finite number > 0") }
+        };
+        match self {
+            Input::Sine { amplitude, freq } => {
+                finite("amplitude", *amplitude)?;
+                positive("freq", *freq)
+            }
+            Input::Step { amplitude, t0 } => {
+                finite("amplitude", *amplitude)?;
+                if !(t0.is_finite() && *t0 >= 0.0) {
+                    return bad("t0", *t0, "a finite time >= 0 [s]");
+                }
+                Ok(())
+            }
+            Input::Constant { amplitude } => finite("amplitude", *amplitude),
+            Input::Chirp { amplitude, f0, f1, duration } => {
+                finite("amplitude", *amplitude)?;
+                positive("f0", *f0)?;
+                positive("f1", *f1)?;
+                positive("duration", *duration)
+            }
+            Input::SteppedSine { amplitude, freqs, dwell } => {
+                finite("amplitude", *amplitude)?;
+                positive("dwell", *dwell)?;
+                if freqs.is_empty() {
+                    return bad("freqs", f64::NAN, "at least one frequency [Hz]");
+                }
+                freqs.iter().try_for_each(|f| positive("freqs", *f))
+            }
+            Input::Recorded(p) => Profile::new(p.t.clone(), p.u.clone(), "input").map(|_| ()),
+        }
+    }
+}
+
+/// Accumulated phase [cycles] and current frequency [Hz] of a stepped sine at time t.
+fn stepped_phase(freqs: &[f64], dwell: f64, t: f64) -> (f64, f64) {
+    let k = ((t / dwell).floor().max(0.0) as usize).min(freqs.len() - 1);
+    let done: f64 = freqs[..k].iter().map(|f| f * dwell).sum();
+    (done + freqs[k] * (t - k as f64 * dwell), freqs[k])
+}

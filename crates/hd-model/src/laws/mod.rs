@@ -1,0 +1,8 @@
+//! The physical laws, each behind a small trait: stiffness (with optional memory),
+//! friction, motor and voltage input. Variants are combinations of these
+//! (see [`crate::variant`]).
+
+pub mod friction;
+pub mod input;
+pub mod motor;
+pub mod stiffness;

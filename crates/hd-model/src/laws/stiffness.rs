@@ -1,0 +1,213 @@
+//! Stiffness laws: the torque the gear transmits as a function of deflection and, for the
+//! hysteretic law, of a fading-memory state `z` (shared/MODEL.md §2).
+
+use serde::{Deserialize, Serialize};
+
+/// A stiffness law evaluated at one instant, with the partial derivatives the implicit
+/// integrator needs.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct StiffnessEval {
+    /// Transmitted torque `Tb` [N·m].
+    pub torque: f64,
+    /// ∂Tb/∂θ [N·m/rad].
+    pub d_theta: f64,
+    /// ∂Tb/∂z [–].
+    pub d_z: f64,
+    /// Memory rate ż [N·m/s] (0 for laws without memory).
+    pub z_rate: f64,
+    /// ∂ż/∂θ̇ [N·m/rad].
+    pub z_rate_d_thetadot: f64,
+    /// ∂ż/∂z [1/s].
+    pub z_rate_d_z: f64,
+}
+
+/// A stiffness law: transmitted torque from the deflection θ [rad], its rate θ̇ [rad/s]
+/// and the memory state z [N·m].
+pub trait StiffnessLaw: Send + Sync {
+    /// Torque, memory rate and their partial derivatives.
+    fn eval(&self, theta: f64, theta_dot: f64, z: f64) -> StiffnessEval;
+    /// Elastic potential energy stored at deflection θ [J].
+    fn potential(&self, theta: f64) -> f64;
+    /// Energy stored in the memory element at state z [J].
+    fn memory_energy(&self, z: f64) -> f64;
+    /// Power dissipated by the memory element at state z [W].
+    fn memory_dissipation(&self, z: f64) -> f64;
+    /// Stiffness at zero deflection (for tolerance scaling) [N·m/rad].
+    fn reference_stiffness(&self) -> f64;
+    /// Whether the law carries the memory state z.
+    fn has_memory(&self) -> bool;
+}
+
+/// Linear spring `Tb = K̄·θ` (the `linear` and `damped` variants).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct LinearSpring {
+    /// Stiffness K̄ [N·m/rad].
+    pub k: f64,
+}
+
+impl StiffnessLaw for LinearSpring {
+    fn eval(&self, theta: f64, _theta_dot: f64, _z: f64) -> StiffnessEval {
+        StiffnessEval { torque: self.k * theta, d_theta: self.k, ..Default::default() }
+    }
+    fn potential(&self, theta: f64) -> f64 {
+        0.5 * self.k * theta * theta
+    }
+    fn memory_energy(&self, _z: f64) -> f64 {
+        0.0
+    }
+    fn memory_dissipation(&self, _z: f64) -> f64 {
+        0.0
+    }
+    fn reference_stiffness(&self) -> f64 {
+        self.k
+    }
+    fn has_memory(&self) -> bool {
+        false
+    }
+}
+
+/// Cubic spring `f(θ) = a·θ³ + b·θ² + c·θ`.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct CubicSpring {
+    /// Cubic coefficient a [N·m/rad³].
+    pub a: f64,
+    /// Quadratic coefficient b [N·m/rad²].
+    pub b: f64,
+    /// Linear coefficient c [N·m/rad].
+    pub c: f64,
+}
+
+impl CubicSpring {
+    /// f(θ) [N·m].
+    pub fn torque(&self, theta: f64) -> f64 {
+        ((self.a * theta + self.b) * theta + self.c) * theta
+    }
+    /// f'(θ) [N·m/rad].
+    pub fn slope(&self, theta: f64) -> f64 {
+        (3.0 * self.a * theta + 2.0 * self.b) * theta + self.c
+    }
+}
+
+impl StiffnessLaw for CubicSpring {
+    fn eval(&self, theta: f64, _theta_dot: f64, _z: f64) -> StiffnessEval {
+        StiffnessEval {
+            torque: self.torque(theta),
+            d_theta: self.slope(theta),
+            ..Default::default()
+        }
+    }
+    fn potential(&self, theta: f64) -> f64 {
+        let t2 = theta * theta;
+        self.a * t2 * t2 / 4.0 + self.b * t2 * theta / 3.0 + self.c * t2 / 2.0
+    }
+    fn memory_energy(&self, _z: f64) -> f64 {
+        0.0
+    }
+    fn memory_dissipation(&self, _z: f64) -> f64 {
+        0.0
+    }
+    fn reference_stiffness(&self) -> f64 {
+        self.c
+    }
+    fn has_memory(&self) -> bool {
+        false
+    }
+}
+
+/// Fading memory of the deflection rate: `z(t) = ∫ A·e^{−B(t−τ)}·θ̇(τ) dτ`, i.e.
+/// `ż = A·θ̇ − B·z`.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct FadingMemory {
+    /// Intensity A [N·m/rad].
+    pub a: f64,
+    /// Decay rate B [1/s].
+    pub b: f64,
+}
+
+impl FadingMemory {
+    /// ż [N·m/s].
+    pub fn rate(&self, theta_dot: f64, z: f64) -> f64 {
+        self.a * theta_dot - self.b * z
+    }
+}
+
+/// Hysteretic stiffness of the full model: `Tb = f(θ) + z` with fading memory.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Hysteretic {
+    /// The instantaneous cubic spring.
+    pub spring: CubicSpring,
+    /// The memory term.
+    pub memory: FadingMemory,
+}
+
+impl StiffnessLaw for Hysteretic {
+    fn eval(&self, theta: f64, theta_dot: f64, z: f64) -> StiffnessEval {
+        StiffnessEval {
+            torque: self.spring.torque(theta) + z,
+            d_theta: self.spring.slope(theta),
+            d_z: 1.0,
+            z_rate: self.memory.rate(theta_dot, z),
+            z_rate_d_thetadot: self.memory.a,
+            z_rate_d_z: -self.memory.b,
+        }
+    }
+    fn potential(&self, theta: f64) -> f64 {
+        self.spring.potential(theta)
+    }
+    fn memory_energy(&self, z: f64) -> f64 {
+        if self.memory.a > 0.0 { z * z / (2.0 * self.memory.a) } else { 0.0 }
+    }
+    fn memory_dissipation(&self, z: f64) -> f64 {
+        if self.memory.a > 0.0 { self.memory.b * z * z / self.memory.a } else { 0.0 }
+    }
+    fn reference_stiffness(&self) -> f64 {
+        self.spring.c + self.memory.a
+    }
+    fn has_memory(&self) -> bool {
+        true
+    }
+}
+
+/// The stiffness laws the workbench offers, as one type (enum dispatch keeps the system
+/// a plain, `Send + Sync`, allocation-free value).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Stiffness {
+    /// `K̄·θ`.
+    Linear(LinearSpring),
+    /// `f(θ)`.
+    Cubic(CubicSpring),
+    /// `f(θ) + z`.
+    Hysteretic(Hysteretic),
+}
+
+macro_rules! each {
+    ($self:ident, $law:ident => $e:expr) => {
+        match $self {
+            Stiffness::Linear($law) => $e,
+            Stiffness::Cubic($law) => $e,
+            Stiffness::Hysteretic($law) => $e,
+        }
+    };
+}
+
+impl StiffnessLaw for Stiffness {
+    #[inline]
+    fn eval(&self, theta: f64, theta_dot: f64, z: f64) -> StiffnessEval {
+        each!(self, l => l.eval(theta, theta_dot, z))
+    }
+    fn potential(&self, theta: f64) -> f64 {
+        each!(self, l => l.potential(theta))
+    }
+    fn memory_energy(&self, z: f64) -> f64 {
+        each!(self, l => l.memory_energy(z))
+    }
+    fn memory_dissipation(&self, z: f64) -> f64 {
+        each!(self, l => l.memory_dissipation(z))
+    }
+    fn reference_stiffness(&self) -> f64 {
+        each!(self, l => l.reference_stiffness())
+    }
+    fn has_memory(&self) -> bool {
+        each!(self, l => l.has_memory())
+    }
+}

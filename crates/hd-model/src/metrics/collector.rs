@@ -1,0 +1,181 @@
+//! Accumulates what the metrics need while the integrator runs, so no trace has to be
+//! kept: exact θz extrema per step, uniform samples on the metric grids, and the
+//! quadrature states at the start of the periodic window.
+
+use super::{MetricSettings, Metrics, extrema::cubic_extrema, limit_cycle, periodic, step};
+use crate::laws::input::Input;
+use crate::laws::stiffness::StiffnessLaw;
+use crate::solver::Step;
+use crate::state::*;
+use crate::system::DriveSystem;
+
+/// Metric accumulator for one run; feed it every accepted step, then call `finish`.
+pub struct Collector<'a> {
+    sys: &'a DriveSystem,
+    settings: MetricSettings,
+    t_end: f64,
+    /// Periodic window: drive frequency [Hz], window start [s] and whole cycles used.
+    periodic: Option<(f64, f64, usize)>,
+    y_window: Option<State>,
+    window_lo: f64,
+    window_hi: f64,
+    window_t: Vec<f64>,
+    window_thz: Vec<f64>,
+    run_dt: f64,
+    run_t: Vec<f64>,
+    run_wz: Vec<f64>,
+    run_theta: Vec<f64>,
+    thz_peak: f64,
+    tb_peak: f64,
+    y_start: State,
+}
+
+impl<'a> Collector<'a> {
+    /// A collector for a run of `sys` from `y_start` at t = 0 to `t_end`.
+    pub fn new(sys: &'a DriveSystem, settings: MetricSettings, y_start: State, t_end: f64) -> Self {
+        let periodic = sys.input.drive_frequency().and_then(|f| {
+            let whole = (t_end * f + 1e-9).floor() as usize;
+            let cycles = settings.cycles.min(whole);
+            (cycles > 0).then(|| (f, t_end - cycles as f64 / f, cycles))
+        });
+        let run_samples = if periodic.is_some() { 0 } else { settings.run_samples.max(2) };
+        Self {
+            sys,
+            settings,
+            t_end,
+            periodic,
+            y_window: None,
+            window_lo: f64::INFINITY,
+            window_hi: f64::NEG_INFINITY,
+            window_t: Vec::new(),
+            window_thz: Vec::new(),
+            run_dt: if run_samples > 0 { t_end / (run_samples - 1) as f64 } else { 0.0 },
+            run_t: Vec::with_capacity(run_samples),
+            run_wz: Vec::with_capacity(run_samples),
+            run_theta: Vec::with_capacity(run_samples),
+            thz_peak: 0.0,
+            tb_peak: 0.0,
+            y_start,
+        }
+    }
+
+    fn theta_z(&self, y: &State) -> f64 {
+        y[THETA_J] / self.sys.n - y[THETA]
+    }
+
+    /// Record one accepted step.
+    pub fn on_step(&mut self, s: &Step<DIM>) {
+        let (thz0, thz1) = (self.theta_z(s.y0), self.theta_z(s.y1));
+        let h = s.t1 - s.t0;
+        let (lo, hi) = cubic_extrema(thz0, thz1, s.y0[OMEGA_Z], s.y1[OMEGA_Z], h);
+        self.thz_peak = self.thz_peak.max(lo.abs()).max(hi.abs());
+        let tb = self.sys.stiffness.eval(s.y1[THETA], 0.0, s.y1[Z]).torque;
+        self.tb_peak = self.tb_peak.max(tb.abs());
+
+        if let Some((f, tw, cycles)) = self.periodic {
+            if s.t1 >= tw {
+                if self.y_window.is_none() {
+                    self.y_window = Some(s.interpolate(tw));
+                }
+                // Extrema over the part of the step inside the window.
+                let (lo, hi) = if s.t0 < tw {
+                    let ya = s.interpolate(tw);
+                    cubic_extrema(self.theta_z(&ya), thz1, ya[OMEGA_Z], s.y1[OMEGA_Z], s.t1 - tw)
+                } else {
+                    (lo, hi)
+                };
+                self.window_lo = self.window_lo.min(lo);
+                self.window_hi = self.window_hi.max(hi);
+                let spc = self.settings.samples_per_cycle.max(8);
+                let total = cycles * spc;
+                let dt = 1.0 / (f * spc as f64);
+                while self.window_t.len() < total {
+                    let tk = tw + self.window_t.len() as f64 * dt;
+                    if tk > s.t1 {
+                        break;
+                    }
+                    let y = s.interpolate(tk.max(s.t0));
+                    self.window_t.push(tk);
+                    self.window_thz.push(self.theta_z(&y));
+                }
+            }
+        } else {
+            loop {
+                let tk = self.run_t.len() as f64 * self.run_dt;
+                if self.run_t.len() >= self.settings.run_samples.max(2) || tk > s.t1 {
+                    break;
+                }
+                let y = if tk <= s.t0 { *s.y0 } else { s.interpolate(tk) };
+                self.run_t.push(tk);
+                self.run_wz.push(y[OMEGA_Z]);
+                self.run_theta.push(y[THETA]);
+            }
+        }
+    }
+
+    /// Compute the metrics from what was collected and the final state.
+    pub fn finish(self, y_end: &State) -> Metrics {
+        let mut m = Metrics::undefined();
+        m.thz_peak = self.thz_peak;
+        m.tb_peak = self.tb_peak;
+        m.energy_residual = self.energy_residual(y_end);
+        if let (Some((f, _tw, cycles)), Some(yw)) = (self.periodic, self.y_window) {
+            let n = cycles as f64;
+            m.cycles_used = n;
+            m.thz_amp = 0.5 * (self.window_hi - self.window_lo);
+            let (mean, _, _, rms) = periodic::fit_fundamental(&self.window_t, &self.window_thz, f);
+            m.thz_mean = mean;
+            m.thz_ripple = rms;
+            m.hyst_loss_per_cycle = (y_end[Q_HYST] - yw[Q_HYST]) / n;
+            m.friction_loss_per_cycle = (y_end[Q_FRIC] - yw[Q_FRIC]) / n;
+            let work_in = y_end[Q_IN] - yw[Q_IN];
+            m.efficiency =
+                if work_in > 0.0 { (y_end[Q_OUT] - yw[Q_OUT]) / work_in } else { f64::NAN };
+        }
+        if !self.run_t.is_empty() {
+            let t_final = self.t_end * (1.0 - self.settings.final_fraction);
+            let k0 = self.run_t.partition_point(|&t| t < t_final);
+            let tail_t = &self.run_t[k0..];
+            let [flag, amp, period] = limit_cycle::detect(tail_t, &self.run_wz[k0..]);
+            m.limit_cycle = flag;
+            m.lc_amplitude = amp;
+            m.lc_period = period;
+            let t_step = match self.sys.input {
+                Input::Step { t0, .. } => Some(t0),
+                Input::Constant { .. } => Some(0.0),
+                _ => None,
+            };
+            if let Some(t_step) = t_step {
+                let [rise, over, settle, fin] = step::step_metrics(
+                    &self.run_t,
+                    &self.run_wz,
+                    t_step,
+                    t_final,
+                    self.settings.settle_band,
+                );
+                m.final_speed = fin;
+                if matches!(self.sys.input, Input::Step { .. }) {
+                    m.rise_time = rise;
+                    m.overshoot = over;
+                    m.settling_time = settle;
+                    let tail = &self.run_theta[k0..];
+                    let theta_final = tail.iter().sum::<f64>() / tail.len().max(1) as f64;
+                    let k_step = self.run_t.partition_point(|&t| t < t_step);
+                    m.damping_ratio =
+                        step::damping_from_decrement(&self.run_theta[k_step..], theta_final);
+                }
+            }
+        }
+        m
+    }
+
+    /// |electrical in − (Δstored + dissipated)| relative to the energy turned over.
+    fn energy_residual(&self, y: &State) -> f64 {
+        let stored = self.sys.stored_energy(y) - self.sys.stored_energy(&self.y_start);
+        let d_in = y[Q_ELEC] - self.y_start[Q_ELEC];
+        let d_diss = y[Q_DISS] - self.y_start[Q_DISS];
+        let d_fric = y[Q_FRIC] - self.y_start[Q_FRIC];
+        let turned_over = d_in.abs().max(stored.abs() + d_diss.abs() + d_fric.abs());
+        if turned_over > 0.0 { (d_in - stored - d_diss - d_fric).abs() / turned_over } else { 0.0 }
+    }
+}

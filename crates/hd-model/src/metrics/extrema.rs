@@ -1,0 +1,62 @@
+//! Exact extrema of a cubic Hermite segment, so amplitudes do not depend on sampling.
+
+/// Minimum and maximum over `[0, h]` of the cubic Hermite interpolant with end values
+/// `p0, p1` and end slopes `m0, m1` (per unit time) over a step of length `h`.
+pub fn cubic_extrema(p0: f64, p1: f64, m0: f64, m1: f64, h: f64) -> (f64, f64) {
+    let (a0, a1) = (h * m0, h * m1);
+    // dH/ds = qa·s² + qb·s + qc on s ∈ [0, 1].
+    let qa = 6.0 * p0 + 3.0 * a0 - 6.0 * p1 + 3.0 * a1;
+    let qb = -6.0 * p0 - 4.0 * a0 + 6.0 * p1 - 2.0 * a1;
+    let qc = a0;
+    let eval = |s: f64| {
+        let s2 = s * s;
+        let s3 = s2 * s;
+        (2.0 * s3 - 3.0 * s2 + 1.0) * p0
+            + (s3 - 2.0 * s2 + s) * a0
+            + (-2.0 * s3 + 3.0 * s2) * p1
+            + (s3 - s2) * a1
+    };
+    let mut lo = p0.min(p1);
+    let mut hi = p0.max(p1);
+    let mut consider = |s: f64| {
+        if s > 0.0 && s < 1.0 {
+            let v = eval(s);
+            lo = lo.min(v);
+            hi = hi.max(v);
+        }
+    };
+    if qa.abs() < 1e-300 {
+        if qb != 0.0 {
+            consider(-qc / qb);
+        }
+    } else {
+        let disc = qb * qb - 4.0 * qa * qc;
+        if disc >= 0.0 {
+            let r = disc.sqrt();
+            // Numerically stable roots.
+            let q = -0.5 * (qb + qb.signum() * r);
+            if q != 0.0 {
+                consider(q / qa);
+                consider(qc / q);
+            } else {
+                consider(0.0);
+            }
+        }
+    }
+    (lo, hi)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn finds_the_interior_maximum_of_a_parabola_like_segment() {
+        // x(t) = sin t on [0, π]: max 1 at π/2; the Hermite cubic is close to it.
+        let h = std::f64::consts::PI / 200.0;
+        let t0 = std::f64::consts::FRAC_PI_2 - 0.3 * h;
+        let (lo, hi) = cubic_extrema(t0.sin(), (t0 + h).sin(), t0.cos(), (t0 + h).cos(), h);
+        assert!((hi - 1.0).abs() < 1e-9, "{hi}");
+        assert_eq!(lo, t0.sin().min((t0 + h).sin()));
+    }
+}

@@ -1,0 +1,159 @@
+//! Metrics every run reports (shared/MODEL.md §7). Undefined metrics are NaN (null in
+//! JSON), never a made-up zero.
+
+mod collector;
+mod extrema;
+mod limit_cycle;
+mod periodic;
+mod step;
+
+pub use collector::Collector;
+pub use extrema::cubic_extrema;
+pub use periodic::fit_fundamental;
+
+use serde::{Deserialize, Serialize};
+
+/// How the metrics are computed.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct MetricSettings {
+    /// Whole drive cycles at the end of a periodic run used for the periodic metrics;
+    /// default 5 (fewer if the run is shorter).
+    pub cycles: usize,
+    /// Uniform samples per cycle for the ripple fit; default 512.
+    pub samples_per_cycle: usize,
+    /// Uniform samples over the whole run for step and limit-cycle metrics; default 20 000.
+    pub run_samples: usize,
+    /// Fraction of the run at its end used as the final window (step final value,
+    /// limit-cycle detection); default 0.2.
+    pub final_fraction: f64,
+    /// Settling band as a fraction of the final value; default 0.02.
+    pub settle_band: f64,
+}
+
+impl Default for MetricSettings {
+    fn default() -> Self {
+        Self {
+            cycles: 5,
+            samples_per_cycle: 512,
+            run_samples: 20_000,
+            final_fraction: 0.2,
+            settle_band: 0.02,
+        }
+    }
+}
+
+/// The metrics of one run. Field names are the column names of `runs.parquet`.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Metrics {
+    /// Half peak-to-peak of θz over the window [rad] (periodic runs).
+    pub thz_amp: f64,
+    /// Mean of θz over the window [rad] (periodic runs).
+    pub thz_mean: f64,
+    /// RMS of θz after removing the mean and the fundamental at the drive frequency [rad].
+    pub thz_ripple: f64,
+    /// Energy dissipated per cycle by the hysteresis memory, ∮ z dθ [J].
+    pub hyst_loss_per_cycle: f64,
+    /// Energy dissipated per cycle by friction, ∮ Tf·v dt [J].
+    pub friction_loss_per_cycle: f64,
+    /// Positive output work over positive input work at the wave generator [–].
+    pub efficiency: f64,
+    /// Number of whole cycles the periodic metrics used [–].
+    pub cycles_used: f64,
+    /// 10 %–90 % rise time of the load speed after a step [s].
+    pub rise_time: f64,
+    /// Peak load speed above its final value, as a fraction of it [–] (0.05 = 5 %).
+    pub overshoot: f64,
+    /// Time after the step until the load speed stays within the settling band [s].
+    pub settling_time: f64,
+    /// Damping ratio from the logarithmic decrement of the deflection oscillation [–].
+    pub damping_ratio: f64,
+    /// Mean load speed over the final window [rad/s] (step and constant inputs).
+    pub final_speed: f64,
+    /// 1 if a persistent oscillation of the load speed remains in the final window, else 0
+    /// (constant and step inputs) [–].
+    pub limit_cycle: f64,
+    /// Half peak-to-peak of that oscillation [rad/s].
+    pub lc_amplitude: f64,
+    /// Its period [s].
+    pub lc_period: f64,
+    /// Largest |θz| over the run [rad].
+    pub thz_peak: f64,
+    /// Largest |Tb| over the run [N·m].
+    pub tb_peak: f64,
+    /// Energy-balance residual over the run, relative to the energy turned over [–].
+    pub energy_residual: f64,
+}
+
+impl Metrics {
+    /// All metrics undefined.
+    pub fn undefined() -> Self {
+        let n = f64::NAN;
+        Self {
+            thz_amp: n,
+            thz_mean: n,
+            thz_ripple: n,
+            hyst_loss_per_cycle: n,
+            friction_loss_per_cycle: n,
+            efficiency: n,
+            cycles_used: n,
+            rise_time: n,
+            overshoot: n,
+            settling_time: n,
+            damping_ratio: n,
+            final_speed: n,
+            limit_cycle: n,
+            lc_amplitude: n,
+            lc_period: n,
+            thz_peak: n,
+            tb_peak: n,
+            energy_residual: n,
+        }
+    }
+
+    /// Metric names and values in a fixed order (the column order of outputs).
+    pub fn to_pairs(&self) -> Vec<(&'static str, f64)> {
+        vec![
+            ("thz_amp", self.thz_amp),
+            ("thz_mean", self.thz_mean),
+            ("thz_ripple", self.thz_ripple),
+            ("hyst_loss_per_cycle", self.hyst_loss_per_cycle),
+            ("friction_loss_per_cycle", self.friction_loss_per_cycle),
+            ("efficiency", self.efficiency),
+            ("cycles_used", self.cycles_used),
+            ("rise_time", self.rise_time),
+            ("overshoot", self.overshoot),
+            ("settling_time", self.settling_time),
+            ("damping_ratio", self.damping_ratio),
+            ("final_speed", self.final_speed),
+            ("limit_cycle", self.limit_cycle),
+            ("lc_amplitude", self.lc_amplitude),
+            ("lc_period", self.lc_period),
+            ("thz_peak", self.thz_peak),
+            ("tb_peak", self.tb_peak),
+            ("energy_residual", self.energy_residual),
+        ]
+    }
+
+    /// Metric names with units, in [`Metrics::to_pairs`] order.
+    pub const UNITS: [(&'static str, &'static str); 18] = [
+        ("thz_amp", "rad"),
+        ("thz_mean", "rad"),
+        ("thz_ripple", "rad"),
+        ("hyst_loss_per_cycle", "J"),
+        ("friction_loss_per_cycle", "J"),
+        ("efficiency", "-"),
+        ("cycles_used", "-"),
+        ("rise_time", "s"),
+        ("overshoot", "-"),
+        ("settling_time", "s"),
+        ("damping_ratio", "-"),
+        ("final_speed", "rad/s"),
+        ("limit_cycle", "-"),
+        ("lc_amplitude", "rad/s"),
+        ("lc_period", "s"),
+        ("thz_peak", "rad"),
+        ("tb_peak", "N·m"),
+        ("energy_residual", "-"),
+    ];
+}

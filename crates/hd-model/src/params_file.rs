@@ -1,0 +1,52 @@
+//! Parameter files: flat TOML tables of registry names and values, e.g.
+//!
+//! ```toml
+//! c = 60000.0     # [N·m/rad]
+//! sigma0 = 2e5    # [N·m/rad]
+//! ```
+//!
+//! Every key must be a registry name and every value a number inside the registry's range;
+//! errors name the file, the line and the key.
+
+use crate::error::ParamError;
+use crate::params::Params;
+use crate::registry::lookup;
+use std::collections::BTreeMap;
+use toml::Spanned;
+
+/// 1-based line number of byte offset `pos` in `text`.
+pub fn line_of(text: &str, pos: usize) -> usize {
+    text[..pos.min(text.len())].bytes().filter(|&b| b == b'\n').count() + 1
+}
+
+/// Apply the assignments of a parameter file's text to `base`. `file` names the source in
+/// error messages.
+pub fn apply_params_toml(base: &mut Params, text: &str, file: &str) -> Result<(), ParamError> {
+    let table: BTreeMap<Spanned<String>, Spanned<toml::Value>> =
+        toml::from_str(text).map_err(|e| ParamError::File {
+            file: file.to_string(),
+            line: e.span().map_or(1, |s| line_of(text, s.start)),
+            message: format!("malformed TOML: {}", e.message()),
+        })?;
+    for (key, value) in &table {
+        let at = |message: String| ParamError::File {
+            file: file.to_string(),
+            line: line_of(text, key.span().start),
+            message,
+        };
+        let info = lookup(key.get_ref()).map_err(|e| at(e.to_string()))?;
+        let v = match value.get_ref() {
+            toml::Value::Float(f) => *f,
+            toml::Value::Integer(i) => *i as f64,
+            other => {
+                return Err(at(format!(
+                    "parameter '{}' = {other}: expected a number [{}]",
+                    info.name, info.unit
+                )));
+            }
+        };
+        info.check(v).map_err(|e| at(e.to_string()))?;
+        info.set_unchecked(base, v);
+    }
+    Ok(())
+}

@@ -1,0 +1,194 @@
+//! The parameter registry: one name, unit, default and valid range per parameter, shared
+//! by params files, study files, Parquet columns, fit outputs and error messages.
+
+use crate::error::ParamError;
+use crate::params::Params;
+
+/// Description of one registry parameter.
+#[derive(Clone, Copy, Debug)]
+pub struct ParamInfo {
+    /// Registry name, e.g. `"sigma0"`.
+    pub name: &'static str,
+    /// SI unit, e.g. `"N·m/rad"`.
+    pub unit: &'static str,
+    /// One-line description.
+    pub doc: &'static str,
+    /// Smallest valid value.
+    pub min: f64,
+    /// Largest valid value.
+    pub max: f64,
+    /// Whether `min` itself is allowed.
+    pub min_inclusive: bool,
+    get: fn(&Params) -> f64,
+    set: fn(&mut Params, f64),
+}
+
+impl ParamInfo {
+    /// Value of this parameter in `p`.
+    pub fn get(&self, p: &Params) -> f64 {
+        (self.get)(p)
+    }
+
+    /// Set this parameter in `p` without checking the range (see [`ParamInfo::check`]).
+    pub fn set_unchecked(&self, p: &mut Params, v: f64) {
+        (self.set)(p, v)
+    }
+
+    /// Default value (the seed's tables).
+    pub fn default_value(&self) -> f64 {
+        self.get(&Params::default())
+    }
+
+    /// Human-readable valid range, e.g. `"> 0"` or `"in [1, 1e5]"`.
+    pub fn range_text(&self) -> String {
+        let lo = if self.min_inclusive { "[" } else { "(" };
+        match (self.min.is_finite(), self.max.is_finite()) {
+            (true, false) => {
+                format!("{} {}", if self.min_inclusive { ">=" } else { ">" }, self.min)
+            }
+            (true, true) => format!("in {lo}{}, {}]", self.min, self.max),
+            (false, true) => format!("<= {}", self.max),
+            (false, false) => "finite".to_string(),
+        }
+    }
+
+    /// Check that `v` is a finite value inside the valid range.
+    pub fn check(&self, v: f64) -> Result<(), ParamError> {
+        let below = if self.min_inclusive { v < self.min } else { v <= self.min };
+        if !v.is_finite() || below || v > self.max {
+            return Err(ParamError::OutOfRange {
+                name: self.name.to_string(),
+                value: v,
+                expected: format!("a finite value {} [{}]", self.range_text(), self.unit),
+            });
+        }
+        Ok(())
+    }
+}
+
+macro_rules! p {
+    ($name:literal, $field:ident, $unit:literal, $min:expr, $incl:expr, $max:expr, $doc:literal) => {
+        ParamInfo {
+            name: $name,
+            unit: $unit,
+            doc: $doc,
+            min: $min,
+            max: $max,
+            min_inclusive: $incl,
+            get: |p| p.$field,
+            set: |p, v| p.$field = v,
+        }
+    };
+}
+
+const INF: f64 = f64::INFINITY;
+
+/// All registry parameters, in a fixed order (the column order of outputs).
+pub static REGISTRY: &[ParamInfo] = &[
+    p!("a", a, "N·m/rad³", -INF, false, INF, "cubic stiffness coefficient"),
+    p!("b", b, "N·m/rad²", -INF, false, INF, "quadratic stiffness coefficient"),
+    p!("c", c, "N·m/rad", 0.0, false, INF, "linear stiffness coefficient"),
+    p!("A", mem_a, "N·m/rad", 0.0, true, INF, "memory intensity"),
+    p!("B", mem_b, "1/s", 0.0, true, INF, "memory decay rate"),
+    p!("sigma0", sigma0, "N·m/rad", 0.0, false, INF, "LuGre bristle stiffness"),
+    p!("sigma1", sigma1, "N·m·s/rad", 0.0, true, INF, "LuGre bristle damping"),
+    p!("sigma2", sigma2, "N·m·s/rad", 0.0, true, INF, "LuGre viscous friction"),
+    p!("Tc", tc, "N·m", 0.0, false, INF, "Coulomb friction torque"),
+    p!("Ts", ts, "N·m", 0.0, false, INF, "static friction torque"),
+    p!("ws", ws, "rad/s", 0.0, false, INF, "Stribeck velocity"),
+    p!("R", r, "Ω", 0.0, false, INF, "armature resistance"),
+    p!("Km", km, "N·m/A", 0.0, false, INF, "motor torque constant"),
+    p!("Ke", ke, "V·s/rad", 0.0, true, INF, "back-EMF constant"),
+    p!("L", l, "H", 0.0, true, INF, "armature inductance (0: algebraic current)"),
+    p!("Jj", jj, "kg·m²", 0.0, false, INF, "motor-side inertia"),
+    p!("Jz", jz, "kg·m²", 0.0, false, INF, "load inertia"),
+    p!("Cj", cj, "N·m·s/rad", 0.0, true, INF, "motor viscous damping"),
+    p!("Cz", cz, "N·m·s/rad", 0.0, true, INF, "load viscous damping"),
+    p!("N", n, "-", 1.0, true, INF, "gear ratio"),
+    p!("Kbar", kbar, "N·m/rad", 0.0, false, INF, "nominal gear stiffness (linear, damped)"),
+    p!("C0bar", c0bar, "N·m·s/rad", 0.0, true, INF, "nominal viscous friction (damped)"),
+];
+
+/// Look a parameter up by its registry name; the error suggests the nearest valid name.
+pub fn lookup(name: &str) -> Result<&'static ParamInfo, ParamError> {
+    REGISTRY.iter().find(|p| p.name == name).ok_or_else(|| ParamError::Unknown {
+        name: name.to_string(),
+        suggestion: nearest_name(name).map(str::to_string),
+    })
+}
+
+/// The registry name closest to `name` (edit distance, case-insensitive), if any is close.
+pub fn nearest_name(name: &str) -> Option<&'static str> {
+    nearest_of(name, REGISTRY.iter().map(|p| p.name))
+}
+
+/// The candidate closest to `name` by case-insensitive edit distance, when it is within
+/// a third of the name's length (at least 2 edits).
+pub fn nearest_of<'a>(name: &str, candidates: impl Iterator<Item = &'a str>) -> Option<&'a str> {
+    let lower = name.to_lowercase();
+    let limit = (name.chars().count() / 3).max(2);
+    candidates
+        .map(|c| (edit_distance(&lower, &c.to_lowercase()), c))
+        .filter(|(d, _)| *d <= limit)
+        .min_by_key(|(d, _)| *d)
+        .map(|(_, c)| c)
+}
+
+/// Levenshtein distance between two strings.
+pub fn edit_distance(a: &str, b: &str) -> usize {
+    let b: Vec<char> = b.chars().collect();
+    let mut row: Vec<usize> = (0..=b.len()).collect();
+    for (i, ca) in a.chars().enumerate() {
+        let mut prev = row[0];
+        row[0] = i + 1;
+        for (j, cb) in b.iter().enumerate() {
+            let cur = row[j + 1];
+            row[j + 1] = (prev + usize::from(ca != *cb)).min(row[j] + 1).min(cur + 1);
+            prev = cur;
+        }
+    }
+    row[b.len()]
+}
+
+impl Params {
+    /// Set a parameter by registry name, checking name and range.
+    pub fn set(&mut self, name: &str, value: f64) -> Result<(), ParamError> {
+        let info = lookup(name)?;
+        info.check(value)?;
+        info.set_unchecked(self, value);
+        Ok(())
+    }
+
+    /// Get a parameter by registry name.
+    pub fn get(&self, name: &str) -> Result<f64, ParamError> {
+        Ok(lookup(name)?.get(self))
+    }
+
+    /// Check every parameter against its range, and the cross-parameter rules.
+    pub fn validate(&self) -> Result<(), ParamError> {
+        for info in REGISTRY {
+            info.check(info.get(self))?;
+        }
+        Ok(())
+    }
+
+    /// Parse `NAME=VALUE` (as given to `--set`) and apply it.
+    pub fn apply_assignment(&mut self, text: &str) -> Result<(), ParamError> {
+        let (name, value) = text.split_once('=').ok_or_else(|| ParamError::Syntax {
+            text: text.to_string(),
+            expected: "NAME=VALUE, e.g. sigma0=2e5".to_string(),
+        })?;
+        let name = name.trim();
+        lookup(name)?;
+        let value: f64 = value.trim().parse().map_err(|_| ParamError::Syntax {
+            text: text.to_string(),
+            expected: format!("a number after '{name}='"),
+        })?;
+        self.set(name, value)
+    }
+
+    /// All parameters as `(name, value)` pairs in registry order.
+    pub fn to_pairs(&self) -> Vec<(&'static str, f64)> {
+        REGISTRY.iter().map(|p| (p.name, p.get(self))).collect()
+    }
+}

@@ -1,0 +1,206 @@
+//! One simulation run: check the configuration, assemble the system, integrate, and
+//! return the trace (optional), the metrics and the solver statistics.
+
+use crate::error::{ConfigError, SolverError};
+use crate::laws::input::Input;
+use crate::metrics::{Collector, MetricSettings, Metrics};
+use crate::params::Params;
+use crate::signals::Thresholds;
+use crate::solver::{Method, SolverOptions, SolverStats, Step, solve};
+use crate::state::{DIM, State};
+use crate::system::{DriveSystem, FrictionVelocity};
+use crate::trace::Trace;
+use crate::variant::Variant;
+use serde::{Deserialize, Serialize};
+use std::time::Instant;
+use thiserror::Error;
+
+/// Everything that defines a run.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct SimConfig {
+    /// Physical parameters; default the seed's tables.
+    pub params: Params,
+    /// Model variant; default `full`.
+    pub variant: Variant,
+    /// Armature voltage; default 24 V sine at 50 Hz.
+    pub input: Input,
+    /// Simulated time [s]; default 0.2.
+    pub t_end: f64,
+    /// Trace sampling interval [s]; 0 picks 200 samples per drive cycle for periodic
+    /// inputs and 10 000 samples per run otherwise.
+    pub dt_out: f64,
+    /// Integrator settings.
+    pub solver: SolverOptions,
+    /// Speed seen by the friction law; default `motor` (v = ωj/N).
+    pub friction_velocity: FrictionVelocity,
+    /// Metric settings.
+    pub metrics: MetricSettings,
+    /// Whether to keep the sampled trace.
+    pub record_trace: bool,
+}
+
+impl Default for SimConfig {
+    fn default() -> Self {
+        Self {
+            params: Params::default(),
+            variant: Variant::Full,
+            input: Input::default(),
+            t_end: 0.2,
+            dt_out: 0.0,
+            solver: SolverOptions::default(),
+            friction_velocity: FrictionVelocity::Motor,
+            metrics: MetricSettings::default(),
+            record_trace: true,
+        }
+    }
+}
+
+/// Why a run failed.
+#[derive(Debug, Error, Clone, PartialEq)]
+pub enum SimError {
+    /// The configuration was rejected before integrating.
+    #[error(transparent)]
+    Config(#[from] ConfigError),
+    /// The integrator stopped.
+    #[error(transparent)]
+    Solver(#[from] SolverError),
+}
+
+/// The result of a run.
+#[derive(Clone, Debug)]
+pub struct SimOutput {
+    /// Sampled signals, if requested.
+    pub trace: Option<Trace>,
+    /// Metrics (shared/MODEL.md §7).
+    pub metrics: Metrics,
+    /// Solver work.
+    pub stats: SolverStats,
+    /// Wall-clock time of the integration [s].
+    pub wall_time: f64,
+    /// Final integrated state.
+    pub final_state: State,
+}
+
+impl SimConfig {
+    /// Check every setting; the error names the field and the expected value.
+    pub fn validate(&self) -> Result<(), ConfigError> {
+        self.params.validate()?;
+        self.input.validate()?;
+        let bad = |field: &str, value: f64, expected: &str| {
+            Err(ConfigError::Invalid {
+                field: field.to_string(),
+                value: value.to_string(),
+                expected: expected.to_string(),
+            })
+        };
+        if !(self.t_end.is_finite() && self.t_end > 0.0) {
+            return bad("t_end", self.t_end, "a finite time > 0 [s]");
+        }
+        if !(self.dt_out.is_finite() && self.dt_out >= 0.0) {
+            return bad("dt_out", self.dt_out, "a finite interval >= 0 [s] (0: automatic)");
+        }
+        let s = &self.solver;
+        if !(s.rtol.is_finite() && s.rtol >= 1e-14 && s.rtol < 1.0) {
+            return bad("rtol", s.rtol, "a relative tolerance in [1e-14, 1)");
+        }
+        if !(s.atol.is_finite() && s.atol > 0.0) {
+            return bad("atol", s.atol, "an absolute tolerance > 0");
+        }
+        if !(s.h_max > 0.0) {
+            return bad("h_max", s.h_max, "a step bound > 0 [s]");
+        }
+        if self.metrics.cycles == 0 {
+            return bad("metrics.cycles", 0.0, "at least 1 cycle");
+        }
+        if !(self.metrics.final_fraction > 0.0 && self.metrics.final_fraction < 1.0) {
+            return bad(
+                "metrics.final_fraction",
+                self.metrics.final_fraction,
+                "a fraction in (0, 1)",
+            );
+        }
+        Ok(())
+    }
+
+    /// Assemble the system this configuration describes.
+    pub fn system(&self) -> DriveSystem {
+        let (stiffness, friction) = self.variant.kinds();
+        DriveSystem::new(
+            &self.params,
+            stiffness,
+            friction,
+            self.input.clone(),
+            self.friction_velocity,
+        )
+    }
+
+    /// The trace sampling interval actually used [s].
+    pub fn output_interval(&self) -> f64 {
+        if self.dt_out > 0.0 {
+            return self.dt_out;
+        }
+        match self.input.drive_frequency() {
+            Some(f) => (1.0 / (200.0 * f)).min(self.t_end / 100.0),
+            None => self.t_end / 10_000.0,
+        }
+    }
+}
+
+/// Run one simulation from rest.
+pub fn simulate(cfg: &SimConfig) -> Result<SimOutput, SimError> {
+    cfg.validate()?;
+    let sys = cfg.system();
+    let mut opts = cfg.solver;
+    if opts.method == Method::Auto {
+        opts.method = if sys.is_stiff() { Method::Rodas4 } else { Method::Dopri5 };
+    }
+    let y0 = sys.rest_state();
+    let dt = cfg.output_interval();
+    let eps = Thresholds::default();
+    let mut trace = cfg.record_trace.then(Trace::default);
+    if let Some(tr) = trace.as_mut() {
+        tr.push(&sys.sample(0.0, &y0, &eps));
+    }
+    let mut collector = Collector::new(&sys, cfg.metrics, y0, cfg.t_end);
+    let mut next_k: u64 = 1;
+    let mut observer = |s: &Step<DIM>| {
+        collector.on_step(s);
+        if let Some(tr) = trace.as_mut() {
+            loop {
+                let tk = (next_k as f64 * dt).min(cfg.t_end);
+                if tk > s.t1 || (tk <= *tr.t.last().unwrap_or(&-1.0)) {
+                    break;
+                }
+                let y = if tk == s.t1 { *s.y1 } else { s.interpolate(tk) };
+                tr.push(&sys.sample(tk, &y, &eps));
+                next_k += 1;
+            }
+        }
+    };
+    let start = Instant::now();
+    let breakpoints = cfg.input.breakpoints();
+    let (y_end, stats) = solve(&sys, 0.0, y0, cfg.t_end, &breakpoints, &opts, &mut observer)?;
+    let wall_time = start.elapsed().as_secs_f64();
+    let metrics = collector.finish(&y_end);
+    Ok(SimOutput { trace, metrics, stats, wall_time, final_state: y_end })
+}
+
+/// A run's configuration as `Input` for a constant, step or sine voltage — a helper for
+/// command lines and study files.
+pub fn input_from_kind(kind: &str, voltage: f64, freq: f64) -> Result<Input, ConfigError> {
+    match kind {
+        "sine" => Ok(Input::Sine { amplitude: voltage, freq }),
+        "step" => Ok(Input::Step { amplitude: voltage, t0: 0.0 }),
+        "constant" => Ok(Input::Constant { amplitude: voltage }),
+        "chirp" => {
+            Ok(Input::Chirp { amplitude: voltage, f0: freq / 10.0, f1: freq * 10.0, duration: 1.0 })
+        }
+        other => Err(ConfigError::Invalid {
+            field: "input".to_string(),
+            value: other.to_string(),
+            expected: "sine, step, constant, chirp or a CSV/Parquet file with columns t, u"
+                .to_string(),
+        }),
+    }
+}

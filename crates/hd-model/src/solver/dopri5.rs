@@ -1,0 +1,55 @@
+//! One step of the Dormand–Prince 5(4) pair (first-same-as-last).
+
+use super::OdeSystem;
+use nalgebra::SVector;
+
+const C: [f64; 7] = [0.0, 1.0 / 5.0, 3.0 / 10.0, 4.0 / 5.0, 8.0 / 9.0, 1.0, 1.0];
+const A2: [f64; 1] = [1.0 / 5.0];
+const A3: [f64; 2] = [3.0 / 40.0, 9.0 / 40.0];
+const A4: [f64; 3] = [44.0 / 45.0, -56.0 / 15.0, 32.0 / 9.0];
+const A5: [f64; 4] = [19372.0 / 6561.0, -25360.0 / 2187.0, 64448.0 / 6561.0, -212.0 / 729.0];
+const A6: [f64; 5] =
+    [9017.0 / 3168.0, -355.0 / 33.0, 46732.0 / 5247.0, 49.0 / 176.0, -5103.0 / 18656.0];
+/// Fifth-order weights (also the last row of A).
+const B: [f64; 6] =
+    [35.0 / 384.0, 0.0, 500.0 / 1113.0, 125.0 / 192.0, -2187.0 / 6784.0, 11.0 / 84.0];
+/// Difference between fifth- and fourth-order weights (7 stages, the last is f(y_new)).
+const E: [f64; 7] = [
+    71.0 / 57600.0,
+    0.0,
+    -71.0 / 16695.0,
+    71.0 / 1920.0,
+    -17253.0 / 339200.0,
+    22.0 / 525.0,
+    -1.0 / 40.0,
+];
+
+/// Result of a trial step.
+pub(crate) struct Trial<const D: usize> {
+    pub y1: SVector<f64, D>,
+    pub f1: SVector<f64, D>,
+    pub err: SVector<f64, D>,
+}
+
+/// Take a trial step of size h from (t, y) with f0 = f(t, y); uses 6 evaluations.
+pub(crate) fn step<const D: usize, S: OdeSystem<D>>(
+    sys: &S,
+    t: f64,
+    y: &SVector<f64, D>,
+    f0: &SVector<f64, D>,
+    h: f64,
+) -> Trial<D> {
+    let k1 = *f0;
+    let k2 = sys.rhs(t + C[1] * h, &(y + h * A2[0] * k1));
+    let k3 = sys.rhs(t + C[2] * h, &(y + h * (A3[0] * k1 + A3[1] * k2)));
+    let k4 = sys.rhs(t + C[3] * h, &(y + h * (A4[0] * k1 + A4[1] * k2 + A4[2] * k3)));
+    let k5 = sys.rhs(t + C[4] * h, &(y + h * (A5[0] * k1 + A5[1] * k2 + A5[2] * k3 + A5[3] * k4)));
+    let k6 = sys.rhs(
+        t + C[5] * h,
+        &(y + h * (A6[0] * k1 + A6[1] * k2 + A6[2] * k3 + A6[3] * k4 + A6[4] * k5)),
+    );
+    let y1 = y + h * (B[0] * k1 + B[2] * k3 + B[3] * k4 + B[4] * k5 + B[5] * k6);
+    let k7 = sys.rhs(t + h, &y1);
+    let err = h * (E[0] * k1 + E[2] * k3 + E[3] * k4 + E[4] * k5 + E[5] * k6 + E[6] * k7);
+    Trial { y1, f1: k7, err }
+}

@@ -1,0 +1,194 @@
+//! The adaptive driver: segments between input breakpoints, step-size control, the
+//! observer callback and solver statistics.
+
+use super::{Method, OdeSystem, SolverOptions, SolverStats, dopri5, error_norm, rodas4};
+use crate::error::SolverError;
+use nalgebra::SVector;
+
+/// One accepted step, handed to the observer. Values inside the step come from cubic
+/// Hermite interpolation of the end points and their derivatives.
+pub struct Step<'a, const D: usize> {
+    /// Start time [s].
+    pub t0: f64,
+    /// End time [s].
+    pub t1: f64,
+    /// State at `t0`.
+    pub y0: &'a SVector<f64, D>,
+    /// State at `t1`.
+    pub y1: &'a SVector<f64, D>,
+    /// Derivative at `t0`.
+    pub f0: &'a SVector<f64, D>,
+    /// Derivative at `t1`.
+    pub f1: &'a SVector<f64, D>,
+}
+
+impl<const D: usize> Step<'_, D> {
+    /// Interpolated state at `t` in `[t0, t1]`.
+    pub fn interpolate(&self, t: f64) -> SVector<f64, D> {
+        let h = self.t1 - self.t0;
+        if h <= 0.0 {
+            return *self.y1;
+        }
+        let s = (t - self.t0) / h;
+        let s2 = s * s;
+        let s3 = s2 * s;
+        let h00 = 2.0 * s3 - 3.0 * s2 + 1.0;
+        let h10 = s3 - 2.0 * s2 + s;
+        let h01 = -2.0 * s3 + 3.0 * s2;
+        let h11 = s3 - s2;
+        h00 * self.y0 + (h10 * h) * self.f0 + h01 * self.y1 + (h11 * h) * self.f1
+    }
+}
+
+/// Integrate `sys` from `(t0, y0)` to `t_end`, restarting at each of `breakpoints` inside
+/// the interval, and call `observer` after every accepted step. Returns the final state
+/// and the work done. `opts.method` must not be `Auto`.
+pub fn solve<const D: usize, S: OdeSystem<D>>(
+    sys: &S,
+    t0: f64,
+    y0: SVector<f64, D>,
+    t_end: f64,
+    breakpoints: &[f64],
+    opts: &SolverOptions,
+    observer: &mut dyn FnMut(&Step<D>),
+) -> Result<(SVector<f64, D>, SolverStats), SolverError> {
+    let method = match opts.method {
+        Method::Auto => Method::Rodas4,
+        m => m,
+    };
+    let mut stats = SolverStats { method, ..Default::default() };
+    let mut stops: Vec<f64> =
+        breakpoints.iter().copied().filter(|&b| b > t0 && b < t_end).collect();
+    stops.sort_by(f64::total_cmp);
+    stops.dedup();
+    stops.push(t_end);
+
+    let scale = sys.abs_scale();
+    let mut t = t0;
+    let mut y = y0;
+    let mut h_next = 0.0;
+    for &seg_end in &stops {
+        let mut f = sys.rhs(t, &y);
+        stats.rhs_evals += 1;
+        check_finite(&f, t)?;
+        if h_next <= 0.0 {
+            h_next = if opts.h_init > 0.0 {
+                opts.h_init
+            } else {
+                initial_step(sys, t, &y, &f, &scale, opts, method, &mut stats)
+            };
+        }
+        let mut jac_cache = None;
+        let mut last_rejected = false;
+        while t < seg_end {
+            if stats.steps + stats.rejected >= opts.max_steps {
+                return Err(SolverError::TooManySteps { time: t, steps: opts.max_steps });
+            }
+            let remaining = seg_end - t;
+            let mut h = h_next.min(opts.h_max);
+            // Land exactly on the segment end; avoid a sliver step just before it.
+            let last = h >= remaining || remaining - h < 1e-3 * h;
+            if last {
+                h = remaining;
+            }
+            if h <= 16.0 * f64::EPSILON * t.abs().max(1e-300) {
+                return Err(SolverError::StepSizeTooSmall { time: t, step: h });
+            }
+            let (y1, f1, err_norm) = match method {
+                Method::Dopri5 | Method::Auto => {
+                    let trial = dopri5::step(sys, t, &y, &f, h);
+                    stats.rhs_evals += 6;
+                    let e = error_norm(&trial.err, &y, &trial.y1, &scale, opts, S::COUPLED);
+                    (trial.y1, Some(trial.f1), e)
+                }
+                Method::Rodas4 => {
+                    let (jac, dfdt) = match jac_cache {
+                        Some(c) => c,
+                        None => {
+                            stats.jac_evals += 1;
+                            let c = sys.jacobian(t, &y);
+                            jac_cache = Some(c);
+                            c
+                        }
+                    };
+                    stats.lu_decomps += 1;
+                    stats.rhs_evals += 5;
+                    match rodas4::step(sys, t, &y, &f, &jac, &dfdt, h) {
+                        Ok(trial) => {
+                            let e = error_norm(&trial.err, &y, &trial.y1, &scale, opts, S::COUPLED);
+                            (trial.y1, None, e)
+                        }
+                        Err(rodas4::Singular) => (y, None, f64::INFINITY),
+                    }
+                }
+            };
+            let order_exp = if method == Method::Rodas4 { 0.25 } else { 0.2 };
+            if err_norm <= 1.0 && y1.iter().all(|v| v.is_finite()) {
+                let t1 = if last { seg_end } else { t + h };
+                let f1 = match f1 {
+                    Some(f1) => f1,
+                    None => {
+                        stats.rhs_evals += 1;
+                        sys.rhs(t1, &y1)
+                    }
+                };
+                check_finite(&f1, t1)?;
+                observer(&Step { t0: t, t1, y0: &y, y1: &y1, f0: &f, f1: &f1 });
+                stats.steps += 1;
+                t = t1;
+                y = y1;
+                f = f1;
+                jac_cache = None;
+                let fac = if err_norm == 0.0 { 6.0 } else { 0.9 * err_norm.powf(-order_exp) };
+                let fac = if last_rejected { fac.min(1.0) } else { fac };
+                h_next = h * fac.clamp(0.2, 6.0);
+                last_rejected = false;
+            } else {
+                stats.rejected += 1;
+                let fac = if err_norm.is_finite() { 0.9 * err_norm.powf(-order_exp) } else { 0.1 };
+                h_next = h * fac.clamp(0.1, 0.9);
+                last_rejected = true;
+            }
+        }
+    }
+    Ok((y, stats))
+}
+
+fn check_finite<const D: usize>(f: &SVector<f64, D>, t: f64) -> Result<(), SolverError> {
+    if f.iter().all(|v| v.is_finite()) { Ok(()) } else { Err(SolverError::NonFinite { time: t }) }
+}
+
+/// Initial step from the size of y and f (Hairer, Nørsett & Wanner, §II.4), with one
+/// explicit Euler probe for the second derivative.
+#[allow(clippy::too_many_arguments)]
+fn initial_step<const D: usize, S: OdeSystem<D>>(
+    sys: &S,
+    t: f64,
+    y: &SVector<f64, D>,
+    f: &SVector<f64, D>,
+    scale: &SVector<f64, D>,
+    opts: &SolverOptions,
+    method: Method,
+    stats: &mut SolverStats,
+) -> f64 {
+    let order = if method == Method::Rodas4 { 4.0 } else { 5.0 };
+    let sc = |i: usize| opts.atol * scale[i] + opts.rtol * y[i].abs();
+    let m = S::COUPLED;
+    let norm = |v: &SVector<f64, D>| {
+        ((0..m).map(|i| (v[i] / sc(i)).powi(2)).sum::<f64>() / m as f64).sqrt()
+    };
+    let d0 = norm(y);
+    let d1 = norm(f);
+    let h0 = if d0 < 1e-5 || d1 < 1e-5 { 1e-6 } else { 0.01 * d0 / d1 };
+    let h0 = h0.min(opts.h_max);
+    let y1 = y + h0 * f;
+    let f1 = sys.rhs(t + h0, &y1);
+    stats.rhs_evals += 1;
+    let d2 = norm(&(f1 - f)) / h0;
+    let h1 = if d1.max(d2) <= 1e-15 {
+        (h0 * 1e-3).max(1e-6)
+    } else {
+        (0.01 / d1.max(d2)).powf(1.0 / order)
+    };
+    (100.0 * h0).min(h1).min(opts.h_max)
+}

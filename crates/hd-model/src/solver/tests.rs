@@ -1,0 +1,110 @@
+//! Solver tests against closed-form solutions.
+
+use super::*;
+use nalgebra::{SMatrix, SVector, Vector2, Vector3};
+
+/// Prothero–Robinson: y' = λ(y − sin t) + cos t, exact y = sin t for y(0) = 0.
+struct Prothero {
+    lambda: f64,
+}
+
+impl OdeSystem<1> for Prothero {
+    fn rhs(&self, t: f64, y: &SVector<f64, 1>) -> SVector<f64, 1> {
+        SVector::from([self.lambda * (y[0] - t.sin()) + t.cos()])
+    }
+    fn jacobian(&self, t: f64, _y: &SVector<f64, 1>) -> (SMatrix<f64, 1, 1>, SVector<f64, 1>) {
+        (SMatrix::from([[self.lambda]]), SVector::from([-self.lambda * t.cos() - t.sin()]))
+    }
+}
+
+/// Harmonic oscillator x'' = −ω²x with a quadrature q' = x², from x(0)=1, x'(0)=0:
+/// x = cos ωt, q = t/2 + sin(2ωt)/(4ω).
+struct Oscillator {
+    omega: f64,
+}
+
+impl OdeSystem<3> for Oscillator {
+    const COUPLED: usize = 2;
+    fn rhs(&self, _t: f64, y: &Vector3<f64>) -> Vector3<f64> {
+        Vector3::new(y[1], -self.omega * self.omega * y[0], y[0] * y[0])
+    }
+    fn jacobian(&self, _t: f64, y: &Vector3<f64>) -> (SMatrix<f64, 3, 3>, Vector3<f64>) {
+        let w2 = self.omega * self.omega;
+        let j = SMatrix::<f64, 3, 3>::new(0.0, 1.0, 0.0, -w2, 0.0, 0.0, 2.0 * y[0], 0.0, 0.0);
+        (j, Vector3::zeros())
+    }
+}
+
+fn opts(method: Method, rtol: f64) -> SolverOptions {
+    SolverOptions { method, rtol, atol: rtol * 1e-3, ..Default::default() }
+}
+
+#[test]
+fn rodas4_follows_a_very_stiff_prothero_robinson_problem() {
+    let sys = Prothero { lambda: -1e8 };
+    let (y, stats) =
+        solve(&sys, 0.0, SVector::from([0.0]), 10.0, &[], &opts(Method::Rodas4, 1e-8), &mut |_| {})
+            .unwrap();
+    assert!((y[0] - 10f64.sin()).abs() < 1e-7, "y = {}, exact {}", y[0], 10f64.sin());
+    // Stiffness must not force tiny steps: the solution is smooth.
+    assert!(stats.steps < 2_000, "{stats:?}");
+}
+
+#[test]
+fn both_methods_meet_their_tolerance_on_an_oscillator_with_a_quadrature() {
+    let omega = 50.0;
+    let sys = Oscillator { omega };
+    let t_end = 2.0;
+    for method in [Method::Dopri5, Method::Rodas4] {
+        let mut errs = Vec::new();
+        for rtol in [1e-6, 1e-9] {
+            let y0 = Vector3::new(1.0, 0.0, 0.0);
+            let (y, _) =
+                solve(&sys, 0.0, y0, t_end, &[], &opts(method, rtol), &mut |_| {}).unwrap();
+            let x = (omega * t_end).cos();
+            let q = t_end / 2.0 + (2.0 * omega * t_end).sin() / (4.0 * omega);
+            let err = (y[0] - x).abs().max((y[2] - q).abs() / q);
+            errs.push(err);
+        }
+        // Global error within a modest multiple of the tolerance, and it shrinks with it.
+        assert!(errs[0] < 1e-3, "{method:?}: {errs:?}");
+        assert!(errs[1] < 1e-6, "{method:?}: {errs:?}");
+        assert!(errs[1] < errs[0] / 100.0, "{method:?}: {errs:?}");
+    }
+}
+
+#[test]
+fn breakpoints_are_hit_exactly_and_the_observer_sees_contiguous_steps() {
+    let sys = Oscillator { omega: 3.0 };
+    let mut last_t = 0.0;
+    let mut hit = false;
+    let mut observer = |s: &Step<3>| {
+        assert_eq!(s.t0, last_t);
+        last_t = s.t1;
+        hit |= s.t1 == 0.37;
+    };
+    let y0 = Vector3::new(1.0, 0.0, 0.0);
+    solve(&sys, 0.0, y0, 1.0, &[0.37, 5.0], &opts(Method::Dopri5, 1e-8), &mut observer).unwrap();
+    assert!(hit);
+    assert_eq!(last_t, 1.0);
+}
+
+#[test]
+fn hermite_interpolation_is_exact_for_cubics() {
+    let y0 = Vector2::new(0.0, 1.0);
+    let y1 = Vector2::new(1.0, 8.0);
+    let f0 = Vector2::new(0.0, 3.0);
+    let f1 = Vector2::new(3.0, 12.0);
+    // Components t³ and (t+1)³ on [0, 1].
+    let step = Step { t0: 0.0, t1: 1.0, y0: &y0, y1: &y1, f0: &f0, f1: &f1 };
+    let y = step.interpolate(0.3);
+    assert!((y[0] - 0.027).abs() < 1e-14 && (y[1] - 1.3f64.powi(3)).abs() < 1e-14);
+}
+
+#[test]
+fn a_step_budget_overrun_is_a_typed_error() {
+    let sys = Oscillator { omega: 1000.0 };
+    let o = SolverOptions { max_steps: 10, ..opts(Method::Dopri5, 1e-8) };
+    let e = solve(&sys, 0.0, Vector3::new(1.0, 0.0, 0.0), 1.0, &[], &o, &mut |_| {}).unwrap_err();
+    assert!(matches!(e, crate::error::SolverError::TooManySteps { .. }), "{e}");
+}

@@ -1,0 +1,249 @@
+//! The assembled drive: motor, gear (stiffness + friction) and load, as an ODE system
+//! with its analytic Jacobian (shared/MODEL.md §4).
+
+use crate::laws::friction::{Friction, FrictionEval, FrictionLaw};
+use crate::laws::input::Input;
+use crate::laws::motor::DcMotor;
+use crate::laws::stiffness::{Stiffness, StiffnessEval, StiffnessLaw};
+use crate::params::Params;
+use crate::solver::OdeSystem;
+use crate::state::*;
+use crate::variant::{FrictionKind, StiffnessKind, friction_law, stiffness_law};
+use nalgebra::{SMatrix, SVector};
+use serde::{Deserialize, Serialize};
+
+/// Which speed the friction law sees.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum FrictionVelocity {
+    /// `v = ωj/N` (the seed's choice): friction acts on the wave generator only.
+    #[default]
+    Motor,
+    /// `v = θ̇ = ωj/N − ωz`: friction acts across the gear, on both sides (−Tf/N on
+    /// the motor, +Tf on the load), so its power is `Tf·θ̇`.
+    Deflection,
+}
+
+/// The motor–gear–load system.
+#[derive(Clone, Debug)]
+pub struct DriveSystem {
+    /// Stiffness law of the gear.
+    pub stiffness: Stiffness,
+    /// Friction law of the gear.
+    pub friction: Friction,
+    /// The DC motor.
+    pub motor: DcMotor,
+    /// Armature voltage.
+    pub input: Input,
+    /// Speed seen by the friction law.
+    pub friction_velocity: FrictionVelocity,
+    /// Gear ratio N [–].
+    pub n: f64,
+    /// Motor inertia Jj [kg·m²].
+    pub jj: f64,
+    /// Load inertia Jz [kg·m²].
+    pub jz: f64,
+    /// Motor damping Cj [N·m·s/rad].
+    pub cj: f64,
+    /// Load damping Cz [N·m·s/rad].
+    pub cz: f64,
+}
+
+/// Everything the right-hand side computes at one instant, shared by the RHS, the
+/// Jacobian and the reported signals.
+#[derive(Clone, Copy, Debug)]
+pub struct Parts {
+    /// Voltage u [V].
+    pub u: f64,
+    /// du/dt [V/s].
+    pub du: f64,
+    /// Current i [A].
+    pub i: f64,
+    /// Deflection rate θ̇ [rad/s].
+    pub theta_dot: f64,
+    /// Sliding speed v [rad/s].
+    pub v: f64,
+    /// Stiffness law output.
+    pub st: StiffnessEval,
+    /// Friction law output.
+    pub fr: FrictionEval,
+    /// Torque on the load from the gear [N·m].
+    pub t_out: f64,
+    /// Torque on the wave generator `Ta = (Tb + Tf)/N` [N·m].
+    pub ta: f64,
+}
+
+impl DriveSystem {
+    /// Assemble the system from parameters, law choices and input.
+    pub fn new(
+        p: &Params,
+        stiffness: StiffnessKind,
+        friction: FrictionKind,
+        input: Input,
+        friction_velocity: FrictionVelocity,
+    ) -> Self {
+        Self {
+            stiffness: stiffness_law(stiffness, p),
+            friction: friction_law(friction, p),
+            motor: DcMotor { r: p.r, km: p.km, ke: p.ke, l: p.l },
+            input,
+            friction_velocity,
+            n: p.n,
+            jj: p.jj,
+            jz: p.jz,
+            cj: p.cj,
+            cz: p.cz,
+        }
+    }
+
+    /// Whether the system has a stiff part that calls for the implicit method.
+    pub fn is_stiff(&self) -> bool {
+        matches!(self.friction, Friction::LuGre(_)) || self.motor.has_inductance()
+    }
+
+    /// `(∂v/∂ωj, ∂v/∂ωz)`.
+    fn v_coeffs(&self) -> (f64, f64) {
+        match self.friction_velocity {
+            FrictionVelocity::Motor => (1.0 / self.n, 0.0),
+            FrictionVelocity::Deflection => (1.0 / self.n, -1.0),
+        }
+    }
+
+    /// Whether friction also acts on the load.
+    fn friction_on_load(&self) -> bool {
+        self.friction_velocity == FrictionVelocity::Deflection
+    }
+
+    /// Evaluate the laws at (t, y).
+    #[inline]
+    pub fn parts(&self, t: f64, y: &State) -> Parts {
+        let (u, du) = self.input.value_and_rate(t);
+        let i = if self.motor.has_inductance() {
+            y[CURRENT]
+        } else {
+            self.motor.static_current(u, y[OMEGA_J])
+        };
+        let theta_dot = y[OMEGA_J] / self.n - y[OMEGA_Z];
+        let (a, b) = self.v_coeffs();
+        let v = a * y[OMEGA_J] + b * y[OMEGA_Z];
+        let st = self.stiffness.eval(y[THETA], theta_dot, y[Z]);
+        let fr = self.friction.eval(v, y[W]);
+        let t_out = st.torque + if self.friction_on_load() { fr.torque } else { 0.0 };
+        let ta = (st.torque + fr.torque) / self.n;
+        Parts { u, du, i, theta_dot, v, st, fr, t_out, ta }
+    }
+
+    /// The state at rest with zero current and no stored memory or bristle torque.
+    pub fn rest_state(&self) -> State {
+        State::zeros()
+    }
+
+    /// Total stored energy: kinetic, spring, memory and magnetic [J].
+    pub fn stored_energy(&self, y: &State) -> f64 {
+        let ke = 0.5 * self.jj * y[OMEGA_J].powi(2) + 0.5 * self.jz * y[OMEGA_Z].powi(2);
+        let magnetic =
+            if self.motor.has_inductance() { 0.5 * self.motor.l * y[CURRENT].powi(2) } else { 0.0 };
+        ke + self.stiffness.potential(y[THETA]) + self.stiffness.memory_energy(y[Z]) + magnetic
+    }
+}
+
+impl OdeSystem<DIM> for DriveSystem {
+    const COUPLED: usize = COUPLED;
+
+    #[inline]
+    fn rhs(&self, t: f64, y: &State) -> State {
+        let p = self.parts(t, y);
+        let m = &self.motor;
+        let (wj, wz) = (y[OMEGA_J], y[OMEGA_Z]);
+        let mut d = State::zeros();
+        d[THETA_J] = wj;
+        d[OMEGA_J] = (m.torque(p.i) - self.cj * wj - p.ta) / self.jj;
+        d[THETA] = p.theta_dot;
+        d[OMEGA_Z] = (p.t_out - self.cz * wz) / self.jz;
+        d[Z] = p.st.z_rate;
+        d[W] = p.fr.w_rate;
+        if m.has_inductance() {
+            d[CURRENT] = m.current_rate(p.u, p.i, wj);
+        }
+        d[Q_HYST] = y[Z] * p.theta_dot;
+        d[Q_FRIC] = p.fr.torque * p.v;
+        d[Q_OUT] = (p.t_out * wz).max(0.0);
+        d[Q_IN] = (p.ta * wj).max(0.0);
+        d[Q_ELEC] = p.u * p.i;
+        d[Q_DISS] = m.r * p.i * p.i
+            + self.cj * wj * wj
+            + self.cz * wz * wz
+            + self.stiffness.memory_dissipation(y[Z]);
+        d
+    }
+
+    fn jacobian(&self, t: f64, y: &State) -> (SMatrix<f64, DIM, DIM>, State) {
+        type G = SVector<f64, COUPLED>;
+        let unit = |k: usize| G::ith(k, 1.0);
+        let p = self.parts(t, y);
+        let m = &self.motor;
+        let (wj, wz, z) = (y[OMEGA_J], y[OMEGA_Z], y[Z]);
+        let (va, vb) = self.v_coeffs();
+        let inductive = m.has_inductance();
+
+        // Gradients (over the coupled states) of the intermediate quantities.
+        let g_thd = unit(OMEGA_J) / self.n - unit(OMEGA_Z);
+        let g_v = va * unit(OMEGA_J) + vb * unit(OMEGA_Z);
+        let g_tb = p.st.d_theta * unit(THETA) + p.st.d_z * unit(Z);
+        let g_tf = p.fr.d_v * g_v + p.fr.d_w * unit(W);
+        let g_i = if inductive { unit(CURRENT) } else { -(m.ke / m.r) * unit(OMEGA_J) };
+        let g_out = if self.friction_on_load() { g_tb + g_tf } else { g_tb };
+        let g_ta = (g_tb + g_tf) / self.n;
+        // ∂(u-dependent terms)/∂t: only the current depends on u directly.
+        let di_dt = if inductive { 0.0 } else { p.du / m.r };
+
+        let mut rows: [G; DIM] = [G::zeros(); DIM];
+        let mut dfdt = State::zeros();
+        rows[THETA_J] = unit(OMEGA_J);
+        rows[OMEGA_J] = (m.km * g_i - self.cj * unit(OMEGA_J) - g_ta) / self.jj;
+        dfdt[OMEGA_J] = m.km * di_dt / self.jj;
+        rows[THETA] = g_thd;
+        rows[OMEGA_Z] = (g_out - self.cz * unit(OMEGA_Z)) / self.jz;
+        rows[Z] = p.st.z_rate_d_thetadot * g_thd + p.st.z_rate_d_z * unit(Z);
+        rows[W] = p.fr.w_rate_d_v * g_v + p.fr.w_rate_d_w * unit(W);
+        if inductive {
+            rows[CURRENT] = (-m.r * unit(CURRENT) - m.ke * unit(OMEGA_J)) / m.l;
+            dfdt[CURRENT] = p.du / m.l;
+        }
+        rows[Q_HYST] = z * g_thd + p.theta_dot * unit(Z);
+        rows[Q_FRIC] = p.v * g_tf + p.fr.torque * g_v;
+        if p.t_out * wz > 0.0 {
+            rows[Q_OUT] = wz * g_out + p.t_out * unit(OMEGA_Z);
+        }
+        if p.ta * wj > 0.0 {
+            rows[Q_IN] = wj * g_ta + p.ta * unit(OMEGA_J);
+        }
+        rows[Q_ELEC] = p.u * g_i;
+        dfdt[Q_ELEC] = p.du * p.i + p.u * di_dt;
+        let mem_slope = {
+            let h = self.stiffness.memory_dissipation(1.0);
+            2.0 * h * z // B·z²/A is quadratic in z: derivative 2·(B/A)·z
+        };
+        rows[Q_DISS] = 2.0 * m.r * p.i * g_i
+            + 2.0 * self.cj * wj * unit(OMEGA_J)
+            + 2.0 * self.cz * wz * unit(OMEGA_Z)
+            + mem_slope * unit(Z);
+        dfdt[Q_DISS] = 2.0 * m.r * p.i * di_dt;
+
+        let mut jac = SMatrix::<f64, DIM, DIM>::zeros();
+        for (r, g) in rows.iter().enumerate() {
+            for c in 0..COUPLED {
+                jac[(r, c)] = g[c];
+            }
+        }
+        (jac, dfdt)
+    }
+
+    fn abs_scale(&self) -> State {
+        // The deflection is held to the same absolute accuracy as a torque: an error of
+        // atol [N·m] in Tb, i.e. atol/k0 [rad] in θ.
+        let mut s = State::from_element(1.0);
+        s[THETA] = 1.0 / self.stiffness.reference_stiffness().max(1.0);
+        s
+    }
+}

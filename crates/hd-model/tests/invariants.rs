@@ -1,0 +1,178 @@
+//! Whole-system invariants: natural frequency, energy balance, solver agreement, the
+//! stiff case, and the analytic Jacobian.
+
+use hd_model::laws::input::Input;
+use hd_model::solver::{Method, OdeSystem, SolverOptions, solve};
+use hd_model::state::*;
+use hd_model::system::{DriveSystem, FrictionVelocity};
+use hd_model::variant::{FrictionKind, StiffnessKind};
+use hd_model::{Params, SimConfig, Variant, simulate};
+
+#[test]
+fn linear_variant_free_oscillation_has_the_two_inertia_frequency() {
+    let mut p = Params::default();
+    // Undamped: no viscous losses and no back-EMF braking.
+    p.cj = 0.0;
+    p.cz = 0.0;
+    p.ke = 0.0;
+    let sys = DriveSystem::new(
+        &p,
+        StiffnessKind::Linear,
+        FrictionKind::None,
+        Input::Constant { amplitude: 0.0 },
+        FrictionVelocity::Motor,
+    );
+    let wn = (p.kbar * (1.0 / (p.jj * p.n * p.n) + 1.0 / p.jz)).sqrt();
+    let mut y0 = State::zeros();
+    y0[THETA] = 1e-5;
+    let opts =
+        SolverOptions { method: Method::Dopri5, rtol: 1e-10, atol: 1e-14, ..Default::default() };
+    let mut ups = Vec::new();
+    let mut obs = |s: &hd_model::solver::Step<DIM>| {
+        if s.y0[THETA] < 0.0 && s.y1[THETA] >= 0.0 {
+            // Locate the upward zero crossing inside the step by bisection on the interpolant.
+            let (mut a, mut b) = (s.t0, s.t1);
+            for _ in 0..60 {
+                let m = 0.5 * (a + b);
+                if s.interpolate(m)[THETA] < 0.0 { a = m } else { b = m }
+            }
+            ups.push(0.5 * (a + b));
+        }
+    };
+    solve(&sys, 0.0, y0, 40.0 * std::f64::consts::TAU / wn, &[], &opts, &mut obs).unwrap();
+    assert!(ups.len() >= 30, "{} crossings", ups.len());
+    let period = (ups[ups.len() - 1] - ups[0]) / (ups.len() - 1) as f64;
+    let measured = std::f64::consts::TAU / period;
+    assert!((measured - wn).abs() / wn < 5e-3, "ω = {measured}, two-inertia ω_n = {wn}");
+}
+
+#[test]
+fn energy_balance_closes_over_the_seed_case() {
+    for fv in [FrictionVelocity::Motor, FrictionVelocity::Deflection] {
+        let cfg = SimConfig {
+            friction_velocity: fv,
+            record_trace: false,
+            solver: SolverOptions { rtol: 1e-9, atol: 1e-12, ..Default::default() },
+            ..SimConfig::default()
+        };
+        let out = simulate(&cfg).unwrap();
+        let sys = cfg.system();
+        let y = out.final_state;
+        let e_in = y[Q_ELEC];
+        let accounted = sys.stored_energy(&y) + y[Q_DISS] + y[Q_FRIC];
+        let rel = (e_in - accounted).abs() / e_in.abs();
+        assert!(
+            e_in > 0.0 && rel < 1e-6,
+            "{fv:?}: in {e_in} J, accounted {accounted} J, rel {rel:e}"
+        );
+        assert!(out.metrics.energy_residual < 1e-6);
+    }
+}
+
+#[test]
+fn energy_balance_holds_with_armature_inductance() {
+    let mut cfg = SimConfig { record_trace: false, ..SimConfig::default() };
+    cfg.params.l = 2e-3;
+    cfg.solver = SolverOptions { rtol: 1e-9, atol: 1e-12, ..Default::default() };
+    let out = simulate(&cfg).unwrap();
+    assert!(out.metrics.energy_residual < 1e-6, "{}", out.metrics.energy_residual);
+}
+
+#[test]
+fn tight_and_default_tolerances_agree_on_the_load_angle() {
+    let run = |rtol: f64| {
+        let cfg = SimConfig {
+            solver: SolverOptions { rtol, atol: rtol * 1e-3, ..Default::default() },
+            ..SimConfig::default()
+        };
+        simulate(&cfg).unwrap()
+    };
+    let tight = run(1e-10);
+    let loose = run(1e-6);
+    let (a, b) = (tight.trace.unwrap(), loose.trace.unwrap());
+    assert_eq!(a.t, b.t);
+    let amp = tight.metrics.thz_amp;
+    let worst = a.theta_z.iter().zip(&b.theta_z).map(|(x, y)| (x - y).abs()).fold(0.0, f64::max);
+    assert!(amp > 0.0 && worst < 1e-3 * amp, "max |Δθz| = {worst:e}, amplitude {amp:e}");
+}
+
+#[test]
+fn a_very_stiff_bristle_still_finishes() {
+    let mut cfg = SimConfig { record_trace: false, t_end: 0.05, ..SimConfig::default() };
+    cfg.params.sigma0 = 1e8;
+    cfg.params.ws = 1e-4;
+    let out = simulate(&cfg).unwrap();
+    assert!(out.metrics.thz_amp.is_finite() && out.metrics.thz_amp > 0.0);
+    assert!(out.metrics.energy_residual < 1e-4, "{}", out.metrics.energy_residual);
+}
+
+#[test]
+fn analytic_jacobian_matches_finite_differences() {
+    let mut p = Params::default();
+    p.sigma2 = 0.02;
+    for (sk, fk, fv, l) in [
+        (StiffnessKind::Hysteretic, FrictionKind::Lugre, FrictionVelocity::Motor, 0.0),
+        (StiffnessKind::Hysteretic, FrictionKind::Lugre, FrictionVelocity::Deflection, 1e-3),
+        (StiffnessKind::Linear, FrictionKind::Viscous, FrictionVelocity::Motor, 0.0),
+        (StiffnessKind::Cubic, FrictionKind::None, FrictionVelocity::Deflection, 1e-3),
+    ] {
+        p.l = l;
+        let sys = DriveSystem::new(&p, sk, fk, Input::Sine { amplitude: 24.0, freq: 50.0 }, fv);
+        let mut y = State::zeros();
+        let vals = [0.3, 5.0, 2e-5, 0.04, 0.2, 0.1, 1.5, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0];
+        for (k, v) in vals.iter().enumerate() {
+            y[k] = *v;
+        }
+        let t = 0.0123;
+        let (jac, dfdt) = sys.jacobian(t, &y);
+        for c in 0..COUPLED {
+            let h = 1e-7 * y[c].abs().max(1e-6);
+            let (mut yp, mut ym) = (y, y);
+            yp[c] += h;
+            ym[c] -= h;
+            let (fp, fm) = (sys.rhs(t, &yp), sys.rhs(t, &ym));
+            let fd = (fp - fm) / (2.0 * h);
+            for r in 0..DIM {
+                // Round-off of the difference quotient bounds what can be compared.
+                let noise = 1e-14 * (fp[r].abs() + fm[r].abs()) / h;
+                let scale = fd[r].abs().max(jac[(r, c)].abs());
+                assert!(
+                    (fd[r] - jac[(r, c)]).abs() <= 1e-5 * scale + noise + 1e-12,
+                    "{sk:?}/{fk:?}/{fv:?} L={l}: J[{r},{c}] = {} vs FD {}",
+                    jac[(r, c)],
+                    fd[r]
+                );
+            }
+        }
+        let h = 1e-8;
+        let fd_t = (sys.rhs(t + h, &y) - sys.rhs(t - h, &y)) / (2.0 * h);
+        for r in 0..DIM {
+            let scale = fd_t[r].abs().max(1e-3);
+            assert!(
+                (fd_t[r] - dfdt[r]).abs() / scale < 1e-5,
+                "∂f/∂t[{r}] {} vs {}",
+                dfdt[r],
+                fd_t[r]
+            );
+        }
+    }
+}
+
+#[test]
+fn losses_appear_only_where_their_laws_are() {
+    let run = |v: Variant| {
+        let cfg = SimConfig { variant: v, record_trace: false, ..SimConfig::default() };
+        simulate(&cfg).unwrap().metrics
+    };
+    let (l, d, f) = (run(Variant::Linear), run(Variant::Damped), run(Variant::Full));
+    // No memory: no hysteresis loss; no friction: no friction loss.
+    assert_eq!(l.hyst_loss_per_cycle, 0.0);
+    assert_eq!(l.friction_loss_per_cycle, 0.0);
+    assert_eq!(d.hyst_loss_per_cycle, 0.0);
+    assert!(d.friction_loss_per_cycle > 0.0 && f.friction_loss_per_cycle > 0.0);
+    assert!(f.hyst_loss_per_cycle > 0.0);
+    // Viscous friction only removes energy from the same linear system.
+    assert!(d.thz_amp < l.thz_amp, "damped {:e} vs linear {:e}", d.thz_amp, l.thz_amp);
+    // A lossless gear passes all positive input work on, up to the energy it stores.
+    assert!(l.efficiency > 0.9 && f.efficiency < l.efficiency, "{} {}", l.efficiency, f.efficiency);
+}
