@@ -1,1 +1,42 @@
-fn main() {}
+//! `hdw`, the harmonic-drive workbench command line.
+//!
+//! Each subcommand lives in its own module under `cmd/`; arguments are checked into a
+//! configuration before any work starts, errors go to stderr with a non-zero exit.
+
+mod cmd;
+
+use clap::{Parser, Subcommand};
+use std::process::ExitCode;
+
+/// Nonlinear dynamics of harmonic (strain-wave) drives: simulate, sweep, identify, explore.
+#[derive(Parser, Debug)]
+#[command(
+    name = "hdw",
+    version,
+    about,
+    after_help = "Example:\n  hdw simulate --out out/demo        # the seed case: full model, 24 V, 50 Hz, 0.2 s\n  hdw simulate --variant damped --set Kbar=5e5 --voltage 12 --out out/soft\n\nEach subcommand's --help ends with a worked example."
+)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand, Debug)]
+enum Command {
+    /// Simulate one run; writes trace.parquet, metrics.json and response.svg.
+    Simulate(cmd::simulate::SimulateArgs),
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let result = match cli.command {
+        Command::Simulate(args) => cmd::simulate::run(args),
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: {e:#}");
+            ExitCode::FAILURE
+        }
+    }
+}

@@ -1,1 +1,1 @@
-//! hd-plot
+//! Plots (SVG and PNG) for the workbench, drawn with plotters.
