@@ -1,3 +1,14 @@
 //! Reading and writing the workbench's files with polars: traces and run tables as
 //! Parquet, recorded inputs and measured data sets as CSV or Parquet. This is the only
 //! crate that knows polars.
+//!
+//! Main items: [`write_trace`], [`read_columns`], [`read_profile`], [`IoError`], [`atomic::write_atomically`].
+
+pub mod atomic;
+pub mod columns;
+pub mod error;
+pub mod trace;
+
+pub use columns::{read_columns, read_frame, read_profile};
+pub use error::IoError;
+pub use trace::write_trace;
