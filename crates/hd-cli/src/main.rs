@@ -4,6 +4,7 @@
 //! configuration before any work starts, errors go to stderr with a non-zero exit.
 
 mod cmd;
+mod report;
 
 use clap::{Parser, Subcommand};
 use std::process::ExitCode;
@@ -25,12 +26,15 @@ struct Cli {
 enum Command {
     /// Simulate one run; writes trace.parquet, metrics.json and response.svg.
     Simulate(cmd::simulate::SimulateArgs),
+    /// Run a study file: many runs in parallel → runs.parquet, study.json, report.md.
+    Study(cmd::study::StudyArgs),
 }
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Simulate(args) => cmd::simulate::run(args),
+        Command::Study(args) => cmd::study::run(args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -7,8 +7,12 @@
 pub mod atomic;
 pub mod columns;
 pub mod error;
+pub mod runs;
+pub mod store;
+pub mod table;
 pub mod trace;
 
 pub use columns::{read_columns, read_frame, read_profile};
 pub use error::IoError;
+pub use table::{ColumnData, Table, read_table};
 pub use trace::write_trace;

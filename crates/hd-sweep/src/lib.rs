@@ -1,1 +1,20 @@
-//! hd-sweep
+//! The sweep engine: study files (`studies/*.toml`) checked into a [`Study`], expanded into
+//! [`RunSpec`]s, and run in parallel with rayon into [`RunRow`]s.
+//!
+//! Main items: [`load_study`], [`Study::expand`], [`run_batch`], [`RunRow`], [`StudyError`].
+
+pub mod axis;
+pub mod design;
+pub mod error;
+pub mod parse;
+pub mod row;
+pub mod runner;
+pub mod sensitivity;
+pub mod spec;
+pub mod study;
+
+pub use error::StudyError;
+pub use parse::{load_study, parse_study};
+pub use row::RunRow;
+pub use runner::run_batch;
+pub use study::{RunSpec, Study, shard};

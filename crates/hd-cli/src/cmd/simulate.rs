@@ -185,6 +185,8 @@ pub fn run(args: SimulateArgs) -> Result<()> {
         "tool": { "name": "hdw", "version": env!("CARGO_PKG_VERSION") },
     });
     write_json(&dir.join("metrics.json"), &doc)?;
+    let title = format!("{} variant, {}", cfg.variant, input_label(&cfg.input));
+    hd_plot::response_plot(&dir.join("response.svg"), trace, &title)?;
     eprintln!(
         "{} variant, {} steps ({} rejected) in {:.1} ms; θz amplitude {:.4e} rad; wrote {}",
         cfg.variant,
@@ -195,6 +197,20 @@ pub fn run(args: SimulateArgs) -> Result<()> {
         dir.display()
     );
     Ok(())
+}
+
+/// A short description of the input for plot titles.
+fn input_label(input: &Input) -> String {
+    match input {
+        Input::Sine { amplitude, freq } => format!("{amplitude} V sine at {freq} Hz"),
+        Input::Step { amplitude, t0 } => format!("{amplitude} V step at {t0} s"),
+        Input::Constant { amplitude } => format!("constant {amplitude} V"),
+        Input::Chirp { amplitude, f0, f1, .. } => format!("{amplitude} V chirp {f0}–{f1} Hz"),
+        Input::SteppedSine { amplitude, freqs, .. } => {
+            format!("{amplitude} V stepped sine, {} frequencies", freqs.len())
+        }
+        Input::Recorded(p) => format!("recorded input ({} samples)", p.t.len()),
+    }
 }
 
 /// NaN and infinities become JSON null.

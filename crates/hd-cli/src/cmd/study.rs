@@ -1,0 +1,182 @@
+//! `hdw study`: expand a study file into runs, run them in parallel with a progress bar,
+//! commit results in parts (resumable, shardable), then write the report.
+
+use super::common::{ensure_dir, write_json};
+use crate::report;
+use anyhow::{Context, Result, bail};
+use clap::Args;
+use hd_io::store::RunStore;
+use hd_sweep::{RunRow, RunSpec, Study, load_study, run_batch, shard};
+use indicatif::{ProgressBar, ProgressStyle};
+use serde_json::json;
+use std::collections::HashSet;
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::time::Instant;
+
+/// Run a sensitivity study defined in a study file (see studies/README.md).
+#[derive(Args, Debug)]
+#[command(
+    after_help = "Outputs (in --out DIR, default out/<study name>):\n  runs.parquet    one row per run: run_id, run_index, part, variant, status, error, every parameter,\n                  voltage, freq, swept settings, the kept metrics, solver statistics\n  traces.parquet  kept traces in long format (run_id, t, signals), when the study keeps traces\n  study.json      the expanded study, tool version and parameter defaults\n  report.md       tables and plots (*.svg) of the results\nWith --shard K/N the tables are runs-shard-K-of-N.parquet etc.; read DIR/runs*.parquet as one dataset.\n\nExample:\n  hdw study studies/table4.toml --out out/table4\n  hdw study studies/table4.toml --out out/table4 --resume      # after an interruption\n  hdw study studies/table4.toml --out out/t4 --shard 2/8       # one of 8 array jobs"
+)]
+pub struct StudyArgs {
+    /// The study file (TOML).
+    pub file: PathBuf,
+    /// Output folder (default out/<study name>).
+    #[arg(long, value_name = "DIR")]
+    pub out: Option<PathBuf>,
+    /// Worker threads (default: all cores).
+    #[arg(long, value_name = "N")]
+    pub threads: Option<usize>,
+    /// Continue an interrupted sweep in DIR: runs already committed are not run again.
+    #[arg(long)]
+    pub resume: bool,
+    /// Run only the K-th of N disjoint slices of the study (1-based), e.g. 3/8.
+    #[arg(long, value_name = "K/N")]
+    pub shard: Option<String>,
+    /// Skip the report (tables and plots).
+    #[arg(long)]
+    pub no_report: bool,
+}
+
+/// Parse `K/N` with 1 ≤ K ≤ N.
+fn parse_shard(s: &str) -> Result<(usize, usize)> {
+    let parsed =
+        s.split_once('/').and_then(|(k, n)| Some((k.trim().parse().ok()?, n.trim().parse().ok()?)));
+    match parsed {
+        Some((k, n)) if n >= 1 && (1..=n).contains(&k) => Ok((k, n)),
+        _ => bail!("--shard {s}: expected K/N with 1 <= K <= N, e.g. 2/8"),
+    }
+}
+
+/// Run `hdw study`.
+pub fn run(args: StudyArgs) -> Result<()> {
+    let loader = |p: &Path| hd_io::read_profile(p).map_err(|e| e.to_string());
+    let study = load_study(&args.file, &loader)?;
+    let shard_kn = args.shard.as_deref().map(parse_shard).transpose()?;
+    if args.threads == Some(0) {
+        bail!("--threads 0: expected at least 1 thread");
+    }
+    let dir =
+        ensure_dir(&args.out.clone().unwrap_or_else(|| PathBuf::from("out").join(&study.name)))?;
+    let all_runs = study.expand();
+    let runs = match shard_kn {
+        Some((k, n)) => shard(all_runs.clone(), k, n),
+        None => all_runs.clone(),
+    };
+    let mut store =
+        RunStore::open(&dir, shard_kn, study.swept_names(), study.keep_metrics.clone())?;
+    if store.has_results()? && !args.resume {
+        bail!(
+            "{} already holds results of this study: pass --resume to continue it, or choose another --out",
+            dir.display()
+        );
+    }
+    let done: HashSet<String> = if args.resume { store.committed_ids()? } else { HashSet::new() };
+    let todo: Vec<RunSpec> = runs.iter().filter(|r| !done.contains(&r.run_id)).cloned().collect();
+    write_study_json(&dir, &study, &all_runs, shard_kn)?;
+
+    let threads =
+        args.threads.unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()));
+    let pool =
+        rayon::ThreadPoolBuilder::new().num_threads(threads).build().context("thread pool")?;
+    eprintln!(
+        "study '{}': {} runs{}, {} already done, {} to run on {} threads → {}",
+        study.name,
+        runs.len(),
+        shard_kn
+            .map(|(k, n)| format!(" (shard {k}/{n} of {})", all_runs.len()))
+            .unwrap_or_default(),
+        runs.len() - todo.len(),
+        todo.len(),
+        threads,
+        dir.display()
+    );
+    let bar = progress_bar(todo.len() as u64);
+    let failures = AtomicUsize::new(0);
+    let progress = |row: &RunRow| {
+        if row.status != "ok" {
+            let n = failures.fetch_add(1, Ordering::Relaxed) + 1;
+            bar.set_message(format!("{n} failed"));
+        }
+        bar.inc(1);
+    };
+    let start = Instant::now();
+    let batch = (todo.len() / 20).clamp(threads * 4, 512);
+    for chunk in todo.chunks(batch.max(1)) {
+        let rows = pool.install(|| run_batch(chunk, study.traces.decimate, &progress));
+        store.commit(&rows)?;
+    }
+    bar.finish();
+    let elapsed = start.elapsed().as_secs_f64();
+    let total = store.finish()?;
+    let failed = failures.load(Ordering::Relaxed);
+    eprintln!(
+        "{} runs in {:.2} s ({:.0} runs/s), {} failed; {} rows in {}",
+        todo.len(),
+        elapsed,
+        todo.len() as f64 / elapsed.max(1e-9),
+        failed,
+        total,
+        store.runs_path().display()
+    );
+    if !args.no_report && shard_kn.is_none() {
+        let path = report::write_report(&dir, &study, &store.runs_path(), &store.traces_path())?;
+        eprintln!("report: {}", path.display());
+    }
+    Ok(())
+}
+
+fn progress_bar(len: u64) -> ProgressBar {
+    let bar = ProgressBar::new(len);
+    let style = ProgressStyle::with_template(
+        "{elapsed_precise} [{bar:40}] {pos}/{len} runs · {per_sec} · ETA {eta} · {msg}",
+    )
+    .unwrap_or_else(|_| ProgressStyle::default_bar())
+    .progress_chars("=> ");
+    bar.set_style(style);
+    bar.set_message("0 failed");
+    bar
+}
+
+fn write_study_json(
+    dir: &Path,
+    study: &Study,
+    runs: &[RunSpec],
+    shard: Option<(usize, usize)>,
+) -> Result<()> {
+    let defaults: Vec<serde_json::Value> = hd_model::registry::REGISTRY
+        .iter()
+        .map(|p| json!({ "name": p.name, "unit": p.unit, "default": p.default_value(), "range": p.range_text(), "doc": p.doc }))
+        .collect();
+    let parts: Vec<serde_json::Value> = study
+        .parts
+        .iter()
+        .map(|p| {
+            json!({
+                "name": p.name,
+                "base": p.base,
+                "swept": p.swept_names(),
+                "axes": p.axes.iter().map(|a| json!({ "name": a.knob.name(), "values": a.values, "zip": a.zip })).collect::<Vec<_>>(),
+            })
+        })
+        .collect();
+    let run_list: Vec<serde_json::Value> = runs
+        .iter()
+        .map(|r| json!({ "run_id": r.run_id, "run_index": r.index, "part": r.part, "swept": r.swept }))
+        .collect();
+    let doc = json!({
+        "name": study.name,
+        "description": study.description,
+        "file": study.file.display().to_string(),
+        "tool": { "name": "hdw", "version": env!("CARGO_PKG_VERSION") },
+        "shard": shard.map(|(k, n)| json!({ "k": k, "n": n })),
+        "swept": study.swept_names(),
+        "metrics": study.keep_metrics,
+        "traces": study.traces,
+        "parameter_defaults": defaults,
+        "parts": parts,
+        "runs": run_list,
+    });
+    write_json(&dir.join("study.json"), &doc)
+}

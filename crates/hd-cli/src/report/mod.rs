@@ -1,0 +1,57 @@
+//! The study report: `report.md` with the key tables, and SVG plots beside it (a heatmap
+//! per metric for 2-D grids, lines for 1-D axes, overlaid traces where traces were kept),
+//! plus the paper-versus-model table when the study states the paper's claims.
+
+mod compare;
+mod markdown;
+mod part_data;
+mod plots;
+
+use anyhow::Result;
+use hd_sweep::Study;
+use part_data::PartData;
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+
+/// Write `DIR/report.md` and its plots; returns the report's path.
+pub fn write_report(dir: &Path, study: &Study, runs: &Path, traces: &Path) -> Result<PathBuf> {
+    let table = hd_io::read_table(runs)?;
+    let trace_table = if traces.exists() { Some(hd_io::read_table(traces)?) } else { None };
+    let mut md = String::new();
+    writeln!(md, "# Study `{}`\n", study.name)?;
+    if !study.description.is_empty() {
+        writeln!(md, "{}\n", study.description)?;
+    }
+    let total = table.height;
+    let failed =
+        table.text("status").map_or(0, |s| s.iter().filter(|v| v.as_deref() != Some("ok")).count());
+    writeln!(
+        md,
+        "{total} runs, {failed} failed. Study file: `{}`. Full results: `runs.parquet`.\n",
+        study.file.display()
+    )?;
+    if !study.compare.is_empty() {
+        writeln!(md, "## The seed paper's claims against the model\n")?;
+        md.push_str(&compare::section(study, &table));
+    }
+    for part in &study.parts {
+        let data = PartData::new(part, &table, &study.keep_metrics);
+        writeln!(
+            md,
+            "## Part `{}` ({} runs, {} failed)\n",
+            part.name,
+            data.rows.len(),
+            data.failed
+        )?;
+        writeln!(md, "{}\n", markdown::describe_part(part))?;
+        md.push_str(&plots::part_plots(dir, &study.name, &data, trace_table.as_ref())?);
+        md.push_str(&markdown::part_table(&data));
+        md.push_str(&markdown::failures(&data));
+    }
+    let path = dir.join("report.md");
+    hd_io::atomic::write_atomically(&path, |f| {
+        use std::io::Write;
+        f.write_all(md.as_bytes()).map_err(|e| hd_io::IoError::fs(&path, e))
+    })?;
+    Ok(path)
+}

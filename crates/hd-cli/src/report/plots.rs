@@ -1,0 +1,165 @@
+//! The report's figures for one part.
+
+use super::part_data::PartData;
+use anyhow::Result;
+use hd_io::Table;
+use hd_plot::Series;
+use std::fmt::Write as _;
+use std::path::Path;
+
+/// Metrics worth a figure: kept, finite somewhere, and not bookkeeping.
+fn plotted_metrics<'a>(d: &'a PartData) -> impl Iterator<Item = &'static str> + 'a {
+    d.metrics
+        .iter()
+        .copied()
+        .filter(|m| !["cycles_used", "energy_residual", "limit_cycle"].contains(m))
+}
+
+fn file_name(study: &str, part: &str, what: &str) -> String {
+    let clean = |s: &str| {
+        s.chars()
+            .map(|c| if c.is_ascii_alphanumeric() || c == '-' { c } else { '_' })
+            .collect::<String>()
+    };
+    format!("{}-{}-{}.svg", clean(study), clean(part), clean(what))
+}
+
+/// Draw the part's figures into `dir` and return the markdown that shows them.
+pub fn part_plots(dir: &Path, study: &str, d: &PartData, traces: Option<&Table>) -> Result<String> {
+    let mut md = String::new();
+    let variants = d.variants();
+    match d.numeric_axes.len() {
+        2 if d.part.sample.is_none() => {
+            let ((xn, xlog), (yn, ylog)) = (&d.numeric_axes[0], &d.numeric_axes[1]);
+            let xs = d.distinct(xn);
+            let ys = d.distinct(yn);
+            for m in plotted_metrics(d) {
+                for v in &variants {
+                    let mut values = vec![f64::NAN; xs.len() * ys.len()];
+                    for &i in &d.rows {
+                        if &d.text("variant", i) != v {
+                            continue;
+                        }
+                        let (x, y) = (d.num(xn, i), d.num(yn, i));
+                        if let (Some(ix), Some(iy)) = (index_of(&xs, x), index_of(&ys, y)) {
+                            values[iy * xs.len() + ix] = d.num(m, i);
+                        }
+                    }
+                    if values.iter().all(|x| !x.is_finite()) {
+                        continue;
+                    }
+                    let what = if variants.len() > 1 { format!("{m}-{v}") } else { m.to_string() };
+                    let name = file_name(study, &d.part.name, &what);
+                    hd_plot::heatmap(
+                        &dir.join(&name),
+                        &format!("{m} ({v})"),
+                        &label(xn),
+                        &label(yn),
+                        &xs,
+                        &ys,
+                        &values,
+                        &label(m),
+                        *xlog,
+                        *ylog,
+                    )?;
+                    let _ = writeln!(md, "![{m} over {xn} × {yn} ({v})]({name})\n");
+                }
+            }
+        }
+        1 => {
+            let (xn, xlog) = &d.numeric_axes[0];
+            for m in plotted_metrics(d) {
+                let series: Vec<Series> = variants
+                    .iter()
+                    .map(|v| {
+                        let mut pts: Vec<(f64, f64)> = d
+                            .rows
+                            .iter()
+                            .filter(|&&i| &d.text("variant", i) == v)
+                            .map(|&i| (d.num(xn, i), d.num(m, i)))
+                            .collect();
+                        pts.sort_by(|a, b| a.0.total_cmp(&b.0));
+                        Series::new(
+                            v.clone(),
+                            pts.iter().map(|p| p.0).collect(),
+                            pts.iter().map(|p| p.1).collect(),
+                        )
+                    })
+                    .filter(|s| s.y.iter().any(|y| y.is_finite()))
+                    .collect();
+                if series.is_empty() {
+                    continue;
+                }
+                let name = file_name(study, &d.part.name, m);
+                hd_plot::line_plot(
+                    &dir.join(&name),
+                    &format!("{m} against {xn}"),
+                    &label(xn),
+                    &label(m),
+                    &series,
+                    *xlog,
+                )?;
+                let _ = writeln!(md, "![{m} against {xn}]({name})\n");
+            }
+        }
+        _ => {}
+    }
+    if let Some(t) = traces {
+        md.push_str(&trace_overlay(dir, study, d, t)?);
+    }
+    Ok(md)
+}
+
+/// Overlaid load angle θz(t) of up to 12 runs of the part.
+fn trace_overlay(dir: &Path, study: &str, d: &PartData, t: &Table) -> Result<String> {
+    let (Some(ids), Some(time), Some(thz)) = (t.text("run_id"), t.num("t"), t.num("theta_z"))
+    else {
+        return Ok(String::new());
+    };
+    let mut series = Vec::new();
+    for &i in d.rows.iter().take(12) {
+        let id = d.text("run_id", i);
+        let idx: Vec<usize> =
+            (0..ids.len()).filter(|&k| ids[k].as_deref() == Some(id.as_str())).collect();
+        if idx.is_empty() {
+            continue;
+        }
+        let mut name = d.text("variant", i);
+        for (a, _) in &d.numeric_axes {
+            let _ = write!(name, " {a}={}", super::markdown::fmt(d.num(a, i)));
+        }
+        series.push(Series::new(
+            name,
+            idx.iter().map(|&k| time[k]).collect(),
+            idx.iter().map(|&k| thz[k]).collect(),
+        ));
+    }
+    if series.is_empty() {
+        return Ok(String::new());
+    }
+    let name = file_name(study, &d.part.name, "theta_z-traces");
+    hd_plot::overlay_plot(&dir.join(&name), "load angle θz(t)", "t [s]", "θz [rad]", &series)?;
+    Ok(format!("![load angle traces]({name})\n\n"))
+}
+
+fn index_of(grid: &[f64], x: f64) -> Option<usize> {
+    grid.iter().position(|g| (g - x).abs() <= 1e-9 * g.abs().max(1e-300))
+}
+
+/// Axis label with its unit from the registry or the metric table.
+pub fn label(name: &str) -> String {
+    if let Ok(p) = hd_model::registry::lookup(name) {
+        return format!("{name} [{}]", p.unit);
+    }
+    let unit =
+        hd_model::Metrics::UNITS.iter().find(|(n, _)| *n == name).map(|(_, u)| *u).or(match name {
+            "voltage" => Some("V"),
+            "freq" => Some("Hz"),
+            "friction_scale" => Some("-"),
+            _ => None,
+        });
+    match unit {
+        Some(u) => format!("{name} [{u}]"),
+        None => name.to_string(),
+    }
+}

@@ -1,0 +1,166 @@
+//! The output folder of a sweep, committed in parts so that a sweep killed at any moment
+//! loses nothing already committed and a resumed sweep runs each missing run exactly once.
+//!
+//! Layout of `DIR`:
+//! - `runs.parquet` (or `runs-shard-K-of-N.parquet` for a shard): the final table;
+//! - `traces.parquet` (or `traces-shard-K-of-N.parquet`): kept traces, long format;
+//! - `parts/`: part files committed while the sweep runs (`runs-TAG-SEQ.parquet`, with
+//!   matching `traces-TAG-SEQ.parquet`), merged into the final files and removed at the end.
+//!
+//! Every file is written to a temporary name and renamed, so each part is all or nothing.
+
+use crate::error::IoError;
+use crate::runs::{merge_files, read_run_ids, runs_frame, traces_frame, write_frame};
+use hd_sweep::RunRow;
+use std::collections::HashSet;
+use std::path::{Path, PathBuf};
+
+/// One sweep's output folder, for one shard (or the whole study).
+pub struct RunStore {
+    dir: PathBuf,
+    tag: String,
+    swept: Vec<&'static str>,
+    metrics: Vec<&'static str>,
+    next_seq: usize,
+}
+
+impl RunStore {
+    /// Open `dir` for the shard `shard = Some((k, n))` or the whole study.
+    pub fn open(
+        dir: &Path,
+        shard: Option<(usize, usize)>,
+        swept: Vec<&'static str>,
+        metrics: Vec<&'static str>,
+    ) -> Result<Self, IoError> {
+        let parts = dir.join("parts");
+        std::fs::create_dir_all(&parts).map_err(|e| IoError::fs(&parts, e))?;
+        let tag = match shard {
+            Some((k, n)) => format!("shard-{k}-of-{n}"),
+            None => "all".to_string(),
+        };
+        let mut store = RunStore { dir: dir.to_path_buf(), tag, swept, metrics, next_seq: 0 };
+        store.next_seq = store.part_files("runs")?.len();
+        Ok(store)
+    }
+
+    /// Path of the final runs table of this shard.
+    pub fn runs_path(&self) -> PathBuf {
+        self.final_path("runs")
+    }
+
+    /// Path of the final traces table of this shard.
+    pub fn traces_path(&self) -> PathBuf {
+        self.final_path("traces")
+    }
+
+    fn final_path(&self, kind: &str) -> PathBuf {
+        if self.tag == "all" {
+            self.dir.join(format!("{kind}.parquet"))
+        } else {
+            self.dir.join(format!("{kind}-{}.parquet", self.tag))
+        }
+    }
+
+    /// Part files of `kind` (runs or traces) of this shard, in commit order.
+    fn part_files(&self, kind: &str) -> Result<Vec<PathBuf>, IoError> {
+        let parts = self.dir.join("parts");
+        let prefix = format!("{kind}-{}-", self.tag);
+        let mut files: Vec<PathBuf> = std::fs::read_dir(&parts)
+            .map_err(|e| IoError::fs(&parts, e))?
+            .filter_map(|e| e.ok().map(|e| e.path()))
+            .filter(|p| {
+                p.file_name()
+                    .and_then(|n| n.to_str())
+                    .is_some_and(|n| n.starts_with(&prefix) && n.ends_with(".parquet"))
+            })
+            .collect();
+        files.sort();
+        Ok(files)
+    }
+
+    /// Whether anything of this shard is already in the folder.
+    pub fn has_results(&self) -> Result<bool, IoError> {
+        Ok(self.runs_path().exists() || !self.part_files("runs")?.is_empty())
+    }
+
+    /// Run ids already committed (final table and parts). Part files whose runs are all in
+    /// the final table were merged before an interruption and are removed here.
+    pub fn committed_ids(&mut self) -> Result<HashSet<String>, IoError> {
+        let final_ids = if self.runs_path().exists() {
+            read_run_ids(&[self.runs_path()])?
+        } else {
+            HashSet::new()
+        };
+        let mut ids = final_ids.clone();
+        for f in self.part_files("runs")? {
+            let part_ids = read_run_ids(std::slice::from_ref(&f))?;
+            if !final_ids.is_empty() && part_ids.is_subset(&final_ids) {
+                let traces = self.traces_twin(&f);
+                let _ = std::fs::remove_file(&traces);
+                std::fs::remove_file(&f).map_err(|e| IoError::fs(&f, e))?;
+            } else {
+                ids.extend(part_ids);
+            }
+        }
+        self.next_seq = self.next_seq.max(self.part_files("runs")?.len());
+        Ok(ids)
+    }
+
+    fn traces_twin(&self, runs_part: &Path) -> PathBuf {
+        let name = runs_part.file_name().and_then(|n| n.to_str()).unwrap_or("");
+        runs_part.with_file_name(name.replacen("runs-", "traces-", 1))
+    }
+
+    /// Commit a batch of rows as one part (traces first, then the runs part that makes the
+    /// batch count as done).
+    pub fn commit(&mut self, rows: &[RunRow]) -> Result<(), IoError> {
+        if rows.is_empty() {
+            return Ok(());
+        }
+        // Sequence numbers are zero-padded so that name order is commit order; skip any
+        // number already taken (parts left by an earlier, interrupted process).
+        let parts = self.dir.join("parts");
+        let mut path;
+        loop {
+            path = parts.join(format!("runs-{}-{:06}.parquet", self.tag, self.next_seq));
+            self.next_seq += 1;
+            if !path.exists() {
+                break;
+            }
+        }
+        if rows.iter().any(|r| r.trace.is_some()) {
+            let mut tf = traces_frame(rows).map_err(|e| IoError::format(&path, e.to_string()))?;
+            write_frame(&self.traces_twin(&path), &mut tf)?;
+        }
+        let mut df = runs_frame(rows, &self.swept, &self.metrics)
+            .map_err(|e| IoError::format(&path, e.to_string()))?;
+        write_frame(&path, &mut df)
+    }
+
+    /// Merge the final table (if any) and all parts into the final files, then remove the
+    /// parts. Returns the number of runs in the final table.
+    pub fn finish(&mut self) -> Result<usize, IoError> {
+        let run_parts = self.part_files("runs")?;
+        let trace_parts = self.part_files("traces")?;
+        let mut run_inputs = Vec::new();
+        if self.runs_path().exists() {
+            run_inputs.push(self.runs_path());
+        }
+        run_inputs.extend(run_parts.iter().cloned());
+        let n = merge_files(&run_inputs, &self.runs_path(), true, Some("run_index"))?;
+        if !trace_parts.is_empty() {
+            let mut trace_inputs = Vec::new();
+            if self.traces_path().exists() {
+                trace_inputs.push(self.traces_path());
+            }
+            trace_inputs.extend(trace_parts.iter().cloned());
+            merge_files(&trace_inputs, &self.traces_path(), false, None)?;
+        }
+        for f in run_parts.iter().chain(&trace_parts) {
+            std::fs::remove_file(f).map_err(|e| IoError::fs(f, e))?;
+        }
+        let parts = self.dir.join("parts");
+        let _ = std::fs::remove_dir(&parts);
+        Ok(n)
+    }
+}

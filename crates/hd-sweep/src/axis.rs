@@ -1,0 +1,153 @@
+//! What a study can vary: registry parameters plus a few settings of the run, and how a
+//! value is applied to a run's configuration.
+
+use hd_model::registry::{ParamInfo, REGISTRY, lookup, nearest_of};
+use hd_model::{Input, SimConfig, Variant};
+use serde::Serialize;
+
+/// Names that are not registry parameters but can be swept.
+pub const SPECIAL: [&str; 4] = ["voltage", "freq", "variant", "friction_scale"];
+
+/// The quantity an axis or sampled dimension sets.
+#[derive(Clone, Copy, Debug)]
+pub enum Knob {
+    /// A registry parameter.
+    Param(&'static ParamInfo),
+    /// Input amplitude or level [V].
+    Voltage,
+    /// Sine frequency [Hz].
+    Freq,
+    /// Factor on both Coulomb and static friction torques Tc, Ts [–].
+    FrictionScale,
+    /// Model variant.
+    Variant,
+}
+
+/// One value on an axis.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+#[serde(untagged)]
+pub enum Value {
+    /// A number.
+    Num(f64),
+    /// A variant.
+    Variant(Variant),
+}
+
+impl Knob {
+    /// Resolve a name; the error suggests the nearest valid name.
+    pub fn from_name(name: &str) -> Result<Knob, String> {
+        match name {
+            "voltage" => Ok(Knob::Voltage),
+            "freq" => Ok(Knob::Freq),
+            "friction_scale" => Ok(Knob::FrictionScale),
+            "variant" => Ok(Knob::Variant),
+            _ => lookup(name).map(Knob::Param).map_err(|_| {
+                let all = REGISTRY.iter().map(|p| p.name).chain(SPECIAL);
+                match nearest_of(name, all) {
+                    Some(s) => format!("unknown parameter '{name}' (did you mean '{s}'?)"),
+                    None => format!(
+                        "unknown parameter '{name}': expected a registry name ({}) or one of {}",
+                        REGISTRY.iter().map(|p| p.name).collect::<Vec<_>>().join(", "),
+                        SPECIAL.join(", ")
+                    ),
+                }
+            }),
+        }
+    }
+
+    /// The column name of this knob.
+    pub fn name(&self) -> &'static str {
+        match self {
+            Knob::Param(p) => p.name,
+            Knob::Voltage => "voltage",
+            Knob::Freq => "freq",
+            Knob::FrictionScale => "friction_scale",
+            Knob::Variant => "variant",
+        }
+    }
+
+    /// Check a numeric value for this knob.
+    pub fn check(&self, v: f64) -> Result<(), String> {
+        match self {
+            Knob::Param(p) => p.check(v).map_err(|e| e.to_string()),
+            Knob::Voltage if v.is_finite() => Ok(()),
+            Knob::Voltage => Err(format!("voltage = {v}: expected a finite number [V]")),
+            Knob::Freq | Knob::FrictionScale if v.is_finite() && v > 0.0 => Ok(()),
+            Knob::Freq => Err(format!("freq = {v}: expected a finite number > 0 [Hz]")),
+            Knob::FrictionScale => {
+                Err(format!("friction_scale = {v}: expected a finite factor > 0"))
+            }
+            Knob::Variant => Err("variant takes names (linear, damped, full), not numbers".into()),
+        }
+    }
+
+    /// Whether the knob can act on runs with this input.
+    pub fn applies_to(&self, input: &Input) -> Result<(), String> {
+        match (self, input) {
+            (Knob::Voltage, Input::Recorded(_)) => {
+                Err("voltage cannot be swept with a recorded input".to_string())
+            }
+            (Knob::Freq, Input::Sine { .. } | Input::SteppedSine { .. } | Input::Chirp { .. }) => {
+                Ok(())
+            }
+            (Knob::Freq, _) => Err("freq can only be swept with a sine input".to_string()),
+            _ => Ok(()),
+        }
+    }
+
+    /// Apply a value to a configuration (the value was checked already).
+    pub fn apply(&self, cfg: &mut SimConfig, value: Value) {
+        match (self, value) {
+            (Knob::Param(p), Value::Num(v)) => p.set_unchecked(&mut cfg.params, v),
+            (Knob::Voltage, Value::Num(v)) => match &mut cfg.input {
+                Input::Sine { amplitude, .. }
+                | Input::Step { amplitude, .. }
+                | Input::Constant { amplitude }
+                | Input::Chirp { amplitude, .. }
+                | Input::SteppedSine { amplitude, .. } => *amplitude = v,
+                Input::Recorded(_) => {}
+            },
+            (Knob::Freq, Value::Num(v)) => match &mut cfg.input {
+                Input::Sine { freq, .. } => *freq = v,
+                Input::Chirp { f0, f1, .. } => {
+                    let ratio = *f1 / *f0;
+                    *f0 = v;
+                    *f1 = v * ratio;
+                }
+                Input::SteppedSine { freqs, .. } => {
+                    let first = freqs[0];
+                    freqs.iter_mut().for_each(|f| *f *= v / first);
+                }
+                _ => {}
+            },
+            (Knob::FrictionScale, Value::Num(v)) => {
+                cfg.params.tc *= v;
+                cfg.params.ts *= v;
+            }
+            (Knob::Variant, Value::Variant(v)) => cfg.variant = v,
+            _ => {}
+        }
+    }
+}
+
+/// `num` evenly spaced values from `start` to `stop` inclusive.
+pub fn linspace(start: f64, stop: f64, num: usize) -> Vec<f64> {
+    match num {
+        0 => Vec::new(),
+        1 => vec![start],
+        _ => (0..num).map(|k| start + (stop - start) * k as f64 / (num - 1) as f64).collect(),
+    }
+}
+
+/// `num` logarithmically spaced values from `start` to `stop` inclusive (both > 0).
+pub fn logspace(start: f64, stop: f64, num: usize) -> Vec<f64> {
+    let mut v: Vec<f64> = linspace(start.ln(), stop.ln(), num).into_iter().map(f64::exp).collect();
+    // Land exactly on the given end points.
+    if let Some(first) = v.first_mut() {
+        *first = start;
+    }
+    if num > 1 {
+        v[num - 1] = stop;
+    }
+    v
+}

@@ -1,0 +1,96 @@
+//! The result of one run: one row of `runs.parquet`.
+
+use crate::axis::Value;
+use crate::study::RunSpec;
+use hd_model::{Metrics, Params, SimError, SimOutput, SolverStats, Trace};
+use serde::Serialize;
+
+/// Outcome of one run.
+#[derive(Clone, Debug, Serialize)]
+pub struct RunRow {
+    /// Stable run identifier.
+    pub run_id: String,
+    /// Position in the expanded study.
+    pub run_index: usize,
+    /// Part name.
+    pub part: String,
+    /// Variant simulated.
+    pub variant: String,
+    /// Swept names and values.
+    pub swept: Vec<(String, Value)>,
+    /// Every parameter used.
+    pub params: Params,
+    /// Input amplitude [V] (NaN for recorded inputs).
+    pub voltage: f64,
+    /// Drive frequency [Hz] (NaN for non-periodic inputs).
+    pub freq: f64,
+    /// Metrics (all NaN for a failed run).
+    pub metrics: Metrics,
+    /// `ok` or `failed`.
+    pub status: &'static str,
+    /// The error of a failed run.
+    pub error: Option<String>,
+    /// Solver work (zeros for a failed run).
+    pub stats: SolverStats,
+    /// Wall time of the integration [s].
+    pub wall_time: f64,
+    /// The trace, if kept.
+    #[serde(skip)]
+    pub trace: Option<Trace>,
+}
+
+impl RunRow {
+    /// Build the row of a run from its outcome.
+    pub fn new(spec: &RunSpec, outcome: Result<SimOutput, SimError>, decimate: usize) -> RunRow {
+        let cfg = &spec.config;
+        let (voltage, freq) = match &cfg.input {
+            hd_model::Input::Sine { amplitude, freq } => (*amplitude, *freq),
+            hd_model::Input::Step { amplitude, .. }
+            | hd_model::Input::Constant { amplitude }
+            | hd_model::Input::Chirp { amplitude, .. }
+            | hd_model::Input::SteppedSine { amplitude, .. } => (*amplitude, f64::NAN),
+            hd_model::Input::Recorded(_) => (f64::NAN, f64::NAN),
+        };
+        let base = RunRow {
+            run_id: spec.run_id.clone(),
+            run_index: spec.index,
+            part: spec.part.clone(),
+            variant: cfg.variant.name().to_string(),
+            swept: spec.swept.clone(),
+            params: cfg.params.clone(),
+            voltage,
+            freq,
+            metrics: Metrics::undefined(),
+            status: "ok",
+            error: None,
+            stats: SolverStats::default(),
+            wall_time: 0.0,
+            trace: None,
+        };
+        match outcome {
+            Ok(out) => RunRow {
+                metrics: out.metrics,
+                stats: out.stats,
+                wall_time: out.wall_time,
+                trace: out.trace.map(|t| if decimate > 1 { t.decimate(decimate) } else { t }),
+                ..base
+            },
+            Err(e) => RunRow { status: "failed", error: Some(e.to_string()), ..base },
+        }
+    }
+
+    /// A failed row for a run that panicked.
+    pub fn panicked(spec: &RunSpec, message: String) -> RunRow {
+        let mut row = RunRow::new(
+            spec,
+            Err(SimError::Config(hd_model::ConfigError::Invalid {
+                field: "run".into(),
+                value: "panic".into(),
+                expected: "no panic".into(),
+            })),
+            1,
+        );
+        row.error = Some(format!("internal error (panic): {message}"));
+        row
+    }
+}

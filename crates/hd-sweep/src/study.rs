@@ -1,0 +1,147 @@
+//! A checked study and its expansion into runs.
+
+use crate::axis::{Knob, Value};
+use crate::design::{Axis, Point, Sample, grid_points, sample_points};
+use crate::spec::CompareSpec;
+use hd_model::SimConfig;
+use serde::Serialize;
+use std::path::PathBuf;
+
+/// A checked study: everything needed to expand and run it.
+#[derive(Clone, Debug)]
+pub struct Study {
+    /// Study name.
+    pub name: String,
+    /// Description for the report.
+    pub description: String,
+    /// The study file.
+    pub file: PathBuf,
+    /// Its parts (one for a single-part study).
+    pub parts: Vec<Part>,
+    /// Metric columns to keep, in output order.
+    pub keep_metrics: Vec<&'static str>,
+    /// Whether to keep traces, and the decimation.
+    pub traces: TraceSettings,
+    /// Paper-versus-model statements for the report.
+    pub compare: Vec<CompareSpec>,
+}
+
+/// Trace keeping.
+#[derive(Clone, Copy, Debug, Default, Serialize)]
+pub struct TraceSettings {
+    /// Keep traces.
+    pub keep: bool,
+    /// Keep every n-th sample.
+    pub decimate: usize,
+}
+
+/// One part: a base configuration and the points to run it at.
+#[derive(Clone, Debug)]
+pub struct Part {
+    /// Part name.
+    pub name: String,
+    /// Configuration before the point's values are applied.
+    pub base: SimConfig,
+    /// Grid axes.
+    pub axes: Vec<Axis>,
+    /// Random design, combined with the grid as a product.
+    pub sample: Option<Sample>,
+}
+
+/// One run of the expanded study.
+#[derive(Clone, Debug, Serialize)]
+pub struct RunSpec {
+    /// Stable identifier: a hash of the part name and the full configuration.
+    pub run_id: String,
+    /// Position in the expanded study (0-based).
+    pub index: usize,
+    /// Part name.
+    pub part: String,
+    /// The swept names and values.
+    pub swept: Vec<(String, Value)>,
+    /// The configuration to simulate.
+    pub config: SimConfig,
+}
+
+impl Part {
+    /// The points of this part: grid × random design.
+    pub fn points(&self) -> Vec<Point> {
+        let grid = grid_points(&self.axes);
+        match &self.sample {
+            None => grid,
+            Some(s) => {
+                let sampled = sample_points(s);
+                grid.iter()
+                    .flat_map(|g| sampled.iter().map(move |p| g.iter().chain(p).cloned().collect()))
+                    .collect()
+            }
+        }
+    }
+
+    /// Names of the swept quantities, in column order.
+    pub fn swept_names(&self) -> Vec<&'static str> {
+        let mut names: Vec<&'static str> = self.axes.iter().map(|a| a.knob.name()).collect();
+        if let Some(s) = &self.sample {
+            names.extend(s.bounds.iter().map(|b| b.knob.name()));
+        }
+        names
+    }
+}
+
+impl Study {
+    /// Expand every part into runs, in order; `index` counts across parts.
+    pub fn expand(&self) -> Vec<RunSpec> {
+        let mut runs = Vec::new();
+        for part in &self.parts {
+            for point in part.points() {
+                let mut cfg = part.base.clone();
+                // Scales act on the base values, so apply parameters first, then scales.
+                let mut ordered = point.clone();
+                ordered.sort_by_key(|(k, _)| matches!(k, Knob::FrictionScale));
+                for (knob, value) in &ordered {
+                    knob.apply(&mut cfg, *value);
+                }
+                cfg.record_trace = self.traces.keep;
+                let swept = point.iter().map(|(k, v)| (k.name().to_string(), *v)).collect();
+                let run_id = run_id(&part.name, &cfg);
+                runs.push(RunSpec {
+                    run_id,
+                    index: runs.len(),
+                    part: part.name.clone(),
+                    swept,
+                    config: cfg,
+                });
+            }
+        }
+        runs
+    }
+
+    /// All swept names over all parts, without repeats, in order of appearance.
+    pub fn swept_names(&self) -> Vec<&'static str> {
+        let mut out: Vec<&'static str> = Vec::new();
+        for p in &self.parts {
+            for n in p.swept_names() {
+                if !out.contains(&n) {
+                    out.push(n);
+                }
+            }
+        }
+        out
+    }
+}
+
+/// 16 hex digits of the 64-bit FNV-1a hash of the part name and the configuration's JSON.
+pub fn run_id(part: &str, cfg: &SimConfig) -> String {
+    let json = serde_json::to_string(cfg).unwrap_or_default();
+    let mut h: u64 = 0xcbf2_9ce4_8422_2325;
+    for b in part.bytes().chain([0u8]).chain(json.bytes()) {
+        h ^= u64::from(b);
+        h = h.wrapping_mul(0x0100_0000_01b3);
+    }
+    format!("{h:016x}")
+}
+
+/// The runs of shard `k` of `n` (1-based k): every n-th run starting at k−1.
+pub fn shard(runs: Vec<RunSpec>, k: usize, n: usize) -> Vec<RunSpec> {
+    runs.into_iter().filter(|r| r.index % n == k - 1).collect()
+}
