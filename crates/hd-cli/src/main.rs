@@ -28,6 +28,8 @@ enum Command {
     Simulate(cmd::simulate::SimulateArgs),
     /// Run a study file: many runs in parallel → runs.parquet, study.json, report.md.
     Study(cmd::study::StudyArgs),
+    /// Global sensitivity (Sobol' indices, Morris screening); `--check ishigami` self-check.
+    Sensitivity(cmd::sensitivity::SensitivityArgs),
 }
 
 fn main() -> ExitCode {
@@ -35,6 +37,7 @@ fn main() -> ExitCode {
     let result = match cli.command {
         Command::Simulate(args) => cmd::simulate::run(args),
         Command::Study(args) => cmd::study::run(args),
+        Command::Sensitivity(args) => cmd::sensitivity::run(args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -146,14 +146,26 @@ pub struct IshigamiCheck {
     pub rows: Vec<SensitivityRow>,
     /// Computed first-order indices.
     pub s1: [f64; 3],
+    /// Lower bounds of their 95 % bootstrap intervals.
+    pub s1_lo: [f64; 3],
+    /// Upper bounds of their 95 % bootstrap intervals.
+    pub s1_hi: [f64; 3],
     /// Computed total indices.
     pub st: [f64; 3],
+    /// Lower bounds of their 95 % bootstrap intervals.
+    pub st_lo: [f64; 3],
+    /// Upper bounds of their 95 % bootstrap intervals.
+    pub st_hi: [f64; 3],
     /// Analytic first-order indices.
     pub s1_analytic: [f64; 3],
     /// Analytic total indices.
     pub st_analytic: [f64; 3],
     /// Morris μ* [f per parameter range].
     pub mu_star: [f64; 3],
+    /// Morris μ [f per parameter range].
+    pub mu: [f64; 3],
+    /// Morris σ [f per parameter range].
+    pub sigma: [f64; 3],
     /// Largest |computed − analytic| over all S1 and ST.
     pub max_abs_error: f64,
     /// The tolerance the check applies ([`ISHIGAMI_TOLERANCE`]).
@@ -188,9 +200,12 @@ pub fn ishigami_check(config: &IshigamiCheckConfig) -> Result<IshigamiCheck> {
         }
         out
     };
-    let s1 = pick(SensitivityMethod::Sobol, |r| r.s1);
-    let st = pick(SensitivityMethod::Sobol, |r| r.st);
-    let mu_star = pick(SensitivityMethod::Morris, |r| r.mu_star);
+    use SensitivityMethod::{Morris, Sobol};
+    let (s1, st) = (pick(Sobol, |r| r.s1), pick(Sobol, |r| r.st));
+    let mu_star = pick(Morris, |r| r.mu_star);
+    let (s1_lo, s1_hi) = (pick(Sobol, |r| r.s1_lo), pick(Sobol, |r| r.s1_hi));
+    let (st_lo, st_hi) = (pick(Sobol, |r| r.st_lo), pick(Sobol, |r| r.st_hi));
+    let (mu, sigma) = (pick(Morris, |r| r.mu), pick(Morris, |r| r.sigma));
     let exact = f.analytic();
     let max_abs_error = s1
         .iter()
@@ -205,10 +220,16 @@ pub fn ishigami_check(config: &IshigamiCheckConfig) -> Result<IshigamiCheck> {
         morris_runs: morris.len(),
         rows,
         s1,
+        s1_lo,
+        s1_hi,
         st,
+        st_lo,
+        st_hi,
         s1_analytic: exact.s1,
         st_analytic: exact.st,
         mu_star,
+        mu,
+        sigma,
         max_abs_error,
         tolerance: ISHIGAMI_TOLERANCE,
         morris_ranks_ok,
