@@ -1,0 +1,121 @@
+//! Writing a figure: the backend is chosen by the file extension (`.svg` → SVG, `.png` →
+//! PNG), the parent folder is created, and the file is drawn under a temporary name in the
+//! same folder and renamed into place, so a reader never sees half a plot.
+
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicU64, Ordering};
+
+use plotters::coord::Shift;
+use plotters::prelude::*;
+
+use crate::error::PlotError;
+use crate::font;
+
+/// A drawing failure reported by plotters, as text (its error types are backend-generic).
+#[derive(Debug)]
+pub(crate) struct DrawError(pub String);
+
+impl<E: std::error::Error + Send + Sync> From<DrawingAreaErrorKind<E>> for DrawError {
+    fn from(err: DrawingAreaErrorKind<E>) -> Self {
+        DrawError(err.to_string())
+    }
+}
+
+/// Something that can be drawn on any plotters backend.
+pub(crate) trait Figure {
+    /// Canvas width and height [px].
+    fn size(&self) -> (u32, u32);
+
+    /// Draw onto `root`, which is already filled white.
+    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Result<(), DrawError>;
+}
+
+/// The output formats, named by file extension.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Format {
+    Svg,
+    Png,
+}
+
+/// The format named by the extension of `path` (case-insensitive).
+fn format_of(path: &Path) -> Result<Format, PlotError> {
+    let ext = path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
+    match ext.as_deref() {
+        Some("svg") => Ok(Format::Svg),
+        Some("png") => Ok(Format::Png),
+        _ => Err(PlotError::UnsupportedFormat { path: path.to_path_buf() }),
+    }
+}
+
+/// Check that `path` names a supported format, before any work is done.
+pub(crate) fn check_path(path: &Path) -> Result<(), PlotError> {
+    format_of(path).map(|_| ())
+}
+
+/// A sibling of `path` to draw into; it keeps the extension because the PNG encoder
+/// picks its format from it.
+fn temp_sibling(path: &Path) -> PathBuf {
+    static COUNTER: AtomicU64 = AtomicU64::new(0);
+    let n = COUNTER.fetch_add(1, Ordering::Relaxed);
+    let stem = path.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
+    let ext = path.extension().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
+    path.with_file_name(format!(".{stem}.tmp-{}-{n}.{ext}", std::process::id()))
+}
+
+/// Draw `figure` into the file at `path`.
+pub(crate) fn render<F: Figure>(path: &Path, figure: &F) -> Result<(), PlotError> {
+    let format = format_of(path)?;
+    font::ensure_registered()
+        .map_err(|message| PlotError::Font { path: path.to_path_buf(), message })?;
+    if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
+        std::fs::create_dir_all(dir)
+            .map_err(|source| PlotError::CreateDir { path: path.to_path_buf(), source })?;
+    }
+    let tmp = temp_sibling(path);
+    let size = figure.size();
+    let drawn = match format {
+        Format::Svg => draw_on(&SVGBackend::new(&tmp, size).into_drawing_area(), figure),
+        Format::Png => draw_on(&BitMapBackend::new(&tmp, size).into_drawing_area(), figure),
+    };
+    let finished = match drawn {
+        Ok(()) => std::fs::rename(&tmp, path)
+            .map_err(|source| PlotError::Write { path: path.to_path_buf(), source }),
+        Err(DrawError(message)) => Err(PlotError::Draw { path: path.to_path_buf(), message }),
+    };
+    if finished.is_err() {
+        // The temporary file may or may not exist at this point; either is fine.
+        let _ = std::fs::remove_file(&tmp);
+    }
+    finished
+}
+
+/// Fill white, draw, and flush to the file.
+fn draw_on<DB: DrawingBackend, F: Figure>(
+    root: &DrawingArea<DB, Shift>,
+    figure: &F,
+) -> Result<(), DrawError> {
+    root.fill(&WHITE)?;
+    figure.draw(root)?;
+    root.present()?;
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn format_follows_extension() {
+        assert_eq!(format_of(Path::new("a/b.svg")).unwrap(), Format::Svg);
+        assert_eq!(format_of(Path::new("b.PNG")).unwrap(), Format::Png);
+        assert!(format_of(Path::new("b.pdf")).is_err());
+        assert!(format_of(Path::new("b")).is_err());
+    }
+
+    #[test]
+    fn temp_sibling_keeps_folder_and_extension() {
+        let t = temp_sibling(Path::new("out/plot.png"));
+        assert_eq!(t.parent(), Some(Path::new("out")));
+        assert_eq!(t.extension().unwrap(), "png");
+    }
+}
