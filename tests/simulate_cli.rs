@@ -58,7 +58,8 @@ fn unknown_parameter_in_file_names_file_and_line() {
     let dir = scratch("unknown-file");
     let file = dir.join("p.toml");
     std::fs::write(&file, "c = 6e4\n# comment\nJload = 0.1\n").unwrap();
-    let out = hdw(&["simulate", "--params", file.to_str().unwrap(), "--out", dir.to_str().unwrap()]);
+    let out =
+        hdw(&["simulate", "--params", file.to_str().unwrap(), "--out", dir.to_str().unwrap()]);
     assert_one_line_error(&out, &["p.toml:3", "Jload"]);
 }
 
@@ -81,7 +82,8 @@ fn malformed_toml_names_the_file_and_line() {
     let dir = scratch("toml");
     let file = dir.join("bad.toml");
     std::fs::write(&file, "c = 6e4\nsigma0 = = 3\n").unwrap();
-    let out = hdw(&["simulate", "--params", file.to_str().unwrap(), "--out", dir.to_str().unwrap()]);
+    let out =
+        hdw(&["simulate", "--params", file.to_str().unwrap(), "--out", dir.to_str().unwrap()]);
     assert_one_line_error(&out, &["bad.toml:2", "malformed TOML"]);
 }
 
@@ -100,7 +102,13 @@ fn recorded_input_runs_and_is_interpolated() {
     let file = dir.join("u.csv");
     std::fs::write(&file, "t,u\n0.0,0\n0.01,12\n0.03,12\n0.04,0\n").unwrap();
     let out = hdw(&[
-        "simulate", "--input", file.to_str().unwrap(), "--t-end", "0.05", "--out", dir.to_str().unwrap(),
+        "simulate",
+        "--input",
+        file.to_str().unwrap(),
+        "--t-end",
+        "0.05",
+        "--out",
+        dir.to_str().unwrap(),
     ]);
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
     let df = hd_io::read_frame(&dir.join("trace.parquet")).unwrap();
@@ -108,7 +116,15 @@ fn recorded_input_runs_and_is_interpolated() {
     let u = df.column("u").unwrap().f64().unwrap().clone();
     for (t, u) in t.iter().zip(u.iter()) {
         let (t, u) = (t.unwrap(), u.unwrap());
-        let expected = if t <= 0.01 { 1200.0 * t } else if t <= 0.03 { 12.0 } else if t <= 0.04 { 12.0 - 1200.0 * (t - 0.03) } else { 0.0 };
+        let expected = if t <= 0.01 {
+            1200.0 * t
+        } else if t <= 0.03 {
+            12.0
+        } else if t <= 0.04 {
+            12.0 - 1200.0 * (t - 0.03)
+        } else {
+            0.0
+        };
         assert!((u - expected).abs() < 1e-9, "u({t}) = {u}, expected {expected}");
     }
 }
@@ -122,4 +138,3 @@ fn help_ends_with_a_worked_example() {
         assert!(text.contains("Example:") && tail.iter().any(|l| l.contains("hdw ")), "{text}");
     }
 }
-

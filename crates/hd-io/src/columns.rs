@@ -13,7 +13,7 @@ pub fn read_frame(path: &Path) -> Result<DataFrame, IoError> {
         ));
     }
     let ext = path.extension().and_then(|e| e.to_str()).unwrap_or("").to_ascii_lowercase();
-    let res = match ext.as_str() {
+    match ext.as_str() {
         "parquet" | "pq" => {
             std::fs::File::open(path).map_err(|e| IoError::fs(path, e)).and_then(|f| {
                 ParquetReader::new(f).finish().map_err(|e| IoError::format(path, e.to_string()))
@@ -28,8 +28,7 @@ pub fn read_frame(path: &Path) -> Result<DataFrame, IoError> {
             path,
             format!("unknown file type '.{ext}': expected .csv or .parquet"),
         )),
-    };
-    res
+    }
 }
 
 /// Read the named columns as `f64`, in the order asked. Errors name the file and the

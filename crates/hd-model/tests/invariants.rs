@@ -10,11 +10,8 @@ use hd_model::{Params, SimConfig, Variant, simulate};
 
 #[test]
 fn linear_variant_free_oscillation_has_the_two_inertia_frequency() {
-    let mut p = Params::default();
     // Undamped: no viscous losses and no back-EMF braking.
-    p.cj = 0.0;
-    p.cz = 0.0;
-    p.ke = 0.0;
+    let p = Params { cj: 0.0, cz: 0.0, ke: 0.0, ..Params::default() };
     let sys = DriveSystem::new(
         &p,
         StiffnessKind::Linear,
@@ -108,8 +105,7 @@ fn a_very_stiff_bristle_still_finishes() {
 
 #[test]
 fn analytic_jacobian_matches_finite_differences() {
-    let mut p = Params::default();
-    p.sigma2 = 0.02;
+    let mut p = Params { sigma2: 0.02, ..Params::default() };
     for (sk, fk, fv, l) in [
         (StiffnessKind::Hysteretic, FrictionKind::Lugre, FrictionVelocity::Motor, 0.0),
         (StiffnessKind::Hysteretic, FrictionKind::Lugre, FrictionVelocity::Deflection, 1e-3),

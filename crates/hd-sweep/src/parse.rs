@@ -43,8 +43,10 @@ fn toml_error(src: &Source, e: &toml::de::Error) -> StudyError {
     let msg = e.message().to_string();
     let mut key = "toml".to_string();
     let mut message = format!("malformed study file: {msg}");
-    if let Some(rest) = msg.strip_prefix("unknown field `") {
-        if let Some((name, tail)) = rest.split_once('`') {
+    if let Some(rest) = msg.strip_prefix("unknown field `")
+        && let Some((name, tail)) = rest.split_once('`')
+    {
+        {
             key = name.to_string();
             let expected: Vec<&str> = tail.split('`').skip(1).step_by(2).collect();
             message = match nearest_of(name, expected.iter().copied()) {
@@ -77,6 +79,7 @@ impl Checker<'_> {
             ));
         }
         let mut base = SimConfig { solver: spec.solver, ..SimConfig::default() };
+        let base_cycles = spec.base.t_end_cycles.as_ref();
         base.metrics = spec.metrics.settings.resolve();
         self.apply_base(&spec.base, &mut base)?;
         if let Some(input) = &spec.input {
@@ -92,7 +95,14 @@ impl Checker<'_> {
         };
 
         let parts = if spec.part.is_empty() {
-            vec![self.part_body(&name, base.clone(), &spec.axis, spec.sample.as_ref(), 0)?]
+            vec![self.part_body(
+                &name,
+                base.clone(),
+                &spec.axis,
+                spec.sample.as_ref(),
+                base_cycles,
+                0,
+            )?]
         } else {
             if let Some(a) = spec.axis.first() {
                 return Err(self.err(a.span().start, "axis", "top-level axes cannot be combined with [[part]] sections: put the axes inside the parts"));
@@ -127,7 +137,9 @@ impl Checker<'_> {
                 if let Some(t) = &p.t_end {
                     cfg.t_end = *t.get_ref();
                 }
-                parts.push(self.part_body(&pname, cfg, &p.axis, p.sample.as_ref(), pos)?);
+                let cycles =
+                    p.t_end_cycles.as_ref().or(if p.t_end.is_some() { None } else { base_cycles });
+                parts.push(self.part_body(&pname, cfg, &p.axis, p.sample.as_ref(), cycles, pos)?);
             }
             parts
         };
@@ -286,21 +298,42 @@ impl Checker<'_> {
         base: SimConfig,
         axes: &[Spanned<AxisSpec>],
         sample: Option<&Spanned<SampleSpec>>,
+        cycles: Option<&Spanned<f64>>,
         pos: usize,
     ) -> Result<Part, StudyError> {
         base.validate().map_err(|e| self.err(pos, &format!("part '{name}'"), e.to_string()))?;
+        let t_end_cycles = match cycles {
+            None => None,
+            Some(c) => {
+                let n = *c.get_ref();
+                if !(n.is_finite() && n > 0.0) {
+                    return Err(self.err(
+                        c.span().start,
+                        "t_end_cycles",
+                        format!("{n}: expected a number of cycles > 0"),
+                    ));
+                }
+                if base.input.drive_frequency().is_none() {
+                    return Err(self.err(
+                        c.span().start,
+                        "t_end_cycles",
+                        "needs a sine input (a drive frequency)",
+                    ));
+                }
+                Some(n)
+            }
+        };
         let axes = axes.iter().map(|a| self.axis(a, &base.input)).collect::<Result<Vec<_>, _>>()?;
         // Zipped axes must have equal lengths.
         for (k, a) in axes.iter().enumerate() {
-            if let Some(z) = &a.zip {
-                if let Some(b) = axes[..k].iter().find(|b| b.zip.as_ref() == Some(z)) {
-                    if b.values.len() != a.values.len() {
-                        return Err(self.err(pos, "axis.zip", format!(
-                            "zipped axes '{}' ({} values) and '{}' ({} values) must have the same length",
-                            b.knob.name(), b.values.len(), a.knob.name(), a.values.len()
-                        )));
-                    }
-                }
+            if let Some(z) = &a.zip
+                && let Some(b) = axes[..k].iter().find(|b| b.zip.as_ref() == Some(z))
+                && b.values.len() != a.values.len()
+            {
+                return Err(self.err(pos, "axis.zip", format!(
+                    "zipped axes '{}' ({} values) and '{}' ({} values) must have the same length",
+                    b.knob.name(), b.values.len(), a.knob.name(), a.values.len()
+                )));
             }
         }
         let sample = sample.map(|s| self.sample(s, &base.input)).transpose()?;
@@ -315,7 +348,7 @@ impl Checker<'_> {
             }
             seen.push(n);
         }
-        Ok(Part { name: name.to_string(), base, axes, sample })
+        Ok(Part { name: name.to_string(), base, axes, sample, t_end_cycles })
     }
 
     fn knob(&self, name: &Spanned<String>, key: &str, input: &Input) -> Result<Knob, StudyError> {
@@ -458,6 +491,20 @@ impl Checker<'_> {
                 "compare.axis",
                 format!("part '{}' does not sweep '{}'", spec.part, spec.axis),
             ));
+        }
+        let sweeps_variant = part.axes.iter().any(|a| matches!(a.knob, Knob::Variant));
+        match &spec.variant {
+            None if sweeps_variant => {
+                return Err(self.err(
+                    at,
+                    "compare.variant",
+                    format!("part '{}' sweeps variants: say which one to compare", spec.part),
+                ));
+            }
+            Some(v) => {
+                v.parse::<Variant>().map_err(|e| self.err(at, "compare.variant", e))?;
+            }
+            None => {}
         }
         if !study.keep_metrics.contains(&spec.metric.as_str()) {
             return Err(self.err(

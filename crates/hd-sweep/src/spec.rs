@@ -55,6 +55,8 @@ pub struct BaseSpec {
     pub set: BTreeMap<Spanned<String>, Spanned<f64>>,
     /// Simulated time [s] (default 0.2).
     pub t_end: Option<Spanned<f64>>,
+    /// Simulated time in drive cycles (sine input): t_end = cycles / freq per run.
+    pub t_end_cycles: Option<Spanned<f64>>,
     /// Friction speed: motor or deflection.
     pub friction_velocity: Option<Spanned<String>>,
 }
@@ -211,6 +213,8 @@ pub struct PartSpec {
     pub input: Option<Spanned<InputSpec>>,
     /// Simulated time [s] for this part.
     pub t_end: Option<Spanned<f64>>,
+    /// Simulated time in drive cycles for this part (sine input).
+    pub t_end_cycles: Option<Spanned<f64>>,
     /// The part's axes.
     #[serde(default)]
     pub axis: Vec<Spanned<AxisSpec>>,
@@ -232,6 +236,8 @@ pub struct CompareSpec {
     pub metric: String,
     /// What the paper says, in a few words.
     pub paper: String,
-    /// The direction the paper implies: up, down, flat, or up_or_flat.
+    /// The direction the paper implies: up, down, flat, up_or_flat or down_or_flat.
     pub expect: String,
+    /// The variant whose runs are compared (needed when the part sweeps variants).
+    pub variant: Option<String>,
 }

@@ -46,6 +46,8 @@ pub struct Part {
     pub axes: Vec<Axis>,
     /// Random design, combined with the grid as a product.
     pub sample: Option<Sample>,
+    /// Simulated time in drive cycles (overrides `base.t_end` per run).
+    pub t_end_cycles: Option<f64>,
 }
 
 /// One run of the expanded study.
@@ -100,6 +102,9 @@ impl Study {
                 ordered.sort_by_key(|(k, _)| matches!(k, Knob::FrictionScale));
                 for (knob, value) in &ordered {
                     knob.apply(&mut cfg, *value);
+                }
+                if let (Some(n), Some(f)) = (part.t_end_cycles, cfg.input.drive_frequency()) {
+                    cfg.t_end = n / f;
                 }
                 cfg.record_trace = self.traces.keep;
                 let swept = point.iter().map(|(k, v)| (k.name().to_string(), *v)).collect();

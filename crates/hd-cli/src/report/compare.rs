@@ -25,11 +25,12 @@ pub fn section(study: &Study, table: &Table) -> String {
             Some(j) => {
                 let _ = writeln!(
                     md,
-                    "| {} `{}` ({} → {}) | {} | {} ({}) | {} → {} | {:+.1} % | {} | {} |",
+                    "| {} `{}` ({} → {}){} | {} | {} ({}) | {} → {} | {:+.1} % | {} | {} |",
                     c.direction,
                     c.axis,
                     fmt(j.x_ref),
                     fmt(j.x_to),
+                    c.variant.as_ref().map(|v| format!(", {v}")).unwrap_or_default(),
                     c.metric,
                     c.paper,
                     c.expect,
@@ -120,6 +121,7 @@ fn judge(d: &PartData, c: &CompareSpec) -> Option<Judgement> {
         .iter()
         .copied()
         .filter(|&i| d.text("status", i) == "ok")
+        .filter(|&i| c.variant.as_ref().is_none_or(|v| &d.text("variant", i) == v))
         .filter(|&i| {
             held.iter().all(|(n, v)| (d.num(n, i) - v).abs() <= 1e-9 * v.abs().max(1e-300))
         })

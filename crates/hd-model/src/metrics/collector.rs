@@ -4,7 +4,7 @@
 
 use super::{MetricSettings, Metrics, extrema::cubic_extrema, limit_cycle, periodic, step};
 use crate::laws::input::Input;
-use crate::laws::stiffness::StiffnessLaw;
+use crate::laws::friction::FrictionLaw;
 use crate::solver::Step;
 use crate::state::*;
 use crate::system::DriveSystem;
@@ -27,6 +27,8 @@ pub struct Collector<'a> {
     run_theta: Vec<f64>,
     thz_peak: f64,
     tb_peak: f64,
+    tf_peak: f64,
+    s_peak: f64,
     y_start: State,
 }
 
@@ -55,6 +57,8 @@ impl<'a> Collector<'a> {
             run_theta: Vec::with_capacity(run_samples),
             thz_peak: 0.0,
             tb_peak: 0.0,
+            tf_peak: 0.0,
+            s_peak: 0.0,
             y_start,
         }
     }
@@ -69,8 +73,10 @@ impl<'a> Collector<'a> {
         let h = s.t1 - s.t0;
         let (lo, hi) = cubic_extrema(thz0, thz1, s.y0[OMEGA_Z], s.y1[OMEGA_Z], h);
         self.thz_peak = self.thz_peak.max(lo.abs()).max(hi.abs());
-        let tb = self.sys.stiffness.eval(s.y1[THETA], 0.0, s.y1[Z]).torque;
-        self.tb_peak = self.tb_peak.max(tb.abs());
+        let parts = self.sys.parts(s.t1, s.y1);
+        self.tb_peak = self.tb_peak.max(parts.st.torque.abs());
+        self.tf_peak = self.tf_peak.max(parts.fr.torque.abs());
+        self.s_peak = self.s_peak.max(self.sys.friction.deflection(s.y1[W]).abs());
 
         if let Some((f, tw, cycles)) = self.periodic {
             if s.t1 >= tw {
@@ -118,6 +124,8 @@ impl<'a> Collector<'a> {
         let mut m = Metrics::undefined();
         m.thz_peak = self.thz_peak;
         m.tb_peak = self.tb_peak;
+        m.tf_peak = self.tf_peak;
+        m.s_peak = self.s_peak;
         m.energy_residual = self.energy_residual(y_end);
         if let (Some((f, _tw, cycles)), Some(yw)) = (self.periodic, self.y_window) {
             let n = cycles as f64;

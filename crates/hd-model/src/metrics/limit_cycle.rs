@@ -2,7 +2,7 @@
 
 /// `(flag, amplitude, period)` for uniformly sampled `x` over the final window: the flag is
 /// 1 when the oscillation about the mean is larger than `1e-4` of the mean level (and than
-/// `1e-9` absolutely) and does not decay (the second half's peak-to-peak is at least 90 %
+/// `1e-9` absolutely) and does not decay (the second half's peak-to-peak is at least 97 %
 /// of the first half's). Period from the mean spacing of upward mean crossings.
 pub fn detect(t: &[f64], x: &[f64]) -> [f64; 3] {
     let n = x.len();
@@ -17,7 +17,7 @@ pub fn detect(t: &[f64], x: &[f64]) -> [f64; 3] {
     };
     let amp = 0.5 * ptp(x);
     let (first, second) = x.split_at(n / 2);
-    let sustained = ptp(second) >= 0.9 * ptp(first);
+    let sustained = ptp(second) >= 0.97 * ptp(first);
     // Upward crossings of the mean, with a 10 % hysteresis band against noise.
     let band = 0.1 * amp;
     let mut armed = false;

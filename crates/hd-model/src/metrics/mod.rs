@@ -81,6 +81,10 @@ pub struct Metrics {
     pub thz_peak: f64,
     /// Largest |Tb| over the run [N·m].
     pub tb_peak: f64,
+    /// Largest |Tf| over the run [N·m] (the break-away peak after a start from rest).
+    pub tf_peak: f64,
+    /// Largest |s|, the LuGre bristle (pre-sliding) deflection, over the run [rad].
+    pub s_peak: f64,
     /// Energy-balance residual over the run, relative to the energy turned over [–].
     pub energy_residual: f64,
 }
@@ -107,6 +111,8 @@ impl Metrics {
             lc_period: n,
             thz_peak: n,
             tb_peak: n,
+            tf_peak: n,
+            s_peak: n,
             energy_residual: n,
         }
     }
@@ -131,12 +137,14 @@ impl Metrics {
             ("lc_period", self.lc_period),
             ("thz_peak", self.thz_peak),
             ("tb_peak", self.tb_peak),
+            ("tf_peak", self.tf_peak),
+            ("s_peak", self.s_peak),
             ("energy_residual", self.energy_residual),
         ]
     }
 
     /// Metric names with units, in [`Metrics::to_pairs`] order.
-    pub const UNITS: [(&'static str, &'static str); 18] = [
+    pub const UNITS: [(&'static str, &'static str); 20] = [
         ("thz_amp", "rad"),
         ("thz_mean", "rad"),
         ("thz_ripple", "rad"),
@@ -154,6 +162,8 @@ impl Metrics {
         ("lc_period", "s"),
         ("thz_peak", "rad"),
         ("tb_peak", "N·m"),
+        ("tf_peak", "N·m"),
+        ("s_peak", "rad"),
         ("energy_residual", "-"),
     ];
 }

@@ -46,10 +46,11 @@ fn solve3(mut g: [[f64; 3]; 3], mut r: [f64; 3]) -> Option<[f64; 3]> {
         }
         g.swap(k, p);
         r.swap(k, p);
+        let pivot_row = g[k];
         for i in k + 1..3 {
-            let l = g[i][k] / g[k][k];
-            for j in k..3 {
-                g[i][j] -= l * g[k][j];
+            let l = g[i][k] / pivot_row[k];
+            for (gij, gkj) in g[i].iter_mut().zip(pivot_row).skip(k) {
+                *gij -= l * gkj;
             }
             r[i] -= l * r[k];
         }
