@@ -28,7 +28,13 @@ fn file_name(study: &str, part: &str, what: &str) -> String {
 pub fn part_plots(dir: &Path, study: &str, d: &PartData, traces: Option<&Table>) -> Result<String> {
     let mut md = String::new();
     let variants = d.variants();
+    let short = |k: usize| d.distinct(&d.numeric_axes[k].0).len() <= 6;
     match d.numeric_axes.len() {
+        // A grid with one short axis reads best as one line per value of that axis.
+        2 if d.part.sample.is_none() && (short(0) || short(1)) => {
+            let (x, group) = if short(0) { (1, 0) } else { (0, 1) };
+            md.push_str(&lines(dir, study, d, x, Some(group))?);
+        }
         2 if d.part.sample.is_none() => {
             let ((xn, xlog), (yn, ylog)) = (&d.numeric_axes[0], &d.numeric_axes[1]);
             let xs = d.distinct(xn);
@@ -66,46 +72,68 @@ pub fn part_plots(dir: &Path, study: &str, d: &PartData, traces: Option<&Table>)
                 }
             }
         }
-        1 => {
-            let (xn, xlog) = &d.numeric_axes[0];
-            for m in plotted_metrics(d) {
-                let series: Vec<Series> = variants
-                    .iter()
-                    .map(|v| {
-                        let mut pts: Vec<(f64, f64)> = d
-                            .rows
-                            .iter()
-                            .filter(|&&i| &d.text("variant", i) == v)
-                            .map(|&i| (d.num(xn, i), d.num(m, i)))
-                            .collect();
-                        pts.sort_by(|a, b| a.0.total_cmp(&b.0));
-                        Series::new(
-                            v.clone(),
-                            pts.iter().map(|p| p.0).collect(),
-                            pts.iter().map(|p| p.1).collect(),
-                        )
-                    })
-                    .filter(|s| s.y.iter().any(|y| y.is_finite()))
-                    .collect();
-                if series.is_empty() {
-                    continue;
-                }
-                let name = file_name(study, &d.part.name, m);
-                hd_plot::line_plot(
-                    &dir.join(&name),
-                    &format!("{m} against {xn}"),
-                    &label(xn),
-                    &label(m),
-                    &series,
-                    *xlog,
-                )?;
-                let _ = writeln!(md, "![{m} against {xn}]({name})\n");
-            }
-        }
+        1 => md.push_str(&lines(dir, study, d, 0, None)?),
         _ => {}
     }
     if let Some(t) = traces {
         md.push_str(&trace_overlay(dir, study, d, t)?);
+    }
+    Ok(md)
+}
+
+/// One figure per metric against numeric axis `x`, one line per variant (and per value
+/// of the `group` axis, when given).
+fn lines(dir: &Path, study: &str, d: &PartData, x: usize, group: Option<usize>) -> Result<String> {
+    let mut md = String::new();
+    let (xn, xlog) = &d.numeric_axes[x];
+    let groups: Vec<Option<f64>> = match group {
+        Some(g) => d.distinct(&d.numeric_axes[g].0).into_iter().map(Some).collect(),
+        None => vec![None],
+    };
+    let variants = d.variants();
+    for m in plotted_metrics(d) {
+        let mut series = Vec::new();
+        for v in &variants {
+            for gv in &groups {
+                let mut pts: Vec<(f64, f64)> = d
+                    .rows
+                    .iter()
+                    .filter(|&&i| &d.text("variant", i) == v)
+                    .filter(|&&i| match (group, gv) {
+                        (Some(g), Some(val)) => d.num(&d.numeric_axes[g].0, i) == *val,
+                        _ => true,
+                    })
+                    .map(|&i| (d.num(xn, i), d.num(m, i)))
+                    .collect();
+                pts.sort_by(|a, b| a.0.total_cmp(&b.0));
+                let mut name = v.clone();
+                if let (Some(g), Some(val)) = (group, gv) {
+                    let _ =
+                        write!(name, ", {} = {}", d.numeric_axes[g].0, super::markdown::fmt(*val));
+                }
+                let s = Series::new(
+                    name,
+                    pts.iter().map(|p| p.0).collect(),
+                    pts.iter().map(|p| p.1).collect(),
+                );
+                if s.y.iter().any(|y| y.is_finite()) {
+                    series.push(s);
+                }
+            }
+        }
+        if series.is_empty() {
+            continue;
+        }
+        let name = file_name(study, &d.part.name, m);
+        hd_plot::line_plot(
+            &dir.join(&name),
+            &format!("{m} against {xn}"),
+            &label(xn),
+            &label(m),
+            &series,
+            *xlog,
+        )?;
+        let _ = writeln!(md, "![{m} against {xn}]({name})\n");
     }
     Ok(md)
 }
