@@ -110,6 +110,9 @@ pub fn failures(d: &PartData) -> String {
 
 /// Compact number formatting for tables.
 pub fn fmt(x: f64) -> String {
+    if x == f64::INFINITY {
+        return "> run".into();
+    }
     if !x.is_finite() {
         return "–".into();
     }
