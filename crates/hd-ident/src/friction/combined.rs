@@ -1,0 +1,245 @@
+//! The friction fit as a whole: the static stage, the dynamic stage, or both in order,
+//! with one report over every parameter involved.
+
+use super::propagate::{Propagated, propagate};
+use super::steady::{STATIC_PARAMS, SteadyProblem};
+use super::transient::{DYNAMIC_PARAMS, TransientProblem};
+use crate::data::{SteadyData, TransientData};
+use crate::error::FitError;
+use crate::fix::Fixed;
+use crate::report::{Correlation, Estimate, FitReport, Parameters, REL_SE_LIMIT};
+use crate::separable::{SeparableFit, fit_separable};
+use hd_model::laws::friction::LuGre;
+use hd_model::registry::{REGISTRY, lookup};
+use std::time::Instant;
+
+/// All six LuGre parameters (registry order).
+pub const FRICTION_PARAMS: [&str; 6] = ["sigma0", "sigma1", "sigma2", "Tc", "Ts", "ws"];
+
+/// Outcome of [`fit_friction`].
+#[derive(Clone, Debug, PartialEq)]
+pub struct FrictionFit {
+    /// The report over every parameter involved (with each stage's own report inside
+    /// when both stages ran).
+    pub report: FitReport,
+    /// The static stage, when a steady-state sweep was given.
+    pub steady: Option<SeparableFit>,
+    /// The dynamic stage, when a time series was given.
+    pub transient: Option<SeparableFit>,
+    /// The LuGre law with the final values (σ0, σ1 at their registry defaults when no
+    /// time series was given).
+    pub law: LuGre,
+}
+
+fn held(name: &str, value: f64, why: &str) -> Result<(String, Estimate), FitError> {
+    let info = lookup(name)?;
+    Ok((
+        name.to_string(),
+        Estimate {
+            value,
+            unit: info.unit,
+            std_error: None,
+            ci95: None,
+            determined: false,
+            fixed: true,
+            note: Some(format!("held at {value} {} ({why}), not fitted", info.unit)),
+        },
+    ))
+}
+
+fn default_of(name: &str) -> f64 {
+    lookup(name).map_or(0.0, |i| i.default_value())
+}
+
+/// Fit the friction parameters: with `steady` the static stage (Tc, Ts, ωs, σ2), with
+/// `transient` the dynamic stage (σ0, σ1) holding the static parameters at the static
+/// stage's result or at their `fixed` values; with both, the two stages in that order,
+/// the static stage's uncertainty carried into the dynamic stage's errors.
+pub fn fit_friction(
+    steady: Option<&SteadyData>,
+    transient: Option<&TransientData>,
+    fixed: &Fixed,
+) -> Result<FrictionFit, FitError> {
+    let start = Instant::now();
+    fixed.check_allowed("friction", &FRICTION_PARAMS)?;
+    if steady.is_none() && transient.is_none() {
+        return Err(FitError::NoData);
+    }
+    // With a steady sweep only, the stage checks the fixed names itself (a dynamic
+    // parameter fixed for a static-only fit is an error, not silently ignored).
+    let stage1 = match steady {
+        Some(d) => {
+            let f = if transient.is_some() {
+                fixed.restricted_to(&STATIC_PARAMS)
+            } else {
+                fixed.clone()
+            };
+            Some(fit_separable(&SteadyProblem::new(d), &f)?)
+        }
+        None => None,
+    };
+    let static_value =
+        |name: &str| fixed.get(name).or_else(|| stage1.as_ref().and_then(|s| s.value(name)));
+    let mut statics = [0.0; 4];
+    let mut stage2 = None;
+    if let Some(d) = transient {
+        let missing: Vec<&str> =
+            ["Tc", "Ts", "ws"].into_iter().filter(|n| static_value(n).is_none()).collect();
+        if !missing.is_empty() {
+            return Err(FitError::MissingStatic { missing: missing.join(", ") });
+        }
+        for (s, name) in statics.iter_mut().zip(["Tc", "Ts", "ws", "sigma2"]) {
+            *s = static_value(name).unwrap_or_else(|| default_of(name));
+        }
+        let problem = TransientProblem::new(d, statics[0], statics[1], statics[2], statics[3]);
+        stage2 = Some(fit_separable(&problem, &fixed.restricted_to(&DYNAMIC_PARAMS))?);
+    }
+
+    let value = |name: &str| {
+        [&stage2, &stage1]
+            .iter()
+            .find_map(|s| s.as_ref().and_then(|s| s.value(name)))
+            .or_else(|| fixed.get(name))
+            .unwrap_or_else(|| default_of(name))
+    };
+    let law = LuGre {
+        sigma0: value("sigma0"),
+        sigma1: value("sigma1"),
+        sigma2: value("sigma2"),
+        tc: value("Tc"),
+        ts: value("Ts"),
+        ws: value("ws"),
+    };
+
+    let mut report = match (&stage1, &mut stage2, transient) {
+        (Some(s1), None, _) => s1.report.clone(),
+        (None, Some(s2), _) => {
+            // Show the static parameters the stage held, ahead of its own.
+            let mut r = s2.report.clone();
+            let mut params = Vec::new();
+            for name in STATIC_PARAMS {
+                let (v, why) = match fixed.get(name) {
+                    Some(v) => (v, "--fix"),
+                    None => (default_of(name), "registry default; no steady-state data"),
+                };
+                params.push(held(name, v, why)?);
+            }
+            params.append(&mut r.parameters.0);
+            r.parameters = Parameters(params);
+            r.remarks.push(
+                "the errors of sigma0 and sigma1 are conditional on the static parameters held above".into(),
+            );
+            r
+        }
+        (Some(s1), Some(s2), Some(d)) => {
+            let prop = propagate(s1, s2, d, statics)?;
+            if let Some(p) = &prop {
+                widen(s2, p);
+            }
+            combine(s1, s2, prop.as_ref(), start)
+        }
+        _ => unreachable!("at least one data set, checked above"),
+    };
+    report.parameters.0.sort_by_key(|(n, _)| REGISTRY.iter().position(|p| p.name == n));
+    Ok(FrictionFit { report, steady: stage1, transient: stage2, law })
+}
+
+/// Replace the dynamic stage's conditional errors by the propagated ones, and re-judge.
+fn widen(s2: &mut SeparableFit, p: &Propagated) {
+    let r = &mut s2.report;
+    let t95 = s2.covariance.t95;
+    for (i, name) in s2.free.iter().enumerate() {
+        let se = p.dynamic[(i, i)].max(0.0).sqrt();
+        let Some((_, est)) = r.parameters.0.iter_mut().find(|(n, _)| n == name) else { continue };
+        if est.std_error.is_none() {
+            continue;
+        }
+        est.std_error = Some(se);
+        est.ci95 = Some([est.value - t95 * se, est.value + t95 * se]);
+        let rse = se / est.value.abs();
+        if est.determined && rse > REL_SE_LIMIT {
+            est.determined = false;
+            est.note = Some(format!(
+                "relative standard error {:.3} % (limit {} %) once the static stage's uncertainty is carried over: \
+                 the dynamic fit leans on Tc, Ts and ωs, which the steady-state sweep fixes too loosely; a denser or less noisy sweep would tighten it",
+                100.0 * rse,
+                100.0 * REL_SE_LIMIT
+            ));
+        }
+    }
+    for i in 0..s2.free.len() {
+        for j in 0..s2.free.len() {
+            if r.correlation.matrix[i][j].is_some() {
+                let c = p.dynamic[(i, j)] / (p.dynamic[(i, i)] * p.dynamic[(j, j)]).sqrt();
+                r.correlation.matrix[i][j] = Some(c.clamp(-1.0, 1.0));
+            }
+        }
+    }
+    r.remarks.push(
+        "standard errors include the static stage's uncertainty, propagated to first order".into(),
+    );
+}
+
+/// One report over both stages: all parameters, the dynamic stage's fit quality (its
+/// model uses all six), and the correlation over all free parameters (the cross block
+/// from the propagation, when available).
+fn combine(
+    s1: &SeparableFit,
+    s2: &SeparableFit,
+    prop: Option<&Propagated>,
+    start: Instant,
+) -> FitReport {
+    let (r1, r2) = (&s1.report, &s2.report);
+    let mut params = r1.parameters.0.clone();
+    for (name, est) in &r2.parameters.0 {
+        if !params.iter().any(|(n, _)| n == name) {
+            params.push((name.clone(), est.clone()));
+        }
+    }
+    let names: Vec<String> =
+        r1.correlation.names.iter().chain(&r2.correlation.names).cloned().collect();
+    let k1 = r1.correlation.names.len();
+    let se = |k: usize| -> Option<f64> {
+        if k < k1 {
+            s1.covariance.std_error[k]
+        } else {
+            prop.map(|p| p.dynamic[(k - k1, k - k1)].sqrt())
+        }
+    };
+    let cross = |i: usize, j: usize| -> Option<f64> {
+        // i in stage 2, j in stage 1.
+        let p = prop?;
+        Some(p.cross[(i, j)] / (se(k1 + i)? * se(j)?))
+    };
+    let matrix = (0..names.len())
+        .map(|i| {
+            (0..names.len())
+                .map(|j| match (i < k1, j < k1) {
+                    (true, true) => r1.correlation.matrix[i][j],
+                    (false, false) => r2.correlation.matrix[i - k1][j - k1],
+                    (false, true) => cross(i - k1, j).map(|c| c.clamp(-1.0, 1.0)),
+                    (true, false) => cross(j - k1, i).map(|c| c.clamp(-1.0, 1.0)),
+                })
+                .collect()
+        })
+        .collect();
+    let mut remarks = r2.remarks.clone();
+    remarks.push("rms, r2, samples and dof are those of the dynamic stage, whose model uses all six parameters".into());
+    FitReport {
+        fit: "friction".to_string(),
+        parameters: Parameters(params),
+        rms: r2.rms,
+        r2: r2.r2,
+        iterations: r1.iterations + r2.iterations,
+        termination: format!("static stage: {}; dynamic stage: {}", r1.termination, r2.termination),
+        correlation: Correlation { names, matrix },
+        samples: r2.samples,
+        dof: r2.dof,
+        noise_std: r2.noise_std,
+        evaluations: r1.evaluations + r2.evaluations,
+        search: None,
+        stages: vec![r1.clone(), r2.clone()],
+        remarks,
+        wall_time_s: start.elapsed().as_secs_f64(),
+    }
+}

@@ -1,0 +1,192 @@
+//! The hysteresis fit: a, b, c, A, B from a torque–deflection record.
+//!
+//! The torque is `Tb = a·θ³ + b·θ² + c·θ + z` with `ż = A·θ̇ − B·z`, z(0) = 0
+//! (shared/MODEL.md §2). Since z = A·ζ where ζ is the memory of unit intensity, the torque
+//! is linear in a, b, c and A for a given B; B is found by the global search over ln B.
+//! The memory runs along the measured θ(t), taken as linear between samples, with the
+//! exact step [`FadingMemory::step_linear`]; the cubic terms and the composed prediction
+//! come from [`CubicSpring`] and [`Hysteretic`] — the laws the simulator integrates.
+
+use crate::data::HysteresisData;
+use crate::error::FitError;
+use crate::fix::Fixed;
+use crate::report::Explanation;
+use crate::separable::{Basis, Separable, SeparableFit, fit_separable};
+use hd_model::laws::stiffness::{CubicSpring, FadingMemory, Hysteretic, StiffnessLaw};
+
+/// Parameters of the hysteresis fit, in report order.
+pub const HYSTERESIS_PARAMS: [&str; 5] = ["a", "b", "c", "A", "B"];
+
+/// Practical search range of B: from `B_LOW_CYCLES` memory time constants over the
+/// record (below that the memory is a pure integrator of θ, indistinguishable from c·θ)
+/// to `B_HIGH_PER_SAMPLE` per median sample interval (above that the memory forgets
+/// within a sample and only A/B, a viscous-like term, remains visible).
+pub const B_LOW_CYCLES: f64 = 0.1;
+/// See [`B_LOW_CYCLES`].
+pub const B_HIGH_PER_SAMPLE: f64 = 10.0;
+
+/// The hysteresis identification problem on one record.
+pub struct HysteresisProblem<'a> {
+    data: &'a HysteresisData,
+    cubic_cols: [Vec<f64>; 3],
+}
+
+impl<'a> HysteresisProblem<'a> {
+    /// Set up the problem on `data`.
+    pub fn new(data: &'a HysteresisData) -> Self {
+        let unit = |a, b, c| {
+            let law = CubicSpring { a, b, c };
+            data.theta().iter().map(|&th| law.torque(th)).collect::<Vec<f64>>()
+        };
+        Self { data, cubic_cols: [unit(1.0, 0.0, 0.0), unit(0.0, 1.0, 0.0), unit(0.0, 0.0, 1.0)] }
+    }
+
+    /// The memory state along the record for memory law `m`, from z = 0.
+    fn memory(&self, m: &FadingMemory) -> Vec<f64> {
+        let (t, th) = (self.data.t(), self.data.theta());
+        let mut z = Vec::with_capacity(t.len());
+        let mut zi = 0.0;
+        z.push(zi);
+        for k in 1..t.len() {
+            zi = m.step_linear(zi, th[k] - th[k - 1], t[k] - t[k - 1]);
+            z.push(zi);
+        }
+        z
+    }
+
+    fn theta_max(&self) -> f64 {
+        self.data.theta().iter().fold(0.0f64, |m, v| m.max(v.abs()))
+    }
+}
+
+fn median_step(t: &[f64]) -> f64 {
+    let mut d: Vec<f64> = t.windows(2).map(|w| w[1] - w[0]).collect();
+    d.sort_by(f64::total_cmp);
+    d[d.len() / 2]
+}
+
+impl Separable for HysteresisProblem<'_> {
+    fn fit_name(&self) -> &'static str {
+        "hysteresis"
+    }
+    fn linear_names(&self) -> &'static [&'static str] {
+        &["a", "b", "c", "A"]
+    }
+    fn nonlinear_name(&self) -> &'static str {
+        "B"
+    }
+    fn search_range(&self) -> (f64, f64) {
+        let t = self.data.t();
+        let span = t[t.len() - 1] - t[0];
+        (B_LOW_CYCLES / span, B_HIGH_PER_SAMPLE / median_step(t))
+    }
+    fn measured(&self) -> &[f64] {
+        self.data.torque()
+    }
+    fn basis(&self, q: f64) -> Result<Basis, FitError> {
+        let zeta = self.memory(&FadingMemory { a: 1.0, b: q });
+        let [c3, c2, c1] = self.cubic_cols.clone();
+        Ok(Basis { columns: vec![c3, c2, c1, zeta], offset: None })
+    }
+    fn predict(&self, beta: &[f64], q: f64) -> Result<Vec<f64>, FitError> {
+        let law = Hysteretic {
+            spring: CubicSpring { a: beta[0], b: beta[1], c: beta[2] },
+            memory: FadingMemory { a: beta[3], b: q },
+        };
+        let z = self.memory(&law.memory);
+        let (t, th) = (self.data.t(), self.data.theta());
+        Ok((0..t.len())
+            .map(|k| {
+                let rate = if k == 0 { 0.0 } else { (th[k] - th[k - 1]) / (t[k] - t[k - 1]) };
+                law.eval(th[k], rate, z[k]).torque
+            })
+            .collect())
+    }
+    fn explain(&self, name: &str, values: &[(&'static str, f64)]) -> Explanation {
+        let range = format!("max |θ| = {:.2e} rad", self.theta_max());
+        let b = values.iter().find(|(n, _)| *n == "B").map_or(f64::NAN, |v| v.1);
+        let (effect, remedy) = match name {
+            "a" => (
+                "a·θ³".into(),
+                format!("data over a wider deflection range than {range} would reveal it"),
+            ),
+            "b" => (
+                "b·θ²".into(),
+                format!(
+                    "data over a wider (or one-sided) deflection range than {range} would reveal it"
+                ),
+            ),
+            "c" => (
+                "c·θ".into(),
+                format!("a deflection that varies more than {range} would reveal it"),
+            ),
+            "A" => (
+                "the memory torque A·ζ".into(),
+                format!(
+                    "deflection rates with content near the memory's corner frequency B/2π ≈ {:.3e} Hz would reveal it",
+                    b / std::f64::consts::TAU
+                ),
+            ),
+            _ => (
+                "the memory decay rate B".into(),
+                format!(
+                    "excitation at frequencies around B/2π ≈ {:.3e} Hz, over a record of many 1/B, would reveal it",
+                    b / std::f64::consts::TAU
+                ),
+            ),
+        };
+        Explanation { effect, remedy }
+    }
+}
+
+/// Share of the noise above which the sampling error gets a warning.
+pub const SAMPLING_WARN: f64 = 0.2;
+
+/// Estimate of the torque error [N·m RMS] caused by reading θ as linear between samples,
+/// at the fitted parameters: the same model on every other sample differs from the full
+/// record by about three times that error (the reading is second order in the sample
+/// interval), so the error is a third of their RMS difference on the shared samples.
+pub fn sampling_error(
+    data: &HysteresisData,
+    beta: &[f64],
+    b: f64,
+) -> Result<Option<f64>, FitError> {
+    if data.len() < 20 {
+        return Ok(None);
+    }
+    let every_other = |c: &[f64]| c.iter().step_by(2).copied().collect::<Vec<f64>>();
+    let half = HysteresisData::new(
+        every_other(data.t()),
+        every_other(data.theta()),
+        every_other(data.torque()),
+    )?;
+    let full = HysteresisProblem::new(data).predict(beta, b)?;
+    let coarse = HysteresisProblem::new(&half).predict(beta, b)?;
+    let sq: f64 = full.iter().step_by(2).zip(&coarse).map(|(f, c)| (f - c).powi(2)).sum();
+    Ok(Some((sq / coarse.len() as f64).sqrt() / 3.0))
+}
+
+/// Fit a, b, c, A, B to `data`, holding the parameters in `fixed`. The report carries a
+/// remark with the [`sampling_error`] estimate, as a warning when it exceeds
+/// [`SAMPLING_WARN`] of the noise.
+pub fn fit_hysteresis(data: &HysteresisData, fixed: &Fixed) -> Result<SeparableFit, FitError> {
+    let mut fit = fit_separable(&HysteresisProblem::new(data), fixed)?;
+    let v = |n: &str| fit.value(n).unwrap_or(0.0);
+    let beta = [v("a"), v("b"), v("c"), v("A")];
+    if let Some(err) = sampling_error(data, &beta, v("B"))? {
+        let share = err / fit.report.noise_std;
+        let remark = if share > SAMPLING_WARN {
+            format!(
+                "warning: reading θ as linear between samples shifts the modelled torque by about {err:.2e} N·m RMS, {:.0} % of the noise; A and B may be biased beyond their standard errors: sample faster relative to the excitation",
+                100.0 * share
+            )
+        } else {
+            format!(
+                "sampling check: reading θ as linear between samples shifts the modelled torque by about {err:.2e} N·m RMS, {:.1} % of the noise (negligible)",
+                100.0 * share
+            )
+        };
+        fit.report.remarks.push(remark);
+    }
+    Ok(fit)
+}

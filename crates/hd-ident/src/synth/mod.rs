@@ -1,0 +1,26 @@
+//! Synthetic data from the model, for checking identifiability before an experiment:
+//! an imposed excitation drives the same hd-model laws the simulator and the fits use,
+//! and Gaussian noise of a chosen size relative to the RMS torque is added.
+
+mod excitation;
+mod friction;
+mod hysteresis;
+mod noise;
+
+pub use excitation::{GrowingSine, SumOfSines};
+pub use friction::{SteadySweep, TransientExcitation, synth_steady, synth_transient};
+pub use hysteresis::{HysteresisExcitation, synth_hysteresis};
+pub use noise::{Noise, add_noise};
+
+/// A synthetic data set: named columns ready to write, and how it was made.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Synthetic {
+    /// Column names (the conventional names the fits read).
+    pub names: Vec<&'static str>,
+    /// Columns, same order and length.
+    pub columns: Vec<Vec<f64>>,
+    /// Standard deviation of the added noise [N·m].
+    pub noise_std: f64,
+    /// One paragraph: excitation, parameters, noise.
+    pub description: String,
+}
