@@ -1,7 +1,7 @@
 //! End-to-end tests of `hdw simulate`: outputs on the seed case, and one clear error line
 //! for each kind of bad input.
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::process::{Command, Output};
 
 fn hdw(args: &[&str]) -> Output {
@@ -31,11 +31,10 @@ fn seed_case_writes_trace_metrics_and_plot() {
     let dir = scratch("seed");
     let out = hdw(&["simulate", "--t-end", "0.06", "--out", dir.to_str().unwrap()]);
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
-    let df = hd_io::read_frame(&dir.join("trace.parquet")).unwrap();
-    let names: Vec<String> = df.get_column_names().iter().map(|s| s.to_string()).collect();
+    let table = hd_io::read_table(&dir.join("trace.parquet")).unwrap();
     let expected: Vec<String> = hd_model::TRACE_COLUMNS.iter().map(|c| c.0.to_string()).collect();
-    assert_eq!(names, expected);
-    assert!(df.height() > 100);
+    assert_eq!(table.names, expected);
+    assert!(table.height > 100);
     let metrics: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(dir.join("metrics.json")).unwrap()).unwrap();
     assert!(metrics["metrics"]["thz_amp"].as_f64().unwrap() > 0.0);
@@ -111,11 +110,9 @@ fn recorded_input_runs_and_is_interpolated() {
         dir.to_str().unwrap(),
     ]);
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
-    let df = hd_io::read_frame(&dir.join("trace.parquet")).unwrap();
-    let t = df.column("t").unwrap().f64().unwrap().clone();
-    let u = df.column("u").unwrap().f64().unwrap().clone();
-    for (t, u) in t.iter().zip(u.iter()) {
-        let (t, u) = (t.unwrap(), u.unwrap());
+    let table = hd_io::read_table(&dir.join("trace.parquet")).unwrap();
+    let (t, u) = (table.num("t").unwrap(), table.num("u").unwrap());
+    for (&t, &u) in t.iter().zip(u) {
         let expected = if t <= 0.01 {
             1200.0 * t
         } else if t <= 0.03 {
