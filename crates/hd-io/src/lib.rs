@@ -11,8 +11,10 @@ pub mod runs;
 pub mod store;
 pub mod table;
 pub mod trace;
+pub mod write_columns;
 
 pub use columns::{read_columns, read_frame, read_profile};
 pub use error::IoError;
 pub use table::{ColumnData, Table, read_table};
 pub use trace::write_trace;
+pub use write_columns::write_columns;
