@@ -17,7 +17,7 @@ use std::time::Instant;
 /// Run a sensitivity study defined in a study file (see studies/README.md).
 #[derive(Args, Debug)]
 #[command(
-    after_help = "Outputs (in --out DIR, default out/<study name>):\n  runs.parquet    one row per run: run_id, run_index, part, variant, status, error, every parameter,\n                  voltage, freq, swept settings, the kept metrics, solver statistics\n  traces.parquet  kept traces in long format (run_id, t, signals), when the study keeps traces\n  study.json      the expanded study, tool version and parameter defaults\n  report.md       tables and plots (*.svg) of the results\nWith --shard K/N the tables are runs-shard-K-of-N.parquet etc.; read DIR/runs*.parquet as one dataset.\n\nExample:\n  hdw study studies/table4.toml --out out/table4\n  hdw study studies/table4.toml --out out/table4 --resume      # after an interruption\n  hdw study studies/table4.toml --out out/t4 --shard 2/8       # one of 8 array jobs"
+    after_help = "Outputs (in --out DIR, default out/<study name>):\n  runs.parquet    one row per run: run_id, run_index, part, variant, status, error, every parameter,\n                  voltage, freq, swept settings, the kept metrics, solver statistics\n  traces.parquet  kept traces in long format (run_id, t, signals), when the study keeps traces\n  study.json      the expanded study, tool version and parameter defaults\n  report.md       tables and plots (*.svg) of the results\nWith --shard K/N the tables are runs-shard-K-of-N.parquet etc.; read DIR/runs*.parquet as one dataset.\n\nExample:\n  hdw study studies/table4.toml --out out/table4\n  hdw study studies/table4.toml --out out/table4 --resume      # after an interruption\n  hdw study studies/table4.toml --out out/t4 --shard 2/8       # one of 8 array jobs\n  hdw study studies/table4.toml --part damped-sine --threads 1  # one part, one thread"
 )]
 pub struct StudyArgs {
     /// The study file (TOML).
@@ -37,6 +37,9 @@ pub struct StudyArgs {
     /// Skip the report (tables and plots).
     #[arg(long)]
     pub no_report: bool,
+    /// Run only the named part(s) of a multi-part study (repeatable).
+    #[arg(long = "part", value_name = "NAME")]
+    pub parts: Vec<String>,
 }
 
 /// Parse `K/N` with 1 ≤ K ≤ N.
@@ -52,7 +55,17 @@ fn parse_shard(s: &str) -> Result<(usize, usize)> {
 /// Run `hdw study`.
 pub fn run(args: StudyArgs) -> Result<()> {
     let loader = |p: &Path| hd_io::read_profile(p).map_err(|e| e.to_string());
-    let study = load_study(&args.file, &loader)?;
+    let mut study = load_study(&args.file, &loader)?;
+    if !args.parts.is_empty() {
+        for name in &args.parts {
+            if !study.parts.iter().any(|p| &p.name == name) {
+                let known: Vec<&str> = study.parts.iter().map(|p| p.name.as_str()).collect();
+                bail!("--part {name}: no such part in {} (parts: {})", args.file.display(), known.join(", "));
+            }
+        }
+        study.parts.retain(|p| args.parts.contains(&p.name));
+        study.compare.retain(|c| args.parts.contains(&c.part));
+    }
     let shard_kn = args.shard.as_deref().map(parse_shard).transpose()?;
     if args.threads == Some(0) {
         bail!("--threads 0: expected at least 1 thread");
@@ -123,6 +136,9 @@ pub fn run(args: StudyArgs) -> Result<()> {
     if !args.no_report && shard_kn.is_none() {
         let path = report::write_report(&dir, &study, &store.runs_path(), &store.traces_path())?;
         eprintln!("report: {}", path.display());
+        if study.has_sensitivity_design() {
+            report::sensitivity::after_study(&dir)?;
+        }
     }
     Ok(())
 }
