@@ -8,6 +8,7 @@ pub mod atomic;
 pub mod columns;
 pub mod error;
 pub mod runs;
+pub mod sensitivity;
 pub mod store;
 pub mod table;
 pub mod trace;

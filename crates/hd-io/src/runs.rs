@@ -1,6 +1,12 @@
 //! `runs.parquet`: one row per run with its identity, every parameter used, the swept
 //! settings, the kept metrics, the status and the solver work. Also the long-format
 //! `traces.parquet`, and the part files a sweep commits while it runs.
+//!
+//! Studies with a sobol or morris design add, after `wall_time`, the columns
+//! `design_method` (text: `sobol`/`morris`), `design_group` (u64: Saltelli base row or
+//! Morris trajectory), `design_slot` (u64: position in the base row, A = 0, AB(i) = i + 1,
+//! B = d + 1, or Morris step) and one `u_<name>` column (f64, unit-cube coordinate in
+//! [0, 1]) per design parameter. They are null for runs outside a design.
 
 use crate::atomic::write_atomically;
 use crate::error::IoError;
@@ -65,7 +71,39 @@ pub fn runs_frame(
     cols.push(Column::new("rhs_evals".into(), count(&|r| r.stats.rhs_evals)));
     cols.push(Column::new("jac_evals".into(), count(&|r| r.stats.jac_evals)));
     cols.push(Column::new("wall_time".into(), num(&|r| r.wall_time)));
+    cols.extend(design_columns(rows));
     DataFrame::new_infer_height(cols)
+}
+
+/// The design columns (see the module docs); none when the study has no sobol or morris
+/// design. Every row of a study carries the same `design_names`, so every part file of a
+/// sweep gets the same columns.
+fn design_columns(rows: &[RunRow]) -> Vec<Column> {
+    let Some(names) = rows.first().map(|r| r.design_names.clone()) else { return Vec::new() };
+    if names.is_empty() {
+        return Vec::new();
+    }
+    let parts = |r: &RunRow| r.design.as_ref().map(|d| d.tag.to_parts(d.unit.len()));
+    let mut cols = vec![
+        Column::new(
+            "design_method".into(),
+            rows.iter().map(|r| parts(r).map(|p| p.0.as_str())).collect::<Vec<Option<&str>>>(),
+        ),
+        Column::new(
+            "design_group".into(),
+            rows.iter().map(|r| parts(r).map(|p| p.1 as u64)).collect::<Vec<Option<u64>>>(),
+        ),
+        Column::new(
+            "design_slot".into(),
+            rows.iter().map(|r| parts(r).map(|p| p.2 as u64)).collect::<Vec<Option<u64>>>(),
+        ),
+    ];
+    for name in names.iter() {
+        let unit: Vec<Option<f64>> =
+            rows.iter().map(|r| r.design.as_ref().and_then(|d| d.unit_of(name))).collect();
+        cols.push(Column::new(format!("u_{name}").into(), unit));
+    }
+    cols
 }
 
 fn swept_value(r: &RunRow, name: &str) -> f64 {

@@ -1,7 +1,9 @@
-//! Point sets: the product of grid axes (with zipped groups) and seeded random designs
-//! (plain uniform and Latin hypercube) inside bounds, optionally in log space.
+//! Point sets: the product of grid axes (with zipped groups), seeded random designs
+//! (plain uniform and Latin hypercube) and global-sensitivity designs (Saltelli, Morris)
+//! inside bounds, optionally in log space.
 
 use crate::axis::{Knob, Value};
+use crate::sensitivity::{Design, DesignPoint};
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
@@ -40,26 +42,54 @@ impl Bound {
     }
 }
 
-/// Random design kinds.
+/// Design kinds of a `[sample]` section.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum SampleMethod {
     /// Latin hypercube: each dimension's range split in n strata, one point per stratum.
     Lhs,
     /// Independent uniform points.
     Random,
+    /// Saltelli design for Sobol' indices: n base samples, n·(d + 2) points.
+    Sobol,
+    /// Morris trajectories for elementary-effects screening: n trajectories, n·(d + 1)
+    /// points.
+    Morris,
 }
 
-/// A random design.
+impl SampleMethod {
+    /// Lower-case name, as written in study files.
+    pub fn name(self) -> &'static str {
+        match self {
+            SampleMethod::Lhs => "lhs",
+            SampleMethod::Random => "random",
+            SampleMethod::Sobol => "sobol",
+            SampleMethod::Morris => "morris",
+        }
+    }
+}
+
+/// A sampled design.
 #[derive(Clone, Debug)]
 pub struct Sample {
     /// Kind of design.
     pub method: SampleMethod,
-    /// Number of points.
+    /// Points (lhs, random), base samples (sobol) or trajectories (morris).
     pub n: usize,
-    /// Seed.
-    pub seed: u64,
-    /// Sampled dimensions.
+    /// Seed of the generator (for sobol: of the digital shift, when `Some`); `None` means
+    /// 0 for lhs, random and morris, and the unshifted sequence for sobol.
+    pub seed: Option<u64>,
+    /// Sampled dimensions, in the order of the design's unit coordinates.
     pub bounds: Vec<Bound>,
+    /// The unit-cube design of a sobol or morris sample (its points carry their tags);
+    /// `None` for lhs and random. Built and checked when the study is parsed.
+    pub design: Option<Design>,
+}
+
+impl Sample {
+    /// The tagged unit-cube points of a sobol or morris design, in generator order.
+    pub fn design_points(&self) -> Option<&[DesignPoint]> {
+        self.design.as_ref().map(|d| d.points.as_slice())
+    }
 }
 
 /// One point: the knobs and values it sets.
@@ -96,19 +126,18 @@ pub fn grid_points(axes: &[Axis]) -> Vec<Point> {
     points
 }
 
-/// The points of a random design.
+/// The points of a sampled design (for sobol and morris, in the design's order).
 pub fn sample_points(s: &Sample) -> Vec<Point> {
-    let mut rng = ChaCha8Rng::seed_from_u64(s.seed);
+    let to_point = |row: &[f64]| -> Point {
+        s.bounds.iter().zip(row).map(|(b, &u)| (b.knob, Value::Num(b.map(u)))).collect()
+    };
+    if let Some(points) = s.design_points() {
+        return points.iter().map(|p| to_point(&p.unit)).collect();
+    }
+    let mut rng = ChaCha8Rng::seed_from_u64(s.seed.unwrap_or(0));
     let d = s.bounds.len();
     let mut unit = vec![vec![0.0; d]; s.n];
     match s.method {
-        SampleMethod::Random => {
-            for row in unit.iter_mut() {
-                for u in row.iter_mut() {
-                    *u = rng.random::<f64>();
-                }
-            }
-        }
         SampleMethod::Lhs => {
             for j in 0..d {
                 let mut strata: Vec<usize> = (0..s.n).collect();
@@ -122,8 +151,14 @@ pub fn sample_points(s: &Sample) -> Vec<Point> {
                 }
             }
         }
+        // Sobol and Morris samples always carry their design; uniform points otherwise.
+        SampleMethod::Random | SampleMethod::Sobol | SampleMethod::Morris => {
+            for row in unit.iter_mut() {
+                for u in row.iter_mut() {
+                    *u = rng.random::<f64>();
+                }
+            }
+        }
     }
-    unit.into_iter()
-        .map(|row| s.bounds.iter().zip(row).map(|(b, u)| (b.knob, Value::Num(b.map(u)))).collect())
-        .collect()
+    unit.iter().map(|row| to_point(row)).collect()
 }

@@ -1,9 +1,10 @@
 //! The result of one run: one row of `runs.parquet`.
 
 use crate::axis::Value;
-use crate::study::RunSpec;
+use crate::study::{RunDesign, RunSpec};
 use hd_model::{Metrics, Params, SimError, SimOutput, SolverStats, Trace};
 use serde::Serialize;
+use std::sync::Arc;
 
 /// Outcome of one run.
 #[derive(Clone, Debug, Serialize)]
@@ -37,6 +38,11 @@ pub struct RunRow {
     /// The trace, if kept.
     #[serde(skip)]
     pub trace: Option<Trace>,
+    /// Place in a sobol or morris design (tag and unit coordinates), if any.
+    pub design: Option<RunDesign>,
+    /// The study's design parameters (the `u_<name>` columns; empty without a design).
+    #[serde(skip)]
+    pub design_names: Arc<[&'static str]>,
 }
 
 impl RunRow {
@@ -66,6 +72,8 @@ impl RunRow {
             stats: SolverStats::default(),
             wall_time: 0.0,
             trace: None,
+            design: spec.design.clone(),
+            design_names: spec.design_names.clone(),
         };
         match outcome {
             Ok(out) => RunRow {

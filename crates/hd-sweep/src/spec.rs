@@ -168,17 +168,27 @@ pub struct RangeSpec {
     pub num: usize,
 }
 
-/// A random or screening design.
+/// A random, screening or variance-based design (`[sample]`).
+///
+/// Which fields apply depends on `method`:
+/// - `lhs`, `random`: `n` points, `seed` (default 0);
+/// - `sobol`: `n` base samples N, giving N·(d + 2) runs for d parameters; `seed` applies a
+///   seeded digital shift to the Sobol' sequence (without it the plain sequence is used);
+/// - `morris`: `trajectories` r, giving r·(d + 1) runs; `levels` p (even, default 4);
+///   `seed` (default 0) draws the trajectories.
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct SampleSpec {
-    /// lhs (Latin hypercube) or random.
+    /// lhs (Latin hypercube), random, sobol (Saltelli design) or morris (trajectories).
     pub method: Spanned<String>,
-    /// Number of points.
-    pub n: usize,
-    /// Seed of the random generator.
-    #[serde(default)]
-    pub seed: u64,
+    /// Number of points (lhs, random) or of base samples (sobol).
+    pub n: Option<Spanned<usize>>,
+    /// Number of Morris trajectories.
+    pub trajectories: Option<Spanned<usize>>,
+    /// Morris grid levels (even, ≥ 2; default 4).
+    pub levels: Option<Spanned<usize>>,
+    /// Seed of the random generator (see the method list above).
+    pub seed: Option<Spanned<u64>>,
     /// The sampled parameters with bounds.
     pub param: Vec<Spanned<BoundSpec>>,
 }
@@ -189,11 +199,11 @@ pub struct SampleSpec {
 pub struct BoundSpec {
     /// Parameter (registry name, `voltage`, `freq` or `friction_scale`).
     pub name: Spanned<String>,
-    /// Lower bound.
-    pub lo: f64,
-    /// Upper bound.
-    pub hi: f64,
-    /// Sample uniformly in log space.
+    /// Lower bound, in the parameter's unit.
+    pub lo: Spanned<f64>,
+    /// Upper bound, in the parameter's unit.
+    pub hi: Spanned<f64>,
+    /// Sample uniformly in log space (needs lo > 0).
     #[serde(default)]
     pub log: bool,
 }

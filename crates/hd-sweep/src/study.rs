@@ -2,10 +2,12 @@
 
 use crate::axis::{Knob, Value};
 use crate::design::{Axis, Point, Sample, grid_points, sample_points};
+use crate::sensitivity::PointTag;
 use crate::spec::CompareSpec;
 use hd_model::SimConfig;
 use serde::Serialize;
 use std::path::PathBuf;
+use std::sync::Arc;
 
 /// A checked study: everything needed to expand and run it.
 #[derive(Clone, Debug)]
@@ -44,7 +46,8 @@ pub struct Part {
     pub base: SimConfig,
     /// Grid axes.
     pub axes: Vec<Axis>,
-    /// Random design, combined with the grid as a product.
+    /// Sampled design: a random one (lhs, random) is combined with the grid as a product;
+    /// a sensitivity design (sobol, morris) is never combined with grid axes.
     pub sample: Option<Sample>,
     /// Simulated time in drive cycles (overrides `base.t_end` per run).
     pub t_end_cycles: Option<f64>,
@@ -63,6 +66,30 @@ pub struct RunSpec {
     pub swept: Vec<(String, Value)>,
     /// The configuration to simulate.
     pub config: SimConfig,
+    /// The point's place in a sobol or morris design, if the part has one.
+    pub design: Option<RunDesign>,
+    /// Parameters of every sobol or morris design in the study, in order of appearance
+    /// (the same list for every run of a study): the `u_<name>` columns of the runs table.
+    #[serde(skip)]
+    pub design_names: Arc<[&'static str]>,
+}
+
+/// Where a run sits in a global-sensitivity design.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct RunDesign {
+    /// Saltelli base row and block, or Morris trajectory and step.
+    pub tag: PointTag,
+    /// The design's parameter names, in the order of `unit`.
+    pub names: Vec<&'static str>,
+    /// Unit-cube coordinates in [0, 1], one per name.
+    pub unit: Vec<f64>,
+}
+
+impl RunDesign {
+    /// The unit coordinate of a parameter, if the design samples it.
+    pub fn unit_of(&self, name: &str) -> Option<f64> {
+        self.names.iter().position(|n| *n == name).map(|k| self.unit[k])
+    }
 }
 
 impl Part {
@@ -80,6 +107,35 @@ impl Part {
         }
     }
 
+    /// Each point with its place in the part's sobol or morris design (`None` for grid and
+    /// random points), in run order.
+    pub fn points_with_design(&self) -> Vec<(Point, Option<RunDesign>)> {
+        let points = self.points();
+        match self.sample.as_ref().and_then(|s| s.design_points().map(|d| (s, d))) {
+            None => points.into_iter().map(|p| (p, None)).collect(),
+            Some((s, design)) => {
+                let names: Vec<&'static str> = s.bounds.iter().map(|b| b.knob.name()).collect();
+                points
+                    .into_iter()
+                    .zip(design)
+                    .map(|(p, d)| {
+                        let run =
+                            RunDesign { tag: d.tag, names: names.clone(), unit: d.unit.clone() };
+                        (p, Some(run))
+                    })
+                    .collect()
+            }
+        }
+    }
+
+    /// Names of the parameters of the part's sobol or morris design (empty without one).
+    pub fn design_names(&self) -> Vec<&'static str> {
+        match &self.sample {
+            Some(s) if s.design.is_some() => s.bounds.iter().map(|b| b.knob.name()).collect(),
+            _ => Vec::new(),
+        }
+    }
+
     /// Names of the swept quantities, in column order.
     pub fn swept_names(&self) -> Vec<&'static str> {
         let mut names: Vec<&'static str> = self.axes.iter().map(|a| a.knob.name()).collect();
@@ -94,8 +150,9 @@ impl Study {
     /// Expand every part into runs, in order; `index` counts across parts.
     pub fn expand(&self) -> Vec<RunSpec> {
         let mut runs = Vec::new();
+        let design_names: Arc<[&'static str]> = self.design_names().into();
         for part in &self.parts {
-            for point in part.points() {
+            for (point, design) in part.points_with_design() {
                 let mut cfg = part.base.clone();
                 // Scales act on the base values, so apply parameters first, then scales.
                 let mut ordered = point.clone();
@@ -108,17 +165,39 @@ impl Study {
                 }
                 cfg.record_trace = self.traces.keep;
                 let swept = point.iter().map(|(k, v)| (k.name().to_string(), *v)).collect();
-                let run_id = run_id(&part.name, &cfg);
+                let run_id = match &design {
+                    None => run_id(&part.name, &cfg),
+                    // Morris points on a coarse grid can repeat: the tag keeps ids unique.
+                    Some(d) => run_id(&format!("{}\0{}", part.name, d.tag), &cfg),
+                };
                 runs.push(RunSpec {
                     run_id,
                     index: runs.len(),
                     part: part.name.clone(),
                     swept,
                     config: cfg,
+                    design,
+                    design_names: design_names.clone(),
                 });
             }
         }
         runs
+    }
+
+    /// Parameters of all sobol and morris designs, without repeats, in order of appearance.
+    pub fn design_names(&self) -> Vec<&'static str> {
+        let mut out: Vec<&'static str> = Vec::new();
+        for n in self.parts.iter().flat_map(Part::design_names) {
+            if !out.contains(&n) {
+                out.push(n);
+            }
+        }
+        out
+    }
+
+    /// Whether any part holds a sobol or morris design.
+    pub fn has_sensitivity_design(&self) -> bool {
+        self.parts.iter().any(|p| p.sample.as_ref().is_some_and(|s| s.design.is_some()))
     }
 
     /// All swept names over all parts, without repeats, in order of appearance.

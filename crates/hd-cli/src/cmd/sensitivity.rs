@@ -1,36 +1,48 @@
-//! `hdw sensitivity`: global sensitivity analysis. For now the `--check ishigami`
-//! self-check, which runs the Sobol' and Morris code on a function with known indices.
+//! `hdw sensitivity`: global sensitivity analysis of a finished study folder (Sobol'
+//! indices or Morris screening of its sobol/morris design), or the `--check ishigami`
+//! self-check, which runs the same code on a function with known indices.
 
+use crate::report::sensitivity::{Analysis, Options, analyse_dir};
 use anyhow::{Context, Result, bail};
-use clap::{Args, ValueEnum};
+use clap::{ArgGroup, Args, ValueEnum};
 use hd_sweep::sensitivity::{
     ISHIGAMI_BASE_SAMPLES, ISHIGAMI_NAMES, Ishigami, IshigamiCheck, IshigamiCheckConfig,
-    ishigami_check,
+    SensitivityMethod, SensitivityRow, SobolOptions, ishigami_check,
 };
 use serde_json::json;
+use std::path::PathBuf;
 
 /// Global sensitivity: Sobol' indices (first order, total) and Morris screening.
 #[derive(Args, Debug)]
 #[command(
-    after_help = "The check runs the same design and estimator code a study uses on the Ishigami function\n(a = 7, b = 0.1; x1, x2, x3 uniform on [-pi, pi]) and prints computed beside analytic indices:\nS1 ~ (0.3139, 0.4424, 0), ST ~ (0.5576, 0.4424, 0.2437). At the default N = 4096 base samples\n(20480 runs) every index is within 0.02; Morris mu* must rank x1 and x2 above x3. Exits non-zero\nwhen either fails.\n--format json prints one object with arrays S1, ST, S1_analytic, ST_analytic (order x1, x2, x3),\ntheir intervals S1_lo/S1_hi/ST_lo/ST_hi, mu_star, mu, sigma, and the sample counts.\n\nExample:\n  hdw sensitivity --check ishigami\n  hdw sensitivity --check ishigami --samples 1024 --seed 3 --format json"
+    group(ArgGroup::new("what").args(["dir", "check"]).required(true).multiple(false)),
+    after_help = "Give exactly one of DIR or --check.\n\nDIR: the output folder of `hdw study` on a study whose [sample] has method = \"sobol\" or\n\"morris\" (see docs/sensitivity.md). Reads DIR/study.json and every DIR/runs*.parquet (all shards);\nfailed runs, and runs missing from the tables, drop their whole base row (Sobol') or trajectory\n(Morris), counted as n_dropped. Writes DIR/sensitivity.parquet (part, method, parameter, metric,\nS1, S1_lo, S1_hi, ST, ST_lo, ST_hi, mu, mu_star, sigma, n_used, n_dropped, note), one bar chart\nper metric DIR/sensitivity-<metric>.svg, DIR/sensitivity.md, and the same section at the end of\nDIR/report.md. `hdw study` runs this by itself at the end of a study with such a design.\n\n--check ishigami runs the same design and estimator code on the Ishigami function (a = 7, b = 0.1;\nx1, x2, x3 uniform on [-pi, pi]) and prints computed beside analytic indices:\nS1 ~ (0.3139, 0.4424, 0), ST ~ (0.5576, 0.4424, 0.2437). At the default N = 4096 base samples\n(20480 runs) every index is within 0.02; Morris mu* must rank x1 and x2 above x3. Exits non-zero\nwhen either fails. --samples, --trajectories and --levels apply to the check only.\n\n--format json prints one object. For DIR: parts (part, method, parameters, metrics, groups, runs,\nfailed, missing), rows (as in sensitivity.parquet, NaN as null), ranking (per part and metric,\nparameters best first) and files. For the check: arrays S1, ST, S1_analytic, ST_analytic (order\nx1, x2, x3), their intervals S1_lo/S1_hi/ST_lo/ST_hi, mu_star, mu, sigma, and the sample counts.\n\nExamples:\n  hdw study studies/morris-screening.toml --out out/morris   # analyses at the end\n  hdw sensitivity out/morris --metrics thz_amp,efficiency --format json\n  hdw sensitivity out/global --bootstrap 2000 --seed 7\n  hdw sensitivity --check ishigami\n  hdw sensitivity --check ishigami --samples 1024 --seed 3 --format json"
 )]
 pub struct SensitivityArgs {
-    /// Self-check on a test function with analytic indices.
-    #[arg(long, value_name = "CASE", required = true)]
+    /// Output folder of a study with a sobol or morris design.
+    #[arg(value_name = "DIR")]
+    pub dir: Option<PathBuf>,
+    /// Self-check on a test function with analytic indices (instead of DIR).
+    #[arg(long, value_name = "CASE")]
     pub check: Option<CheckCase>,
-    /// Sobol' base samples N (runs: N·(d+2)); powers of two keep the sequence balanced.
+    /// Metrics to analyse, comma-separated (default: every kept metric with a finite value).
+    #[arg(long, value_name = "M1,M2", value_delimiter = ',')]
+    pub metrics: Option<Vec<String>>,
+    /// Sobol' base samples N of the check (runs: N·(d+2)); powers of two keep the sequence
+    /// balanced.
     #[arg(long, default_value_t = ISHIGAMI_BASE_SAMPLES, value_name = "N")]
     pub samples: usize,
-    /// Morris trajectories r (runs: r·(d+1)).
+    /// Morris trajectories r of the check (runs: r·(d+1)).
     #[arg(long, default_value_t = 500, value_name = "R")]
     pub trajectories: usize,
-    /// Morris grid levels p (even; step Δ = p/(2(p−1)) of each range).
+    /// Morris grid levels p of the check (even; step Δ = p/(2(p−1)) of each range).
     #[arg(long, default_value_t = 4, value_name = "P")]
     pub levels: usize,
-    /// Bootstrap resamples for the 95 % intervals (0 = none).
+    /// Bootstrap resamples for the 95 % intervals of Sobol' indices (0 = none).
     #[arg(long, default_value_t = 1000)]
     pub bootstrap: usize,
-    /// Seed of the Sobol' digital shift, the Morris trajectories and the bootstrap.
+    /// Seed of the bootstrap (and, for the check, of the Sobol' shift and Morris
+    /// trajectories).
     #[arg(long, default_value_t = 0)]
     pub seed: u64,
     /// Output format.
@@ -68,10 +80,37 @@ pub fn config(args: &SensitivityArgs) -> IshigamiCheckConfig {
 
 /// Run `hdw sensitivity`.
 pub fn run(args: SensitivityArgs) -> Result<()> {
-    let Some(CheckCase::Ishigami) = args.check else {
-        bail!("nothing to do: pass --check ishigami");
-    };
-    let check = ishigami_check(&config(&args)).context("Ishigami self-check")?;
+    match (&args.dir, args.check) {
+        (Some(dir), None) => {
+            let options = Options {
+                metrics: args.metrics.clone(),
+                sobol: SobolOptions {
+                    bootstrap: args.bootstrap,
+                    seed: args.seed,
+                    ..SobolOptions::default()
+                },
+            };
+            let analysis = analyse_dir(dir, &options)
+                .with_context(|| format!("sensitivity analysis of {}", dir.display()))?;
+            match args.format {
+                FormatArg::Table => print_study_table(&analysis),
+                FormatArg::Json => {
+                    println!("{}", serde_json::to_string_pretty(&study_json(&analysis))?)
+                }
+            }
+            Ok(())
+        }
+        (None, Some(CheckCase::Ishigami)) => run_check(&args),
+        _ => bail!("give exactly one of DIR or --check ishigami"),
+    }
+}
+
+/// The Ishigami self-check.
+fn run_check(args: &SensitivityArgs) -> Result<()> {
+    if args.metrics.is_some() {
+        bail!("--metrics applies to a study folder (DIR), not to --check");
+    }
+    let check = ishigami_check(&config(args)).context("Ishigami self-check")?;
     match args.format {
         FormatArg::Table => print_table(&check),
         FormatArg::Json => println!("{}", serde_json::to_string_pretty(&to_json(&check))?),
@@ -85,6 +124,140 @@ pub fn run(args: SensitivityArgs) -> Result<()> {
         );
     }
     Ok(())
+}
+
+/// A number for JSON: NaN and infinities become null.
+fn finite(x: f64) -> serde_json::Value {
+    if x.is_finite() { json!(x) } else { serde_json::Value::Null }
+}
+
+/// One result row as JSON, with the column names of sensitivity.parquet.
+fn row_json(part: &str, r: &SensitivityRow) -> serde_json::Value {
+    json!({
+        "part": part, "method": r.method.as_str(), "parameter": r.parameter, "metric": r.metric,
+        "S1": finite(r.s1), "S1_lo": finite(r.s1_lo), "S1_hi": finite(r.s1_hi),
+        "ST": finite(r.st), "ST_lo": finite(r.st_lo), "ST_hi": finite(r.st_hi),
+        "mu": finite(r.mu), "mu_star": finite(r.mu_star), "sigma": finite(r.sigma),
+        "n_used": r.n_used, "n_dropped": r.n_dropped, "note": r.note,
+    })
+}
+
+/// The JSON document of a study analysis (see the command's help).
+fn study_json(a: &Analysis) -> serde_json::Value {
+    let parts: Vec<_> = a
+        .parts
+        .iter()
+        .map(|p| {
+            json!({
+                "part": p.part, "method": p.method.as_str(), "parameters": p.parameters,
+                "metrics": p.metrics, "groups": p.groups, "runs": p.runs, "failed": p.failed,
+                "missing": p.missing,
+            })
+        })
+        .collect();
+    let rows: Vec<_> =
+        a.parts.iter().flat_map(|p| p.rows.iter().map(|r| row_json(&p.part, r))).collect();
+    let ranking: Vec<_> = a
+        .parts
+        .iter()
+        .flat_map(|p| {
+            p.metrics.iter().map(|m| {
+                let ranked = p.ranked(m);
+                json!({
+                    "part": p.part, "metric": m,
+                    "by": if p.method == SensitivityMethod::Sobol { "ST" } else { "mu_star" },
+                    "order": ranked.iter().map(|r| r.parameter.as_str()).collect::<Vec<_>>(),
+                    "n_used": ranked.first().map_or(0, |r| r.n_used),
+                    "n_dropped": ranked.first().map_or(0, |r| r.n_dropped),
+                })
+            })
+        })
+        .collect();
+    json!({
+        "study": a.study,
+        "parts": parts,
+        "rows": rows,
+        "ranking": ranking,
+        "files": {
+            "table": a.table.display().to_string(),
+            "markdown": a.markdown.display().to_string(),
+            "plots": a.plots.iter().map(|p| p.display().to_string()).collect::<Vec<_>>(),
+        },
+        "skipped_plots": a.skipped_plots,
+    })
+}
+
+/// Per part and metric, the parameters best first with their indices.
+fn print_study_table(a: &Analysis) {
+    let v = |x: f64| if x.is_finite() { format!("{x:.3}") } else { "–".to_string() };
+    let ci = |lo: f64, hi: f64| format!("[{}, {}]", v(lo), v(hi));
+    for p in &a.parts {
+        println!(
+            "study '{}', part '{}': {} over {} parameters, {} {}, {} runs ({} failed, {} missing)",
+            a.study,
+            p.part,
+            p.method,
+            p.parameters.len(),
+            p.groups,
+            p.group_word(),
+            p.runs,
+            p.failed,
+            p.missing
+        );
+        for m in &p.metrics {
+            let rows = p.ranked(m);
+            let Some(first) = rows.first() else { continue };
+            println!();
+            println!(
+                "{m}: {} {} used, {} dropped{}",
+                first.n_used,
+                p.group_word(),
+                first.n_dropped,
+                first.note.as_deref().map(|n| format!(" ({n})")).unwrap_or_default()
+            );
+            match p.method {
+                SensitivityMethod::Sobol => {
+                    println!(
+                        "  {:<10} {:>8} {:>18} {:>8} {:>18}",
+                        "", "S1", "95 % interval", "ST", "95 % interval"
+                    );
+                    for r in &rows {
+                        println!(
+                            "  {:<10} {:>8} {:>18} {:>8} {:>18}",
+                            r.parameter,
+                            v(r.s1),
+                            ci(r.s1_lo, r.s1_hi),
+                            v(r.st),
+                            ci(r.st_lo, r.st_hi)
+                        );
+                    }
+                }
+                SensitivityMethod::Morris => {
+                    let g =
+                        |x: f64| if x.is_finite() { format!("{x:.3e}") } else { "–".to_string() };
+                    println!("  {:<10} {:>11} {:>11} {:>11}", "", "mu*", "mu", "sigma");
+                    for r in &rows {
+                        println!(
+                            "  {:<10} {:>11} {:>11} {:>11}",
+                            r.parameter,
+                            g(r.mu_star),
+                            g(r.mu),
+                            g(r.sigma)
+                        );
+                    }
+                }
+            }
+        }
+        println!();
+    }
+    println!("table: {}", a.table.display());
+    println!("summary: {}", a.markdown.display());
+    for p in &a.plots {
+        println!("plot: {}", p.display());
+    }
+    for s in &a.skipped_plots {
+        println!("plot skipped: {s}");
+    }
 }
 
 /// The JSON document: arrays in the order x1, x2, x3; NaN becomes null.

@@ -6,6 +6,7 @@ mod compare;
 mod markdown;
 mod part_data;
 mod plots;
+pub mod sensitivity;
 
 use anyhow::Result;
 use hd_sweep::Study;

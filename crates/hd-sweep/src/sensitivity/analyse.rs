@@ -2,7 +2,10 @@
 //!
 //! This is the one step a study needs after its runs: the points can come in any order
 //! (the tags carry the structure), a point missing from the list counts as a failed run,
-//! and a NaN (or infinite) metric value is a failed run.
+//! and a NaN (or infinite) metric value is a failed run. A point may also stand in for a
+//! run whose coordinates are unknown (a run missing from a results table, listed so that
+//! its base row or trajectory is counted): give it non-finite unit coordinates and NaN
+//! outputs, and its group is dropped like any other with a failed run.
 
 use super::design::{Block, DesignPoint, PointTag, SensitivityMethod};
 use super::error::{Result, SensitivityError};
@@ -135,6 +138,10 @@ fn morris_rows(
             let Some(idx) = group.iter().copied().collect::<Option<Vec<usize>>>() else {
                 return Ok(None);
             };
+            // A stand-in for a missing run has no coordinates: the trajectory is incomplete.
+            if idx.iter().any(|&i| points[i].unit.iter().any(|u| !u.is_finite())) {
+                return Ok(None);
+            }
             let unit: Vec<&[f64]> = idx.iter().map(|&i| points[i].unit.as_slice()).collect();
             Ok(Some((idx, trajectory_steps(t, &unit)?)))
         })

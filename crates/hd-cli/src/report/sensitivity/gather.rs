@@ -171,10 +171,8 @@ fn gather(
         .map(|m| {
             let c = col(m)?;
             let ok = |i: usize| status[i].as_deref() == Some("ok");
-            let values = rows
-                .iter()
-                .map(|r| r.filter(|&i| ok(i)).map_or(f64::NAN, |i| c[i]))
-                .collect();
+            let values =
+                rows.iter().map(|r| r.filter(|&i| ok(i)).map_or(f64::NAN, |i| c[i])).collect();
             Ok((m.clone(), values))
         })
         .collect::<Result<_>>()?;
