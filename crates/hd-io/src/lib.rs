@@ -7,6 +7,7 @@
 pub mod atomic;
 pub mod columns;
 pub mod error;
+pub mod explore;
 pub mod runs;
 pub mod sensitivity;
 pub mod store;
