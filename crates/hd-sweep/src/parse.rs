@@ -349,8 +349,8 @@ impl Checker<'_> {
                         "sample.method",
                         format!(
                             "a {} design cannot be combined with grid axes in the same part \
-                             (part '{name}' also sweeps '{}'): put the axes in another part, \
-                             or fix their values with `set`",
+                             (part '{name}' also sweeps '{}'): make one part per setting of \
+                             the axes, each with the design",
                             checked.method.name(),
                             a.knob.name()
                         ),

@@ -1,7 +1,7 @@
 //! The sensitivity section: `sensitivity.md`, and the same section at the end of
 //! `report.md` (replaced, not repeated, when the analysis runs again).
 
-use super::{PartResult, figures};
+use super::{PartResult, figures, rank_value};
 use anyhow::Result;
 use hd_sweep::sensitivity::{SensitivityMethod, SobolOptions};
 use std::fmt::Write as _;
@@ -101,8 +101,16 @@ fn metric_section(
     if let Some(note) = &first.note {
         let _ = writeln!(md, "Note: {note}\n");
     }
-    let order: Vec<String> = rows.iter().map(|r| format!("`{}`", r.parameter)).collect();
-    let _ = writeln!(md, "Ranking by {by}: {}.\n", order.join(", "));
+    let order: Vec<String> = rows
+        .iter()
+        .filter(|r| rank_value(r).is_finite())
+        .map(|r| format!("`{}`", r.parameter))
+        .collect();
+    if order.is_empty() {
+        let _ = writeln!(md, "No ranking: every {by} is undefined.\n");
+    } else {
+        let _ = writeln!(md, "Ranking by {by}: {}.\n", order.join(", "));
+    }
     let ci = |lo: f64, hi: f64| format!("[{}, {}]", num(lo), num(hi));
     match p.method {
         SensitivityMethod::Sobol => {
