@@ -30,6 +30,10 @@ enum Command {
     Study(cmd::study::StudyArgs),
     /// Global sensitivity (Sobol' indices, Morris screening); `--check ishigami` self-check.
     Sensitivity(cmd::sensitivity::SensitivityArgs),
+    /// Summaries, filters, group-by tables and pivots of result tables (Parquet).
+    Explore(cmd::explore::ExploreArgs),
+    /// Heatmaps and line plots of result tables; trace signals and Tb–θ loops of runs.
+    Plot(cmd::plot::PlotArgs),
 }
 
 fn main() -> ExitCode {
@@ -38,6 +42,8 @@ fn main() -> ExitCode {
         Command::Simulate(args) => cmd::simulate::run(args),
         Command::Study(args) => cmd::study::run(args),
         Command::Sensitivity(args) => cmd::sensitivity::run(args),
+        Command::Explore(args) => cmd::explore::run(args),
+        Command::Plot(args) => cmd::plot::run(args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

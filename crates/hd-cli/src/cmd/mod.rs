@@ -1,6 +1,8 @@
 //! One module per subcommand.
 
 pub mod common;
+pub mod explore;
+pub mod plot;
 pub mod sensitivity;
 pub mod simulate;
 pub mod study;

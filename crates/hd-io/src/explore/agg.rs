@@ -65,10 +65,10 @@ impl AggFn {
         }
     }
 
-    /// The unit of the result, given the column.
+    /// The unit of the result, given the column (none for a count).
     pub fn unit(self, column: &str) -> String {
         match self {
-            AggFn::Count => "-".into(),
+            AggFn::Count => String::new(),
             _ => unit_of(column).unwrap_or("").to_string(),
         }
     }

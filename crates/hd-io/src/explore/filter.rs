@@ -50,20 +50,31 @@ pub struct Filter {
 }
 
 /// A filter that could not be read or does not fit the table.
-#[derive(Clone, Debug, PartialEq, thiserror::Error)]
-#[error(
-    "--filter '{expr}': cannot read {token:?} at position {position}: expected {expected}\n  {expr}\n  {caret}^",
-    caret = " ".repeat(position.saturating_sub(1))
-)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct FilterError {
     /// The whole expression.
     pub expr: String,
     /// 1-based character position of the token.
     pub position: usize,
-    /// The token as written (or `end of expression`).
+    /// The token as written (`end of expression` past the last one).
     pub token: String,
     /// What would have been accepted there.
     pub expected: String,
+}
+
+impl std::error::Error for FilterError {}
+
+impl fmt::Display for FilterError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let what = if self.position > self.expr.chars().count() {
+            "the end of the expression".to_string()
+        } else {
+            format!("{:?} at position {}", self.token, self.position)
+        };
+        write!(f, "--filter '{}': cannot read {what}: expected {}", self.expr, self.expected)?;
+        let caret = " ".repeat(self.position.saturating_sub(1));
+        write!(f, "\n  {}\n  {caret}^", self.expr)
+    }
 }
 
 /// A cursor over the tokens of one expression.

@@ -26,10 +26,10 @@ impl Dataset {
         }
         // (aggregate, result name, unit)
         let mut outs: Vec<(Expr, String, String)> =
-            vec![(len().cast(DataType::UInt64), "n".into(), "-".into())];
+            vec![(len().cast(DataType::UInt64), "n".into(), String::new())];
         if self.has_column("status") {
             let failed = col("status").neq(lit("ok")).cast(DataType::UInt64).sum();
-            outs.push((failed, "failed".into(), "-".into()));
+            outs.push((failed, "failed".into(), String::new()));
         }
         for a in aggs {
             if a.func == AggFn::Count {

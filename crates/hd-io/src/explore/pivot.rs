@@ -102,17 +102,23 @@ impl Dataset {
         for (k, column) in cols.iter().zip(grid) {
             table.names.push(format!("{}={k}", spec.column));
             table.columns.push(ColumnData::Num(column));
-            units.push(spec.func.unit(&spec.value));
+            units.push(String::new());
         }
         if let Some(s) = sort {
             sort_table(&mut table, s)?;
         }
+        let cell_unit = spec.func.unit(&spec.value);
         let title = format!(
-            "{} ({}) by {} (rows) and {} (columns)",
+            "{}{} ({}) by {} (rows) and {}{} (columns)",
             spec.value,
+            if cell_unit.is_empty() { String::new() } else { format!(" [{cell_unit}]") },
             spec.func.name(),
             spec.row,
-            spec.column
+            spec.column,
+            unit_of(&spec.column)
+                .filter(|u| !u.is_empty())
+                .map(|u| format!(" [{u}]"))
+                .unwrap_or_default(),
         );
         let mut report = Report::default();
         report.facts.push(("source".into(), json!(self.source().name)));
