@@ -2,7 +2,8 @@
 
 /// Step metrics: `(rise_time, overshoot, settling_time, final_value)` of `x` (the load
 /// speed) after a step at `t_step`, with `final_value` the mean over the samples at or after
-/// `t_final`. NaN where a metric is undefined (no motion, never settles).
+/// `t_final`. NaN where a metric is undefined: the final value is below 1e-3 of the peak
+/// (the load ends at rest), or the run ends outside the band (settling).
 pub fn step_metrics(t: &[f64], x: &[f64], t_step: f64, t_final: f64, band: f64) -> [f64; 4] {
     let nan = f64::NAN;
     let tail: Vec<f64> =
@@ -11,7 +12,10 @@ pub fn step_metrics(t: &[f64], x: &[f64], t_step: f64, t_final: f64, band: f64) 
         return [nan; 4];
     }
     let fin = tail.iter().sum::<f64>() / tail.len() as f64;
-    if fin == 0.0 || !fin.is_finite() {
+    // A load that ends (nearly) at rest — stuck in pre-sliding — has no final value to
+    // measure rise, overshoot and settling against.
+    let peak = x.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+    if !fin.is_finite() || fin.abs() <= 1e-3 * peak {
         return [nan, nan, nan, fin];
     }
     let after: Vec<(f64, f64)> =
@@ -88,5 +92,14 @@ mod tests {
         assert!((rise - tau * 9f64.ln()).abs() < 1e-4, "{rise}");
         assert!(over < 1e-6);
         assert!((settle - tau * 50f64.ln()).abs() < 1e-3, "{settle}");
+    }
+
+    #[test]
+    fn a_load_that_ends_at_rest_has_no_step_metrics() {
+        let t: Vec<f64> = (0..1000).map(|k| k as f64 * 1e-3).collect();
+        // A pre-sliding twitch: up and back to rest.
+        let x: Vec<f64> = t.iter().map(|&t| 1e-5 * t * (-50.0 * t).exp()).collect();
+        let [rise, over, settle, _] = step_metrics(&t, &x, 0.0, 0.8, 0.02);
+        assert!(rise.is_nan() && over.is_nan() && settle.is_nan());
     }
 }
