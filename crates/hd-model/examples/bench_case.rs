@@ -1,0 +1,117 @@
+//! Time one case and print the result as JSON, for `benches/scipy_compare.py` and
+//! `benches/diffsol-compare`.
+//!
+//! ```text
+//! cargo run --release -q -p hd-model --example bench_case -- \
+//!     <variant> <rtol> <atol> <t_end> <reps> [dt_out] [method]
+//! ```
+//! - `variant`: linear, damped or full (input: the seed's 24 V sine at 50 Hz);
+//! - `reps`: the untraced run is timed this many times and the best time is reported;
+//! - `dt_out`: spacing of the θz grid in the output, default 1e-4 s;
+//! - `method`: auto (default), rodas4 or dopri5.
+//!
+//! The printed object holds `wall_best_s` (best wall time of `simulate` with
+//! `record_trace: false`, configuration check and assembly included), `wall_all_s`, the
+//! solver statistics of that run, the metrics `thz_amp` and `thz_mean`, the final state in
+//! the model's coordinates (θj, ωj, θz, ωz, z, s), and `theta_z` sampled at
+//! `t_k = k·dt_out` from a separate run with the trace on.
+
+use hd_model::{Method, SimConfig, SolverOptions, Variant, simulate};
+use std::fmt::Write as _;
+use std::time::Instant;
+
+const USAGE: &str = "usage: bench_case <variant> <rtol> <atol> <t_end> <reps> [dt_out] [method]";
+
+fn arg<T: std::str::FromStr>(args: &[String], i: usize, name: &str, default: Option<T>) -> T {
+    match args.get(i) {
+        Some(s) => s.parse().unwrap_or_else(|_| panic!("bad {name} '{s}'\n{USAGE}")),
+        None => default.unwrap_or_else(|| panic!("missing {name}\n{USAGE}")),
+    }
+}
+
+/// A JSON number; non-finite values become `null`.
+fn num(x: f64) -> String {
+    if x.is_finite() { format!("{x:e}") } else { "null".to_string() }
+}
+
+fn main() {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let variant: Variant = arg(&args, 0, "variant", None);
+    let rtol: f64 = arg(&args, 1, "rtol", None);
+    let atol: f64 = arg(&args, 2, "atol", None);
+    let t_end: f64 = arg(&args, 3, "t_end", None);
+    let reps: usize = arg(&args, 4, "reps", None);
+    let dt_out: f64 = arg(&args, 5, "dt_out", Some(1e-4));
+    let method = match args.get(6).map(String::as_str) {
+        None | Some("auto") => Method::Auto,
+        Some("rodas4") => Method::Rodas4,
+        Some("dopri5") => Method::Dopri5,
+        Some(other) => panic!("bad method '{other}': expected auto, rodas4 or dopri5"),
+    };
+
+    let cfg = SimConfig {
+        variant,
+        t_end,
+        dt_out,
+        record_trace: false,
+        solver: SolverOptions { method, rtol, atol, ..Default::default() },
+        ..SimConfig::default()
+    };
+
+    let mut walls = Vec::with_capacity(reps.max(1));
+    let mut timed = None;
+    for _ in 0..reps.max(1) {
+        let start = Instant::now();
+        let out = simulate(&cfg).expect("timed run failed");
+        walls.push(start.elapsed().as_secs_f64());
+        timed = Some(out);
+    }
+    let timed = timed.expect("at least one run");
+    let best = walls.iter().copied().fold(f64::INFINITY, f64::min);
+
+    let traced = simulate(&SimConfig { record_trace: true, ..cfg.clone() }).expect("traced run");
+    let trace = traced.trace.expect("trace requested");
+
+    let st = &timed.stats;
+    let y = &timed.final_state;
+    let n = cfg.params.n;
+    let final_state =
+        [y[0], y[1], y[0] / n - y[2], y[3], y[4], y[5] / cfg.params.sigma0.max(f64::MIN_POSITIVE)];
+
+    let mut s = String::new();
+    let _ = write!(
+        s,
+        "{{\"variant\":\"{variant}\",\"method\":\"{:?}\",\"rtol\":{},\"atol\":{},\"t_end\":{},",
+        st.method,
+        num(rtol),
+        num(atol),
+        num(t_end)
+    );
+    let _ = write!(
+        s,
+        "\"reps\":{},\"wall_best_s\":{},\"wall_all_s\":[{}],",
+        walls.len(),
+        num(best),
+        walls.iter().map(|&w| num(w)).collect::<Vec<_>>().join(",")
+    );
+    let _ = write!(
+        s,
+        "\"steps\":{},\"rejected\":{},\"rhs_evals\":{},\"jac_evals\":{},\"lu_decomps\":{},",
+        st.steps, st.rejected, st.rhs_evals, st.jac_evals, st.lu_decomps
+    );
+    let _ = write!(
+        s,
+        "\"thz_amp\":{},\"thz_mean\":{},\"final_state\":[{}],",
+        num(timed.metrics.thz_amp),
+        num(timed.metrics.thz_mean),
+        final_state.iter().map(|&v| num(v)).collect::<Vec<_>>().join(",")
+    );
+    let _ = write!(
+        s,
+        "\"dt_out\":{},\"t\":[{}],\"theta_z\":[{}]}}",
+        num(dt_out),
+        trace.t.iter().map(|&v| num(v)).collect::<Vec<_>>().join(","),
+        trace.theta_z.iter().map(|&v| num(v)).collect::<Vec<_>>().join(",")
+    );
+    println!("{s}");
+}
