@@ -14,13 +14,30 @@ pub const OTHER_COLUMNS: [(&str, &str, &str); 15] = [
     ("error", "", "error message of a failed run, null otherwise (text)"),
     ("voltage", "V", "input amplitude or level (null for recorded inputs)"),
     ("freq", "Hz", "drive frequency (null for non-periodic inputs)"),
-    ("friction_scale", "-", "factor applied to the friction parameters, when swept"),
+    ("friction_scale", "-", "factor on the friction torques Tc and Ts, when swept"),
     ("method", "", "integration method used: dopri5 or rodas4 (text)"),
     ("steps", "-", "accepted solver steps"),
     ("rejected_steps", "-", "rejected solver steps"),
     ("rhs_evals", "-", "right-hand-side evaluations"),
     ("jac_evals", "-", "Jacobian evaluations"),
     ("wall_time", "s", "wall time of the integration"),
+];
+
+/// Columns of `sensitivity.parquet` with a fixed unit (the Morris statistics `mu`,
+/// `mu_star` and `sigma` take the metric's unit and have none here).
+pub const SENSITIVITY_COLUMNS: [(&str, &str, &str); 12] = [
+    ("method", "", "design: sobol or morris (text)"),
+    ("parameter", "", "the parameter varied (text)"),
+    ("metric", "", "the metric analysed (text)"),
+    ("S1", "-", "first-order Sobol' index"),
+    ("S1_lo", "-", "lower end of the 95 % bootstrap interval of S1"),
+    ("S1_hi", "-", "upper end of that interval"),
+    ("ST", "-", "total Sobol' index"),
+    ("ST_lo", "-", "lower end of the 95 % bootstrap interval of ST"),
+    ("ST_hi", "-", "upper end of that interval"),
+    ("n_used", "-", "base rows or trajectories used"),
+    ("n_dropped", "-", "base rows or trajectories dropped (failed runs)"),
+    ("note", "", "why an index is missing, if it is (text)"),
 ];
 
 /// The unit of a column the workbench writes, or `None` for an unknown column. Text
@@ -33,7 +50,7 @@ pub fn unit_of(name: &str) -> Option<&'static str> {
         .iter()
         .map(|(n, u)| (*n, *u))
         .chain(TRACE_COLUMNS.iter().map(|(n, u)| (*n, *u)))
-        .chain(OTHER_COLUMNS.iter().map(|(n, u, _)| (*n, *u)))
+        .chain(OTHER_COLUMNS.iter().chain(&SENSITIVITY_COLUMNS).map(|(n, u, _)| (*n, *u)))
         .find(|(n, _)| *n == name)
         .map(|(_, u)| u)
 }
