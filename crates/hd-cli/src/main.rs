@@ -26,6 +26,10 @@ struct Cli {
 enum Command {
     /// Simulate one run; writes trace.parquet, metrics.json and response.svg.
     Simulate(cmd::simulate::SimulateArgs),
+    /// Fit parameters to recorded data, with uncertainty; writes fit.json and plots.
+    Fit(cmd::fit::FitArgs),
+    /// Write synthetic data from the model (CSV or Parquet) to check identifiability.
+    Synth(cmd::synth::SynthArgs),
     /// Run a study file: many runs in parallel → runs.parquet, study.json, report.md.
     Study(cmd::study::StudyArgs),
     /// Global sensitivity (Sobol' indices, Morris screening); `--check ishigami` self-check.
@@ -40,6 +44,8 @@ fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Simulate(args) => cmd::simulate::run(args),
+        Command::Fit(args) => cmd::fit::run(args),
+        Command::Synth(args) => cmd::synth::run(args),
         Command::Study(args) => cmd::study::run(args),
         Command::Sensitivity(args) => cmd::sensitivity::run(args),
         Command::Explore(args) => cmd::explore::run(args),

@@ -38,5 +38,5 @@ pub use error::{DataError, FitError};
 pub use fix::Fixed;
 pub use friction::{FrictionFit, fit_friction};
 pub use hysteresis::{HYSTERESIS_PARAMS, fit_hysteresis};
-pub use report::{Estimate, FitReport};
+pub use report::{DataSource, Estimate, FitReport};
 pub use separable::SeparableFit;

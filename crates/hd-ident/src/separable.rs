@@ -254,6 +254,7 @@ pub fn fit_separable<P: Separable>(problem: &P, fixed: &Fixed) -> Result<Separab
     }
     let report = FitReport {
         fit: problem.fit_name().to_string(),
+        data: Vec::new(),
         parameters: params,
         rms: (rss / n as f64).sqrt(),
         r2: if sst > 0.0 { 1.0 - rss / sst } else { f64::NAN },

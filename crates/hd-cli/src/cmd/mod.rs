@@ -2,7 +2,9 @@
 
 pub mod common;
 pub mod explore;
+pub mod fit;
 pub mod plot;
 pub mod sensitivity;
 pub mod simulate;
 pub mod study;
+pub mod synth;

@@ -227,6 +227,7 @@ fn combine(
     remarks.push("rms, r2, samples and dof are those of the dynamic stage, whose model uses all six parameters".into());
     FitReport {
         fit: "friction".to_string(),
+        data: Vec::new(),
         parameters: Parameters(params),
         rms: r2.rms,
         r2: r2.r2,

@@ -79,11 +79,25 @@ pub struct SearchSummary {
     pub starts: usize,
 }
 
+/// Where a fit's data came from (filled in by the caller that loaded it).
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct DataSource {
+    /// Role of the data set: `hysteresis`, `steady` or `transient`.
+    pub role: String,
+    /// File it was read from.
+    pub file: String,
+    /// Columns read, in the order t/omega, theta/omega, torque as applicable.
+    pub columns: Vec<String>,
+}
+
 /// The outcome of a fit (or of one stage of a staged fit).
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct FitReport {
     /// Which fit: `hysteresis`, `friction-static`, `friction-dynamic` or `friction`.
     pub fit: String,
+    /// The data sets fitted, when the caller recorded them.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub data: Vec<DataSource>,
     /// Every parameter of the fit, under its registry name.
     pub parameters: Parameters,
     /// RMS residual [output unit].

@@ -1,0 +1,183 @@
+//! `hdw synth hysteresis|friction`: synthetic data from the model, to check what an
+//! experiment can identify before running it.
+
+use super::common::load_params;
+use anyhow::{Context, Result, bail};
+use clap::{Args, Subcommand};
+use hd_ident::synth::{
+    HysteresisExcitation, Noise, SteadySweep, Synthetic, TransientExcitation, synth_hysteresis,
+    synth_steady, synth_transient,
+};
+use std::path::PathBuf;
+
+/// Write synthetic data from the model (CSV or Parquet by the extension of --out).
+#[derive(Args, Debug)]
+#[command(
+    after_help = "True parameters are the registry defaults changed by --params/--set; noise is Gaussian with a\n\
+standard deviation of --noise times the RMS of the clean torque. Fit the file back with hdw fit\n\
+to see which parameters an experiment like it can determine.\n\n\
+Example:\n  hdw synth hysteresis --set B=150 --out out/hyst.csv && hdw fit hysteresis out/hyst.csv --out out/fit"
+)]
+pub struct SynthArgs {
+    #[command(subcommand)]
+    pub what: SynthWhat,
+}
+
+/// Which data set to synthesise.
+#[derive(Subcommand, Debug)]
+pub enum SynthWhat {
+    /// A torque–deflection record (columns t, theta, torque).
+    Hysteresis(HysteresisSynthArgs),
+    /// Friction data: a steady-state sweep (omega, torque) or, with --transient, a time
+    /// series (t, omega, torque).
+    Friction(FrictionSynthArgs),
+}
+
+/// Settings every synthetic data set shares.
+#[derive(Args, Debug)]
+pub struct Common {
+    /// Parameter file (TOML, registry names as keys).
+    #[arg(long, value_name = "FILE.toml")]
+    pub params: Option<PathBuf>,
+    /// Set a true parameter, e.g. `--set B=150` (repeatable; applied after --params).
+    #[arg(long = "set", value_name = "NAME=VALUE")]
+    pub set: Vec<String>,
+    /// Gaussian noise, standard deviation relative to the RMS of the clean torque.
+    #[arg(long, value_name = "REL", default_value_t = 0.01)]
+    pub noise: f64,
+    /// Seed of the noise generator.
+    #[arg(long, value_name = "N", default_value_t = 1)]
+    pub seed: u64,
+    /// Output file: .csv or .parquet.
+    #[arg(long, value_name = "FILE")]
+    pub out: PathBuf,
+}
+
+/// `hdw synth hysteresis`.
+#[derive(Args, Debug)]
+#[command(
+    after_help = "The deflection θ(t) is a sum of equal sines (all starting at zero) whose peak is bounded by\n\
+--amplitude; the memory state follows ż = A·θ̇ − B·z from z = 0 (hd-model's Dopri5), and the torque\n\
+is f(θ) + z from the hysteretic law. Spread the frequencies around the memory corner B/2π so that\n\
+A and B are both visible; sample at 100 or more points per period of the fastest sine.\n\n\
+Output: --out FILE with columns t [s], theta [rad], torque [N·m].\n\n\
+Example:\n  hdw synth hysteresis --set c=6.5e4 --set A=2.5e4 --set B=150 --noise 0.01 --out out/hyst.csv\n  hdw synth hysteresis --set a=1e8 --set b=2e6 --amplitude 0.02 --out out/wide.parquet"
+)]
+pub struct HysteresisSynthArgs {
+    #[command(flatten)]
+    pub common: Common,
+    /// Peak bound of the deflection [rad].
+    #[arg(long, default_value_t = 1e-3)]
+    pub amplitude: f64,
+    /// Sine frequencies [Hz], comma-separated.
+    #[arg(long, value_name = "F1,F2,..", default_value = "4,15,55,200")]
+    pub freqs: String,
+    /// Record length [s].
+    #[arg(long, default_value_t = 0.5)]
+    pub duration: f64,
+    /// Samples, evenly spaced over the record.
+    #[arg(long, default_value_t = 20_000)]
+    pub samples: usize,
+}
+
+/// `hdw synth friction`.
+#[derive(Args, Debug)]
+#[command(
+    after_help = "Steady sweep (default): the steady LuGre torque sign(ω)·(Tc + (Ts − Tc)·exp(−(ω/ωs)²)) + σ2·ω at\n\
+log-spaced speeds of both signs. Time series (--transient): ω(t) is a sine through zero whose\n\
+amplitude grows geometrically (--decades) up to --peak-speed, so the record holds pure\n\
+pre-sliding cycles, partial slip and full reversals; the bristle state follows the LuGre law\n\
+(hd-model's Rodas4) from rest, and the torque is σ0·s + σ1·ṡ + σ2·ω.\n\n\
+Output: --out FILE with columns omega [rad/s], torque [N·m] (steady) or t [s], omega [rad/s],\n\
+torque [N·m] (time series).\n\n\
+Example:\n  hdw synth friction --set Tc=0.2 --set Ts=0.35 --set ws=0.02 --out out/steady.csv\n  hdw synth friction --transient --set sigma0=8e4 --set sigma1=0.5 --out out/transient.parquet"
+)]
+pub struct FrictionSynthArgs {
+    #[command(flatten)]
+    pub common: Common,
+    /// Write a time series instead of a steady-state sweep.
+    #[arg(long)]
+    pub transient: bool,
+    /// Steady sweep: slowest |ω| [rad/s].
+    #[arg(long, default_value_t = 1e-4)]
+    pub omega_min: f64,
+    /// Steady sweep: fastest |ω| [rad/s].
+    #[arg(long, default_value_t = 1.0)]
+    pub omega_max: f64,
+    /// Steady sweep: speeds per sign.
+    #[arg(long, default_value_t = 50)]
+    pub points: usize,
+    /// Time series: final speed amplitude [rad/s].
+    #[arg(long, default_value_t = 2.0)]
+    pub peak_speed: f64,
+    /// Time series: frequency of the speed sine [Hz].
+    #[arg(long, default_value_t = 200.0)]
+    pub freq: f64,
+    /// Time series: whole cycles.
+    #[arg(long, default_value_t = 6)]
+    pub cycles: usize,
+    /// Time series: decades of amplitude growth over the record.
+    #[arg(long, default_value_t = 3.0)]
+    pub decades: f64,
+    /// Time series: samples per cycle.
+    #[arg(long, default_value_t = 2500)]
+    pub samples_per_cycle: usize,
+}
+
+fn noise(c: &Common) -> Result<Noise> {
+    if !(c.noise >= 0.0 && c.noise.is_finite()) {
+        bail!("--noise {}: expected a finite value >= 0 (relative to the RMS torque)", c.noise);
+    }
+    Ok(Noise { relative: c.noise, seed: c.seed })
+}
+
+fn write(c: &Common, data: &Synthetic) -> Result<()> {
+    hd_io::write_columns(&c.out, &data.names, &data.columns)?;
+    eprintln!("{}\nwrote {} rows to {}", data.description, data.columns[0].len(), c.out.display());
+    Ok(())
+}
+
+/// Run `hdw synth ...`.
+pub fn run(args: SynthArgs) -> Result<()> {
+    match args.what {
+        SynthWhat::Hysteresis(a) => {
+            let p = load_params(a.common.params.as_deref(), &a.common.set)?;
+            let frequencies = a
+                .freqs
+                .split(',')
+                .map(|f| f.trim().parse::<f64>())
+                .collect::<Result<Vec<f64>, _>>()
+                .with_context(|| format!("--freqs {}: expected numbers [Hz]", a.freqs))?;
+            let exc = HysteresisExcitation {
+                amplitude: a.amplitude,
+                frequencies,
+                duration: a.duration,
+                samples: a.samples,
+            };
+            let data = synth_hysteresis(&p, &exc, &noise(&a.common)?)?;
+            write(&a.common, &data)
+        }
+        SynthWhat::Friction(a) => {
+            let p = load_params(a.common.params.as_deref(), &a.common.set)?;
+            let n = noise(&a.common)?;
+            let data = if a.transient {
+                let exc = TransientExcitation {
+                    peak_speed: a.peak_speed,
+                    frequency: a.freq,
+                    cycles: a.cycles,
+                    decades: a.decades,
+                    samples_per_cycle: a.samples_per_cycle,
+                };
+                synth_transient(&p, &exc, &n)?
+            } else {
+                let sweep = SteadySweep {
+                    omega_min: a.omega_min,
+                    omega_max: a.omega_max,
+                    points_per_sign: a.points,
+                };
+                synth_steady(&p, &sweep, &n)?
+            };
+            write(&a.common, &data)
+        }
+    }
+}

@@ -1,0 +1,51 @@
+//! The data sets shipped in data/ fit as data/README.md says.
+
+use std::path::PathBuf;
+use std::process::Command;
+
+fn data(name: &str) -> String {
+    let p = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../data").join(name);
+    p.to_str().unwrap().to_string()
+}
+
+/// Run `hdw fit ...` into a fresh folder and return the parsed fit.json.
+fn fit(args: &[&str]) -> serde_json::Value {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("fit");
+    let mut all: Vec<&str> = vec!["fit"];
+    all.extend(args);
+    all.extend(["--out", out.to_str().unwrap()]);
+    let run = Command::new(env!("CARGO_BIN_EXE_hdw")).args(&all).output().unwrap();
+    assert!(run.status.success(), "{}", String::from_utf8_lossy(&run.stderr));
+    serde_json::from_str(&std::fs::read_to_string(out.join("fit.json")).unwrap()).unwrap()
+}
+
+fn determined(j: &serde_json::Value, name: &str) -> bool {
+    j["parameters"][name]["determined"].as_bool().unwrap()
+}
+
+#[test]
+fn paper_range_leaves_a_and_b_undetermined() {
+    let j = fit(&["hysteresis", &data("hysteresis-paper-range.csv")]);
+    assert!(!determined(&j, "a") && !determined(&j, "b"));
+    assert!(determined(&j, "c") && determined(&j, "A") && determined(&j, "B"));
+}
+
+#[test]
+fn wide_range_determines_all_five() {
+    let j = fit(&["hysteresis", &data("hysteresis-wide-range.parquet")]);
+    for (name, truth) in [("a", 1e8), ("b", 2e6), ("c", 5.2e4), ("A", 4e4), ("B", 300.0)] {
+        assert!(determined(&j, name), "{name}");
+        let v = j["parameters"][name]["value"].as_f64().unwrap();
+        assert!((v / truth - 1.0).abs() < 0.02, "{name} = {v}");
+    }
+}
+
+#[test]
+fn friction_files_determine_all_six() {
+    let (s, t) = (data("friction-steady.csv"), data("friction-transient.parquet"));
+    let j = fit(&["friction", "--steady", &s, "--transient", &t]);
+    for name in ["sigma0", "sigma1", "sigma2", "Tc", "Ts", "ws"] {
+        assert!(determined(&j, name), "{name}");
+    }
+}
