@@ -153,7 +153,10 @@ pub fn simulate(cfg: &SimConfig) -> Result<SimOutput, SimError> {
     let sys = cfg.system();
     let mut opts = cfg.solver;
     if opts.method == Method::Auto {
-        opts.method = if sys.is_stiff() { Method::Rodas4 } else { Method::Dopri5 };
+        // Non-stiff variants need no implicit method; stiff ones switch by cost.
+        if !sys.is_stiff() {
+            opts.method = Method::Dopri5;
+        }
     }
     let y0 = sys.rest_state();
     let dt = cfg.output_interval();

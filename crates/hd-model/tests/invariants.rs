@@ -101,6 +101,15 @@ fn a_very_stiff_bristle_still_finishes() {
     let out = simulate(&cfg).unwrap();
     assert!(out.metrics.thz_amp.is_finite() && out.metrics.thz_amp > 0.0);
     assert!(out.metrics.energy_residual < 1e-4, "{}", out.metrics.energy_residual);
+    // The automatic choice moved to the implicit method: the explicit one would need
+    // hundreds of thousands of steps here (h·ρ bound at σ0 = 1e8).
+    assert!(out.stats.implicit_steps > 0 && out.stats.steps < 20_000, "{:?}", out.stats);
+    let explicit = SimConfig {
+        solver: SolverOptions { method: Method::Dopri5, max_steps: 100_000, ..Default::default() },
+        t_end: 0.005,
+        ..cfg.clone()
+    };
+    assert!(simulate(&explicit).unwrap().stats.steps > 20_000);
 }
 
 #[test]

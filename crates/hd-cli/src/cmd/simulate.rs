@@ -180,6 +180,8 @@ pub fn run(args: SimulateArgs) -> Result<()> {
             "rhs_evaluations": out.stats.rhs_evals,
             "jacobian_evaluations": out.stats.jac_evals,
             "lu_decompositions": out.stats.lu_decomps,
+            "implicit_steps": out.stats.implicit_steps,
+            "method_switches": out.stats.switches,
             "wall_time_s": out.wall_time,
         },
         "tool": { "name": "hdw", "version": env!("CARGO_PKG_VERSION") },

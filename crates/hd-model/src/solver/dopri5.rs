@@ -29,6 +29,10 @@ pub(crate) struct Trial<const D: usize> {
     pub y1: SVector<f64, D>,
     pub f1: SVector<f64, D>,
     pub err: SVector<f64, D>,
+    /// Stiffness indicator h·ρ, with ρ = ‖f(y1) − f(y6)‖ / ‖y1 − y6‖ an estimate of the
+    /// dominant eigenvalue's size (Hairer & Wanner's test: the explicit method is
+    /// stability-bound when h·ρ stays near its stability boundary, about 3.3).
+    pub stiffness: f64,
 }
 
 /// Take a trial step of size h from (t, y) with f0 = f(t, y); uses 6 evaluations.
@@ -44,12 +48,17 @@ pub(crate) fn step<const D: usize, S: OdeSystem<D>>(
     let k3 = sys.rhs(t + C[2] * h, &(y + h * (A3[0] * k1 + A3[1] * k2)));
     let k4 = sys.rhs(t + C[3] * h, &(y + h * (A4[0] * k1 + A4[1] * k2 + A4[2] * k3)));
     let k5 = sys.rhs(t + C[4] * h, &(y + h * (A5[0] * k1 + A5[1] * k2 + A5[2] * k3 + A5[3] * k4)));
-    let k6 = sys.rhs(
-        t + C[5] * h,
-        &(y + h * (A6[0] * k1 + A6[1] * k2 + A6[2] * k3 + A6[3] * k4 + A6[4] * k5)),
-    );
+    let y6 = y + h * (A6[0] * k1 + A6[1] * k2 + A6[2] * k3 + A6[3] * k4 + A6[4] * k5);
+    let k6 = sys.rhs(t + C[5] * h, &y6);
     let y1 = y + h * (B[0] * k1 + B[2] * k3 + B[3] * k4 + B[4] * k5 + B[5] * k6);
     let k7 = sys.rhs(t + h, &y1);
     let err = h * (E[0] * k1 + E[2] * k3 + E[3] * k4 + E[4] * k5 + E[5] * k6 + E[6] * k7);
-    Trial { y1, f1: k7, err }
+    let m = S::COUPLED;
+    let (mut num, mut den) = (0.0, 0.0);
+    for i in 0..m {
+        num += (k7[i] - k6[i]).powi(2);
+        den += (y1[i] - y6[i]).powi(2);
+    }
+    let stiffness = if den > 0.0 { h * (num / den).sqrt() } else { 0.0 };
+    Trial { y1, f1: k7, err, stiffness }
 }

@@ -1,6 +1,7 @@
 //! The adaptive driver: segments between input breakpoints, step-size control, the
 //! observer callback and solver statistics.
 
+use super::switching::Switcher;
 use super::{Method, OdeSystem, SolverOptions, SolverStats, dopri5, error_norm, rodas4};
 use crate::error::SolverError;
 use nalgebra::SVector;
@@ -42,7 +43,8 @@ impl<const D: usize> Step<'_, D> {
 
 /// Integrate `sys` from `(t0, y0)` to `t_end`, restarting at each of `breakpoints` inside
 /// the interval, and call `observer` after every accepted step. Returns the final state
-/// and the work done. `opts.method` must not be `Auto`.
+/// and the work done. With `Method::Auto` the driver switches between Dopri5 and Rodas4 by
+/// cost (see [`super::switching`]).
 pub fn solve<const D: usize, S: OdeSystem<D>>(
     sys: &S,
     t0: f64,
@@ -52,11 +54,10 @@ pub fn solve<const D: usize, S: OdeSystem<D>>(
     opts: &SolverOptions,
     observer: &mut dyn FnMut(&Step<D>),
 ) -> Result<(SVector<f64, D>, SolverStats), SolverError> {
-    let method = match opts.method {
-        Method::Auto => Method::Rodas4,
-        m => m,
-    };
-    let mut stats = SolverStats { method, ..Default::default() };
+    let auto = opts.method == Method::Auto;
+    let mut switcher = Switcher::new();
+    let mut method = if auto { switcher.current } else { opts.method };
+    let mut stats = SolverStats { method: opts.method, ..Default::default() };
     let mut stops: Vec<f64> =
         breakpoints.iter().copied().filter(|&b| b > t0 && b < t_end).collect();
     stops.sort_by(f64::total_cmp);
@@ -94,10 +95,12 @@ pub fn solve<const D: usize, S: OdeSystem<D>>(
             if h <= 16.0 * f64::EPSILON * t.abs().max(1e-300) {
                 return Err(SolverError::StepSizeTooSmall { time: t, step: h });
             }
+            let mut stiffness = None;
             let (y1, f1, err_norm) = match method {
                 Method::Dopri5 | Method::Auto => {
                     let trial = dopri5::step(sys, t, &y, &f, h);
                     stats.rhs_evals += 6;
+                    stiffness = Some(trial.stiffness);
                     let e = error_norm(&trial.err, &y, &trial.y1, &scale, opts, S::COUPLED);
                     (trial.y1, Some(trial.f1), e)
                 }
@@ -135,6 +138,9 @@ pub fn solve<const D: usize, S: OdeSystem<D>>(
                 check_finite(&f1, t1)?;
                 observer(&Step { t0: t, t1, y0: &y, y1: &y1, f0: &f, f1: &f1 });
                 stats.steps += 1;
+                if method == Method::Rodas4 {
+                    stats.implicit_steps += 1;
+                }
                 t = t1;
                 y = y1;
                 f = f1;
@@ -143,6 +149,13 @@ pub fn solve<const D: usize, S: OdeSystem<D>>(
                 let fac = if last_rejected { fac.min(1.0) } else { fac };
                 h_next = h * fac.clamp(0.2, 6.0);
                 last_rejected = false;
+                if auto {
+                    let next = switcher.accepted(h, stiffness, stats.steps);
+                    if next != method {
+                        method = next;
+                        stats.switches = switcher.switches;
+                    }
+                }
             } else {
                 stats.rejected += 1;
                 let fac = if err_norm.is_finite() { 0.9 * err_norm.powf(-order_exp) } else { 0.1 };

@@ -16,6 +16,7 @@ mod dopri5;
 mod driver;
 mod lu;
 mod rodas4;
+pub mod switching;
 
 pub use driver::{Step, solve};
 
@@ -44,7 +45,7 @@ pub trait OdeSystem<const D: usize>: Sync {
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Method {
-    /// Rodas4 for systems with stiff parts, Dopri5 otherwise (the caller decides which).
+    /// Dopri5, switching to Rodas4 (and back) when stiffness makes that cheaper.
     #[default]
     Auto,
     /// Explicit Dormand–Prince 5(4).
@@ -99,6 +100,10 @@ pub struct SolverStats {
     pub jac_evals: u64,
     /// LU decompositions.
     pub lu_decomps: u64,
+    /// Accepted steps taken by the implicit method (Rodas4).
+    pub implicit_steps: u64,
+    /// Method switches of an `auto` solve.
+    pub switches: u64,
 }
 
 /// Weighted RMS norm of `err` over the controlled (coupled) components.
