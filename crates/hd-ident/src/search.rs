@@ -111,7 +111,7 @@ pub fn search_log(
         };
         let state = res.state();
         iterations += state.get_iter();
-        evaluations += state.get_func_counts().get("cost_count").copied().unwrap_or(0);
+        evaluations += res.problem.counts.get("cost_count").copied().unwrap_or(0);
         let cost = state.get_best_cost();
         if let Some(&u) = state.get_best_param()
             && cost < best_cost
