@@ -55,8 +55,6 @@ pub struct DriveSystem {
 pub struct Parts {
     /// Voltage u [V].
     pub u: f64,
-    /// du/dt [V/s].
-    pub du: f64,
     /// Current i [A].
     pub i: f64,
     /// Deflection rate θ̇ [rad/s].
@@ -117,7 +115,7 @@ impl DriveSystem {
     /// Evaluate the laws at (t, y).
     #[inline]
     pub fn parts(&self, t: f64, y: &State) -> Parts {
-        let (u, du) = self.input.value_and_rate(t);
+        let u = self.input.value(t);
         let i = if self.motor.has_inductance() {
             y[CURRENT]
         } else {
@@ -130,7 +128,7 @@ impl DriveSystem {
         let fr = self.friction.eval(v, y[W]);
         let t_out = st.torque + if self.friction_on_load() { fr.torque } else { 0.0 };
         let ta = (st.torque + fr.torque) / self.n;
-        Parts { u, du, i, theta_dot, v, st, fr, t_out, ta }
+        Parts { u, i, theta_dot, v, st, fr, t_out, ta }
     }
 
     /// The state at rest with zero current and no stored memory or bristle torque.
@@ -181,6 +179,7 @@ impl OdeSystem<DIM> for DriveSystem {
         type G = SVector<f64, COUPLED>;
         let unit = |k: usize| G::ith(k, 1.0);
         let p = self.parts(t, y);
+        let du = self.input.value_and_rate(t).1;
         let m = &self.motor;
         let (wj, wz, z) = (y[OMEGA_J], y[OMEGA_Z], y[Z]);
         let (va, vb) = self.v_coeffs();
@@ -195,7 +194,7 @@ impl OdeSystem<DIM> for DriveSystem {
         let g_out = if self.friction_on_load() { g_tb + g_tf } else { g_tb };
         let g_ta = (g_tb + g_tf) / self.n;
         // ∂(u-dependent terms)/∂t: only the current depends on u directly.
-        let di_dt = if inductive { 0.0 } else { p.du / m.r };
+        let di_dt = if inductive { 0.0 } else { du / m.r };
 
         let mut rows: [G; DIM] = [G::zeros(); DIM];
         let mut dfdt = State::zeros();
@@ -208,7 +207,7 @@ impl OdeSystem<DIM> for DriveSystem {
         rows[W] = p.fr.w_rate_d_v * g_v + p.fr.w_rate_d_w * unit(W);
         if inductive {
             rows[CURRENT] = (-m.r * unit(CURRENT) - m.ke * unit(OMEGA_J)) / m.l;
-            dfdt[CURRENT] = p.du / m.l;
+            dfdt[CURRENT] = du / m.l;
         }
         rows[Q_HYST] = z * g_thd + p.theta_dot * unit(Z);
         rows[Q_FRIC] = p.v * g_tf + p.fr.torque * g_v;
@@ -219,7 +218,7 @@ impl OdeSystem<DIM> for DriveSystem {
             rows[Q_IN] = wj * g_ta + p.ta * unit(OMEGA_J);
         }
         rows[Q_ELEC] = p.u * g_i;
-        dfdt[Q_ELEC] = p.du * p.i + p.u * di_dt;
+        dfdt[Q_ELEC] = du * p.i + p.u * di_dt;
         let mem_slope = {
             let h = self.stiffness.memory_dissipation(1.0);
             2.0 * h * z // B·z²/A is quadratic in z: derivative 2·(B/A)·z

@@ -81,6 +81,7 @@ pub fn solve<const D: usize, S: OdeSystem<D>>(
         }
         let mut jac_cache = None;
         let mut last_rejected = false;
+        let mut err_prev: f64 = 1e-4;
         while t < seg_end {
             if stats.steps + stats.rejected >= opts.max_steps {
                 return Err(SolverError::TooManySteps { time: t, steps: opts.max_steps });
@@ -126,6 +127,9 @@ pub fn solve<const D: usize, S: OdeSystem<D>>(
                 }
             };
             let order_exp = if method == Method::Rodas4 { 0.25 } else { 0.2 };
+            // Dopri5 uses a PI controller (Hairer's β = 0.04), which damps the step-size
+            // oscillation of a stability-bound explicit method and cuts rejections.
+            let (alpha, beta) = if method == Method::Rodas4 { (0.25, 0.0) } else { (0.17, 0.04) };
             if err_norm <= 1.0 && y1.iter().all(|v| v.is_finite()) {
                 let t1 = if last { seg_end } else { t + h };
                 let f1 = match f1 {
@@ -145,7 +149,12 @@ pub fn solve<const D: usize, S: OdeSystem<D>>(
                 y = y1;
                 f = f1;
                 jac_cache = None;
-                let fac = if err_norm == 0.0 { 6.0 } else { 0.9 * err_norm.powf(-order_exp) };
+                let fac = if err_norm == 0.0 {
+                    6.0
+                } else {
+                    0.9 * err_norm.powf(-alpha) * err_prev.powf(beta)
+                };
+                err_prev = err_norm.max(1e-4);
                 let fac = if last_rejected { fac.min(1.0) } else { fac };
                 h_next = h * fac.clamp(0.2, 6.0);
                 last_rejected = false;
