@@ -128,10 +128,28 @@ fn recorded_input_runs_and_is_interpolated() {
 
 #[test]
 fn help_ends_with_a_worked_example() {
-    for args in [vec!["--help"], vec!["simulate", "--help"]] {
-        let out = hdw(&args);
+    let commands: [&[&str]; 12] = [
+        &["--help"],
+        &["simulate", "--help"],
+        &["study", "--help"],
+        &["fit", "--help"],
+        &["fit", "hysteresis", "--help"],
+        &["fit", "friction", "--help"],
+        &["synth", "--help"],
+        &["synth", "hysteresis", "--help"],
+        &["synth", "friction", "--help"],
+        &["explore", "--help"],
+        &["plot", "--help"],
+        &["sensitivity", "--help"],
+    ];
+    for args in commands {
+        let out = hdw(args);
+        assert!(out.status.success(), "{args:?}");
         let text = String::from_utf8_lossy(&out.stdout);
-        let tail: Vec<&str> = text.trim_end().lines().rev().take(4).collect();
-        assert!(text.contains("Example:") && tail.iter().any(|l| l.contains("hdw ")), "{text}");
+        let tail: Vec<&str> = text.trim_end().lines().rev().take(6).collect();
+        assert!(
+            text.contains("Example") && tail.iter().any(|l| l.trim_start().starts_with("hdw ")),
+            "{args:?} help does not end with a worked example:\n{text}"
+        );
     }
 }
