@@ -1,6 +1,7 @@
 //! Markdown pieces of the report.
 
 use super::part_data::PartData;
+use hd_sweep::design::SampleMethod;
 use hd_sweep::study::Part;
 use std::fmt::Write as _;
 
@@ -17,10 +18,17 @@ pub fn describe_part(part: &Part) -> String {
         })
         .collect();
     let sample = part.sample.as_ref().map(|s| {
+        let d = s.bounds.len();
+        let size = match s.method {
+            SampleMethod::Lhs => format!("{} Latin-hypercube points", s.n),
+            SampleMethod::Random => format!("{} random points", s.n),
+            SampleMethod::Sobol => {
+                format!("a Saltelli design of {} base samples ({} runs)", s.n, s.n * (d + 2))
+            }
+            SampleMethod::Morris => format!("{} Morris trajectories ({} runs)", s.n, s.n * (d + 1)),
+        };
         format!(
-            "; {} {:?} samples of {}",
-            s.n,
-            s.method,
+            "; {size} over {}",
             s.bounds
                 .iter()
                 .map(|b| format!(
