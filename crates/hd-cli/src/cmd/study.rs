@@ -60,7 +60,11 @@ pub fn run(args: StudyArgs) -> Result<()> {
         for name in &args.parts {
             if !study.parts.iter().any(|p| &p.name == name) {
                 let known: Vec<&str> = study.parts.iter().map(|p| p.name.as_str()).collect();
-                bail!("--part {name}: no such part in {} (parts: {})", args.file.display(), known.join(", "));
+                bail!(
+                    "--part {name}: no such part in {} (parts: {})",
+                    args.file.display(),
+                    known.join(", ")
+                );
             }
         }
         study.parts.retain(|p| args.parts.contains(&p.name));

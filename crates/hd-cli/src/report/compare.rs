@@ -137,7 +137,8 @@ fn judge(d: &PartData, c: &CompareSpec) -> Option<Judgement> {
     let (m_ref, m_to) = (at(x_ref)?, at(x_to)?);
     // A settling time is undefined when the run ends before the response settles: that
     // is a settling time longer than the run, not a missing value.
-    let censored = |m: f64| if c.metric == "settling_time" && m.is_nan() { f64::INFINITY } else { m };
+    let censored =
+        |m: f64| if c.metric == "settling_time" && m.is_nan() { f64::INFINITY } else { m };
     let (m_ref, m_to) = (censored(m_ref), censored(m_to));
     if m_ref.is_nan() || m_to.is_nan() || m_ref == 0.0 || m_ref.is_infinite() {
         return None;

@@ -3,8 +3,8 @@
 //! quadrature states at the start of the periodic window.
 
 use super::{MetricSettings, Metrics, extrema::cubic_extrema, limit_cycle, periodic, step};
-use crate::laws::input::Input;
 use crate::laws::friction::FrictionLaw;
+use crate::laws::input::Input;
 use crate::solver::Step;
 use crate::state::*;
 use crate::system::DriveSystem;
