@@ -1,0 +1,83 @@
+//! Checking grid axes and their values.
+
+use super::Checker;
+use crate::axis::{Knob, Value, linspace, logspace};
+use crate::design::Axis;
+use crate::error::StudyError;
+use crate::spec::*;
+use hd_model::Input;
+use toml::Spanned;
+
+impl Checker<'_> {
+    pub(super) fn axis(&self, s: &Spanned<AxisSpec>, input: &Input) -> Result<Axis, StudyError> {
+        let a = s.get_ref();
+        let at = a.name.span().start;
+        let key = format!("axis '{}'", a.name.get_ref());
+        let knob = self.knob(&a.name, "axis.name", input)?;
+        let given = [a.values.is_some(), a.linspace.is_some(), a.logspace.is_some()]
+            .iter()
+            .filter(|b| **b)
+            .count();
+        if given != 1 {
+            return Err(self.err(at, &key, "expected exactly one of values, linspace, logspace"));
+        }
+        let values: Vec<Value> = if let Some(vals) = &a.values {
+            vals.iter().map(|v| self.value(knob, v, at, &key)).collect::<Result<_, _>>()?
+        } else {
+            let (r, log) = a
+                .linspace
+                .map(|r| (r, false))
+                .or(a.logspace.map(|r| (r, true)))
+                .expect("one range");
+            if log && !(r.start > 0.0 && r.stop > 0.0) {
+                return Err(self.err(
+                    at,
+                    &key,
+                    format!(
+                        "logspace needs start > 0 and stop > 0, got {} and {}",
+                        r.start, r.stop
+                    ),
+                ));
+            }
+            let xs = if log {
+                logspace(r.start, r.stop, r.num)
+            } else {
+                linspace(r.start, r.stop, r.num)
+            };
+            xs.into_iter()
+                .map(|x| knob.check(x).map(|_| Value::Num(x)).map_err(|e| self.err(at, &key, e)))
+                .collect::<Result<_, _>>()?
+        };
+        if values.is_empty() {
+            return Err(self.err(at, &key, "empty axis: expected at least one value"));
+        }
+        Ok(Axis { knob, values, zip: a.zip.clone() })
+    }
+
+    fn value(
+        &self,
+        knob: Knob,
+        v: &toml::Value,
+        at: usize,
+        key: &str,
+    ) -> Result<Value, StudyError> {
+        match (knob, v) {
+            (Knob::Variant, toml::Value::String(s)) => {
+                s.parse().map(Value::Variant).map_err(|e: String| self.err(at, key, e))
+            }
+            (Knob::Variant, other) => Err(self.err(
+                at,
+                key,
+                format!("{other}: expected a variant name (linear, damped, full)"),
+            )),
+            (_, toml::Value::Float(x)) => {
+                knob.check(*x).map(|_| Value::Num(*x)).map_err(|e| self.err(at, key, e))
+            }
+            (_, toml::Value::Integer(i)) => knob
+                .check(*i as f64)
+                .map(|_| Value::Num(*i as f64))
+                .map_err(|e| self.err(at, key, e)),
+            (_, other) => Err(self.err(at, key, format!("{other}: expected a number"))),
+        }
+    }
+}
