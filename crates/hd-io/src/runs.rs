@@ -48,18 +48,13 @@ pub fn runs_frame(
     {
         cols.push(Column::new((*name).into(), num(&|r| swept_value(r, name))));
     }
+    // Metric values by position in `Metrics::to_pairs` order, looked up once per column.
+    let order: Vec<&str> = hd_model::Metrics::UNITS.iter().map(|(n, _)| *n).collect();
+    let pairs: Vec<Vec<(&str, f64)>> = rows.iter().map(|r| r.metrics.to_pairs()).collect();
     for m in metrics {
-        let vals: Vec<Option<f64>> = rows
-            .iter()
-            .map(|r| {
-                r.metrics
-                    .to_pairs()
-                    .into_iter()
-                    .find(|(n, _)| n == m)
-                    .map(|(_, v)| v)
-                    .filter(|v| v.is_finite())
-            })
-            .collect();
+        let k = order.iter().position(|n| n == m);
+        let vals: Vec<Option<f64>> =
+            pairs.iter().map(|p| k.map(|k| p[k].1).filter(|v| v.is_finite())).collect();
         cols.push(Column::new((*m).into(), vals));
     }
     cols.push(Column::new(

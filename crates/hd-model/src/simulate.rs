@@ -65,6 +65,9 @@ pub enum SimError {
     /// The integrator stopped.
     #[error(transparent)]
     Solver(#[from] SolverError),
+    /// The run panicked (a bug); the sweep records it and goes on.
+    #[error("internal error (panic): {0}")]
+    Panic(String),
 }
 
 /// The result of a run.

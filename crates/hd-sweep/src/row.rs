@@ -89,16 +89,8 @@ impl RunRow {
 
     /// A failed row for a run that panicked.
     pub fn panicked(spec: &RunSpec, message: String) -> RunRow {
-        let mut row = RunRow::new(
-            spec,
-            Err(SimError::Config(hd_model::ConfigError::Invalid {
-                field: "run".into(),
-                value: "panic".into(),
-                expected: "no panic".into(),
-            })),
-            1,
-        );
-        row.error = Some(format!("internal error (panic): {message}"));
+        let mut row = RunRow::new(spec, Err(SimError::Panic(message)), 1);
+        row.status = "failed";
         row
     }
 }
