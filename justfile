@@ -8,8 +8,11 @@ run:
 test:
     cargo test --workspace
 
+# Solver and sweep benchmarks (criterion), then the scaling script
 bench:
     cargo bench -p hd-model
+    cargo bench -p hd-sweep
+    benches/sweep_scaling.sh
 
 lint:
     cargo fmt --all -- --check
@@ -21,4 +24,4 @@ fmt:
 # Every shipped study in studies/ → out/studies/<name>
 studies:
     cargo build --release -p hd-cli
-    for f in studies/*.toml; do ./target/release/hdw study "$f" --out "out/studies/$(basename "$f" .toml)"; done
+    for f in studies/*.toml; do n=$(basename "$f" .toml); rm -rf "out/studies/$n"; ./target/release/hdw study "$f" --out "out/studies/$n" || exit 1; done
