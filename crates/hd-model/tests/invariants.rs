@@ -181,3 +181,54 @@ fn losses_appear_only_where_their_laws_are() {
     // A lossless gear passes all positive input work on, up to the energy it stores.
     assert!(l.efficiency > 0.9 && f.efficiency < l.efficiency, "{} {}", l.efficiency, f.efficiency);
 }
+
+#[test]
+fn derived_stiffness_and_damping_match_the_trace_they_describe() {
+    // K = dTb/dθ and C0 = dTf/dv: on a fine trace, the ratio of successive differences
+    // must agree wherever the denominators are well away from zero.
+    // Short steps, so the trace's interpolation resolves the fast bristle transients.
+    let cfg = SimConfig {
+        dt_out: 2e-6,
+        t_end: 0.06,
+        solver: SolverOptions { h_max: 1e-6, ..Default::default() },
+        ..SimConfig::default()
+    };
+    let tr = simulate(&cfg).unwrap().trace.unwrap();
+    let n = tr.len();
+    let (mut checked_k, mut checked_c) = (0, 0);
+    let dtheta_max = tr.theta.windows(2).map(|w| (w[1] - w[0]).abs()).fold(0.0, f64::max);
+    let v: Vec<f64> = tr.omega_j.iter().map(|w| w / 100.0).collect();
+    let dv_max = v.windows(2).map(|w| (w[1] - w[0]).abs()).fold(0.0, f64::max);
+    for k in 1..n - 2 {
+        let (dth, dtb) = (tr.theta[k + 1] - tr.theta[k - 1], tr.tb[k + 1] - tr.tb[k - 1]);
+        if dth.abs() > 0.3 * dtheta_max && tr.k[k].is_finite() {
+            let fd = dtb / dth;
+            assert!(
+                (fd - tr.k[k]).abs() < 1e-3 * (52_000.0 + 40_000.0),
+                "K({}) = {} vs {fd}",
+                tr.t[k],
+                tr.k[k]
+            );
+            checked_k += 1;
+        }
+        let (dv, dtf) = (v[k + 1] - v[k - 1], tr.tf[k + 1] - tr.tf[k - 1]);
+        // |v| has a kink where v changes sign: no difference quotient across it.
+        let same_sign = v[k - 1] * v[k + 1] > 0.0;
+        if dv.abs() > 0.3 * dv_max && same_sign && tr.c0[k].is_finite() {
+            let fd = dtf / dv;
+            assert!(
+                (fd - tr.c0[k]).abs() < 1e-2 * tr.c0[k].abs().max(0.1),
+                "C0({}) = {} vs {fd}",
+                tr.t[k],
+                tr.c0[k]
+            );
+            checked_c += 1;
+        }
+    }
+    assert!(checked_k > 100 && checked_c > 100, "{checked_k} {checked_c}");
+    // Undefined where the deflection rate vanishes: NaN, never a made-up number.
+    let lin = SimConfig { variant: Variant::Linear, t_end: 0.02, ..SimConfig::default() };
+    let tl = simulate(&lin).unwrap().trace.unwrap();
+    assert!(tl.k.iter().all(|&k| k == 7.8e5), "linear stiffness is K̄ everywhere");
+    assert!(tr.k[0].is_nan() && tr.c0[0].is_nan(), "at rest both ratios are undefined");
+}

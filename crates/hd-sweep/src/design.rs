@@ -162,3 +162,70 @@ pub fn sample_points(s: &Sample) -> Vec<Point> {
     }
     unit.iter().map(|row| to_point(row)).collect()
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use hd_model::registry::lookup;
+
+    fn bound(name: &str, lo: f64, hi: f64, log: bool) -> Bound {
+        Bound { knob: Knob::Param(lookup(name).unwrap()), lo, hi, log }
+    }
+
+    fn num(v: &Value) -> f64 {
+        match v {
+            Value::Num(x) => *x,
+            Value::Variant(_) => f64::NAN,
+        }
+    }
+
+    #[test]
+    fn latin_hypercube_puts_one_point_in_every_stratum_of_every_dimension() {
+        let n = 50;
+        let s = Sample {
+            method: SampleMethod::Lhs,
+            n,
+            seed: Some(7),
+            bounds: vec![bound("c", 1e4, 1e5, false), bound("sigma0", 1e4, 1e6, true)],
+            design: None,
+        };
+        let pts = sample_points(&s);
+        assert_eq!(pts.len(), n);
+        for (j, b) in s.bounds.iter().enumerate() {
+            let mut hit = vec![0; n];
+            for p in &pts {
+                let x = num(&p[j].1);
+                let u = if b.log {
+                    (x / b.lo).ln() / (b.hi / b.lo).ln()
+                } else {
+                    (x - b.lo) / (b.hi - b.lo)
+                };
+                hit[((u * n as f64) as usize).min(n - 1)] += 1;
+            }
+            assert!(hit.iter().all(|&h| h == 1), "dimension {j}: {hit:?}");
+        }
+        // Same seed, same design; another seed, another design.
+        assert_eq!(num(&sample_points(&s)[3][0].1), num(&pts[3][0].1));
+        let other = Sample { seed: Some(8), ..s.clone() };
+        assert_ne!(num(&sample_points(&other)[3][0].1), num(&pts[3][0].1));
+    }
+
+    #[test]
+    fn zipped_axes_advance_together_inside_a_product() {
+        let axis = |name: &str, xs: &[f64], zip: Option<&str>| Axis {
+            knob: Knob::Param(lookup(name).unwrap()),
+            values: xs.iter().map(|x| Value::Num(*x)).collect(),
+            zip: zip.map(str::to_string),
+        };
+        let axes = [
+            axis("c", &[1.0, 2.0, 3.0], Some("g")),
+            axis("A", &[5.0, 6.0], None),
+            axis("B", &[10.0, 20.0, 30.0], Some("g")),
+        ];
+        let pts = grid_points(&axes);
+        assert_eq!(pts.len(), 6);
+        for p in &pts {
+            assert_eq!(num(&p[0].1) * 10.0, num(&p[1].1), "c and B move together: {p:?}");
+        }
+    }
+}
