@@ -160,6 +160,16 @@ impl RunStore {
             std::fs::remove_file(f).map_err(|e| IoError::fs(f, e))?;
         }
         let parts = self.dir.join("parts");
+        // Half-written temporaries of a killed writer (never renamed, so never counted).
+        if let Ok(entries) = std::fs::read_dir(&parts) {
+            for e in entries.flatten() {
+                let name = e.file_name().to_string_lossy().into_owned();
+                if name.starts_with('.') && name.contains(".tmp-") {
+                    let _ = std::fs::remove_file(e.path());
+                }
+            }
+        }
+        // Only succeeds once empty: another shard's parts may still be there.
         let _ = std::fs::remove_dir(&parts);
         Ok(n)
     }
