@@ -160,11 +160,13 @@ impl RunStore {
             std::fs::remove_file(f).map_err(|e| IoError::fs(f, e))?;
         }
         let parts = self.dir.join("parts");
-        // Half-written temporaries of a killed writer (never renamed, so never counted).
+        // Half-written temporaries of this shard's killed writers (never renamed, so never
+        // counted); other shards' files are left alone.
+        let own = [format!(".runs-{}-", self.tag), format!(".traces-{}-", self.tag)];
         if let Ok(entries) = std::fs::read_dir(&parts) {
             for e in entries.flatten() {
                 let name = e.file_name().to_string_lossy().into_owned();
-                if name.starts_with('.') && name.contains(".tmp-") {
+                if own.iter().any(|p| name.starts_with(p)) && name.contains(".tmp-") {
                     let _ = std::fs::remove_file(e.path());
                 }
             }
