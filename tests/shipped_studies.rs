@@ -1,0 +1,63 @@
+//! The shipped studies: every file parses and expands to the documented number of runs,
+//! and the small ones run end to end through `hdw study`.
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+fn studies_dir() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../studies")
+}
+
+#[test]
+fn every_shipped_study_parses_and_expands_to_its_documented_size() {
+    let expected = [
+        ("seed-variants", 3),
+        ("seed-voltage", 24),
+        ("table4", 6400),
+        ("step", 25),
+        ("freq-response", 345),
+        ("limit-cycles", 176),
+        ("hysteresis-energy", 100),
+        ("global-sensitivity", 3840),
+        ("morris-screening", 560),
+    ];
+    let loader = |p: &Path| hd_io::read_profile(p).map_err(|e| e.to_string());
+    let mut files: Vec<PathBuf> = std::fs::read_dir(studies_dir())
+        .unwrap()
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| p.extension().is_some_and(|x| x == "toml"))
+        .collect();
+    files.sort();
+    assert_eq!(
+        files.len(),
+        expected.len(),
+        "a study was added or removed: update this test and studies/README.md"
+    );
+    for (name, runs) in expected {
+        let study = hd_sweep::load_study(&studies_dir().join(format!("{name}.toml")), &loader)
+            .unwrap_or_else(|e| panic!("{e}"));
+        assert_eq!(study.name, name);
+        assert_eq!(study.expand().len(), runs, "{name}");
+    }
+}
+
+#[test]
+fn the_small_shipped_studies_run_end_to_end() {
+    for name in ["seed-variants", "step"] {
+        let out = std::env::temp_dir().join(format!("hdw-shipped-{}-{name}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&out);
+        let file = studies_dir().join(format!("{name}.toml"));
+        let run = Command::new(env!("CARGO_BIN_EXE_hdw"))
+            .args(["study", file.to_str().unwrap(), "--out", out.to_str().unwrap()])
+            .output()
+            .unwrap();
+        assert!(run.status.success(), "{name}: {}", String::from_utf8_lossy(&run.stderr));
+        let t = hd_io::read_table(&out.join("runs.parquet")).unwrap();
+        assert!(t.text("status").unwrap().iter().all(|s| s.as_deref() == Some("ok")), "{name}");
+        let report = std::fs::read_to_string(out.join("report.md")).unwrap();
+        assert!(
+            report.contains("![") && out.join("traces.parquet").exists(),
+            "{name}: plots and traces"
+        );
+    }
+}
