@@ -59,6 +59,7 @@ fn memory_term_matches_the_closed_form_under_imposed_sine() {
             worst = worst.max((s.y1[0] - exact(s.t1)).abs() / amp);
         };
         solve(&sys, 0.0, Vector2::zeros(), 0.1, &[], &opts, &mut obs).unwrap();
+        eprintln!("memory term, {method:?}: max relative error {worst:.2e}");
         assert!(worst < 1e-6, "{method:?}: max relative error {worst:e}");
     }
 }
@@ -77,6 +78,10 @@ fn steady_loop_energy_matches_the_closed_form() {
     let de = y2[1] - y1[1];
     let exact = PI * a * b * c * c * w / (b * b + w * w);
     assert!((exact - 0.0627651).abs() < 1e-6, "closed form itself: {exact}");
+    eprintln!(
+        "loop energy: {de:.7} J against {exact:.7} J, error {:.2e}",
+        (de - exact).abs() / exact
+    );
     assert!((de - exact).abs() / exact < 5e-3, "ΔE = {de}, exact {exact}");
 }
 
@@ -108,6 +113,7 @@ fn lugre_steady_state_follows_the_stribeck_curve() {
     let opts =
         SolverOptions { method: Method::Rodas4, rtol: 1e-10, atol: 1e-14, ..Default::default() };
     let mut checked = 0;
+    let mut worst: f64 = 0.0;
     for k in 0..=25 {
         for sign in [1.0, -1.0] {
             let v = sign * 10f64.powf(-4.0 + 5.0 * k as f64 / 25.0);
@@ -120,6 +126,7 @@ fn lugre_steady_state_follows_the_stribeck_curve() {
                 solve(&sys, 0.0, SVector::zeros(), t_end, &[], &opts, &mut |_| {}).unwrap();
             let tf = law.eval(v, y[0]).torque;
             let expected = stribeck(v);
+            worst = worst.max((tf - expected).abs() / expected.abs());
             assert!(
                 (tf - expected).abs() / expected.abs() < 5e-3,
                 "v = {v}: Tf = {tf}, Stribeck {expected}"
@@ -127,6 +134,7 @@ fn lugre_steady_state_follows_the_stribeck_curve() {
             checked += 1;
         }
     }
+    eprintln!("Stribeck curve: {checked} speeds, max relative error {worst:.2e}");
     assert_eq!(checked, 52);
 }
 
@@ -157,5 +165,9 @@ fn pre_sliding_slope_is_the_bristle_stiffness() {
     let (y2, _) = solve(&sys, 0.002, y1, 0.004, &[], &opts, &mut |_| {}).unwrap();
     let (x1, x2) = (2e-9, 4e-9);
     let slope = (law.eval(1e-6, y2[0]).torque - law.eval(1e-6, y1[0]).torque) / (x2 - x1);
+    eprintln!(
+        "pre-sliding slope {slope:.1} against σ0 = 1.2e5 ({:.2e} off)",
+        (slope - 1.2e5).abs() / 1.2e5
+    );
     assert!((slope - 1.2e5).abs() / 1.2e5 < 0.02, "slope {slope:e}");
 }
