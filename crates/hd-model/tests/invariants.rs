@@ -62,6 +62,7 @@ fn energy_balance_closes_over_the_seed_case() {
         let e_in = y[Q_ELEC];
         let accounted = sys.stored_energy(&y) + y[Q_DISS] + y[Q_FRIC];
         let rel = (e_in - accounted).abs() / e_in.abs();
+        eprintln!("energy balance, {fv:?}: {e_in:.6} J in, residual {rel:.2e}");
         assert!(
             e_in > 0.0 && rel < 1e-6,
             "{fv:?}: in {e_in} J, accounted {accounted} J, rel {rel:e}"
