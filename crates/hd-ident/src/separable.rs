@@ -196,18 +196,7 @@ pub fn fit_separable<P: Separable>(problem: &P, fixed: &Fixed) -> Result<Separab
     for (j, &(name, value)) in values.iter().enumerate() {
         let info = lookup(name)?;
         let Some(k) = jac_names.iter().position(|n| *n == name) else {
-            params.0.push((
-                name.to_string(),
-                Estimate {
-                    value,
-                    unit: info.unit,
-                    std_error: None,
-                    ci95: None,
-                    determined: false,
-                    fixed: true,
-                    note: Some(format!("held at {value} {} (fixed), not fitted", info.unit)),
-                },
-            ));
+            params.0.push((name.to_string(), Estimate::held(value, info.unit, "fixed")));
             continue;
         };
         let col_rms = (jac[k].iter().map(|v| v * v).sum::<f64>() / n as f64).sqrt();

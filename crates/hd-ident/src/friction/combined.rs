@@ -33,18 +33,7 @@ pub struct FrictionFit {
 
 fn held(name: &str, value: f64, why: &str) -> Result<(String, Estimate), FitError> {
     let info = lookup(name)?;
-    Ok((
-        name.to_string(),
-        Estimate {
-            value,
-            unit: info.unit,
-            std_error: None,
-            ci95: None,
-            determined: false,
-            fixed: true,
-            note: Some(format!("held at {value} {} ({why}), not fitted", info.unit)),
-        },
-    ))
+    Ok((name.to_string(), Estimate::held(value, info.unit, why)))
 }
 
 fn default_of(name: &str) -> f64 {

@@ -32,6 +32,22 @@ pub struct Estimate {
     pub note: Option<String>,
 }
 
+impl Estimate {
+    /// A parameter held at `value` [`unit`] rather than fitted; `why` says how it was
+    /// chosen (e.g. "fixed", "from the static stage").
+    pub fn held(value: f64, unit: &'static str, why: &str) -> Self {
+        Estimate {
+            value,
+            unit,
+            std_error: None,
+            ci95: None,
+            determined: false,
+            fixed: true,
+            note: Some(format!("held at {value} {unit} ({why}), not fitted")),
+        }
+    }
+}
+
 /// Parameters in a fixed order, serialised as a JSON object keyed by registry name.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Parameters(pub Vec<(String, Estimate)>);
