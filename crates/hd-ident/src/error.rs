@@ -62,7 +62,7 @@ pub enum DataError {
     },
     /// Fewer samples than the free parameters need.
     #[error(
-        "{have} samples are too few to fit {free} free parameter(s) ({names}): need at least {need} ({per} per free parameter)"
+        "{have} samples are too few to fit {free} free parameter(s) ({names}): need at least {need} (the free parameters plus {dof}, so the noise can be estimated)"
     )]
     TooFewSamples {
         /// Rows in the data set.
@@ -73,8 +73,8 @@ pub enum DataError {
         free: usize,
         /// Their names.
         names: String,
-        /// Samples required per free parameter.
-        per: usize,
+        /// Degrees of freedom required beyond the free parameters.
+        dof: usize,
     },
 }
 
@@ -103,28 +103,32 @@ pub enum FitError {
         /// The fit.
         fit: &'static str,
     },
-    /// The dynamic friction stage lacks static parameters.
-    #[error(
-        "the dynamic friction stage needs the static parameters {missing}: give --steady data or fix them with --fix NAME=VALUE"
-    )]
-    MissingStatic {
-        /// Comma-separated names.
-        missing: String,
-    },
     /// Neither a steady nor a transient friction data set was given.
     #[error("no friction data: give a steady-state sweep, a transient time series, or both")]
     NoData,
     /// The integrator failed while computing a model response.
-    #[error("integrating {what}: {source}")]
+    #[error("integrating {what}")]
     Solver {
         /// What was being integrated, with the parameter values.
         what: String,
         /// The solver's error.
         source: SolverError,
     },
-    /// The optimiser stopped with an error, or no starting point gave a finite cost.
+    /// The optimiser stopped with an error.
     #[error("optimiser: {0}")]
     Optimiser(String),
+    /// Every trial of a search failed: nothing to fit from.
+    #[error(
+        "no trial gave a finite cost: all {trials} trial values over {range} failed ({why}); check the data's units and sign, or fix the parameter with --fix"
+    )]
+    NoFiniteTrial {
+        /// Trials evaluated.
+        trials: usize,
+        /// The searched range.
+        range: String,
+        /// The first failure, or why the cost was not finite.
+        why: String,
+    },
     /// An excitation or synthesis setting is outside what it accepts.
     #[error("{field} = {value}: expected {expected}")]
     Setting {
@@ -135,4 +139,16 @@ pub enum FitError {
         /// What it accepts.
         expected: String,
     },
+}
+
+/// An error with its causes, joined by ": " (each cause once).
+pub fn chain(e: &dyn std::error::Error) -> String {
+    let mut text = e.to_string();
+    let mut cause = e.source();
+    while let Some(c) = cause {
+        text.push_str(": ");
+        text.push_str(&c.to_string());
+        cause = c.source();
+    }
+    text
 }

@@ -76,3 +76,17 @@ impl Fixed {
         Self { values: self.values.iter().filter(|(n, _)| names.contains(n)).copied().collect() }
     }
 }
+
+/// Name of a measurement's constant torque offset in fit reports [N·m]: fitted with the
+/// drive's parameters but not one of them (it is not in the registry).
+pub const OFFSET: &str = "offset";
+
+/// Unit and valid range `(unit, min, max)` of a fitted quantity: a registry parameter, or
+/// the [`OFFSET`] (unbounded).
+pub fn fitted_info(name: &str) -> Result<(&'static str, f64, f64), FitError> {
+    if name == OFFSET {
+        return Ok(("N·m", f64::NEG_INFINITY, f64::INFINITY));
+    }
+    let info = lookup(name)?;
+    Ok((info.unit, info.min, info.max))
+}

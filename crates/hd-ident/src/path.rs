@@ -61,7 +61,7 @@ impl<S: Signal> OdeSystem<1> for BristleAlong<'_, S> {
         (SMatrix::from([[e.w_rate_d_w]]), SVector::from([e.w_rate_d_v * dv]))
     }
     fn abs_scale(&self) -> SVector<f64, 1> {
-        SVector::from([self.law.ts.max(self.law.tc)])
+        SVector::from([self.law.max_level()])
     }
 }
 

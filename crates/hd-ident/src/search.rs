@@ -36,18 +36,35 @@ pub struct SearchOutcome {
     pub lo: f64,
     /// Searched range, high end.
     pub hi: f64,
+    /// Trials whose evaluation failed or was not finite (counted as the worst cost).
+    pub failed_trials: u64,
+    /// The first failure's message, when there was one.
+    pub first_failure: Option<String>,
 }
 
-/// The cost as a function of u = ln(value), for argmin.
+/// Cost given to a trial whose evaluation failed (the integration broke down or the
+/// result was not finite): worse than any real cost, yet finite so that Brent's
+/// parabolic steps stay defined. A failed trial is a bad trial, never a failed fit.
+pub const FAILED_TRIAL_COST: f64 = 1e300;
+
+/// The cost as a function of u = ln(value), for argmin; failed trials cost
+/// [`FAILED_TRIAL_COST`].
 struct LogCost<'a> {
     f: &'a (dyn Fn(f64) -> Result<f64, FitError> + Sync),
+    failed: &'a std::sync::atomic::AtomicU64,
 }
 
 impl CostFunction for LogCost<'_> {
     type Param = f64;
     type Output = f64;
     fn cost(&self, u: &f64) -> Result<f64, argmin::core::Error> {
-        Ok((self.f)(u.exp())?)
+        match (self.f)(u.exp()) {
+            Ok(c) if c.is_finite() => Ok(c),
+            _ => {
+                self.failed.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+                Ok(FAILED_TRIAL_COST)
+            }
+        }
     }
 }
 
@@ -65,23 +82,35 @@ pub fn search_log(
     let step = (u_hi - u_lo) / (GRID_POINTS - 1) as f64;
     let grid: Vec<f64> = (0..GRID_POINTS).map(|i| u_lo + step * i as f64).collect();
     let evaluated: Vec<Result<f64, FitError>> = grid.par_iter().map(|u| f(u.exp())).collect();
-    let mut first_error = None;
+    let mut first_error: Option<FitError> = None;
+    let mut failed_grid = 0u64;
     let costs: Vec<f64> = evaluated
         .into_iter()
         .map(|r| match r {
             Ok(c) if c.is_finite() => c,
-            Ok(_) => f64::INFINITY,
+            Ok(_) => {
+                failed_grid += 1;
+                f64::INFINITY
+            }
             Err(e) => {
+                failed_grid += 1;
                 first_error.get_or_insert(e);
                 f64::INFINITY
             }
         })
         .collect();
     if costs.iter().all(|c| !c.is_finite()) {
-        return Err(first_error.unwrap_or_else(|| {
-            FitError::Optimiser("the cost is not finite anywhere on the search grid".into())
-        }));
+        let why = first_error.map_or_else(
+            || "the cost was not finite".to_string(),
+            |e| format!("the first failure: {}", crate::error::chain(&e)),
+        );
+        return Err(FitError::NoFiniteTrial {
+            trials: GRID_POINTS,
+            range: format!("[{lo:.3e}, {hi:.3e}]"),
+            why,
+        });
     }
+    let failed = std::sync::atomic::AtomicU64::new(failed_grid);
     let mut minima: Vec<usize> = (0..GRID_POINTS)
         .filter(|&i| {
             costs[i].is_finite()
@@ -101,7 +130,8 @@ pub fn search_log(
         let a = grid[i.saturating_sub(1)];
         let b = grid[(i + 1).min(GRID_POINTS - 1)];
         let solver = BrentOpt::new(a, b).set_tolerance(1.5e-8, 1e-8);
-        let run = Executor::new(LogCost { f }, solver).configure(|s| s.max_iters(MAX_ITERS)).run();
+        let cost_fn = LogCost { f, failed: &failed };
+        let run = Executor::new(cost_fn, solver).configure(|s| s.max_iters(MAX_ITERS)).run();
         let res = match run {
             Ok(r) => r,
             Err(e) => match e.downcast::<FitError>() {
@@ -132,6 +162,8 @@ pub fn search_log(
         at_edge,
         lo,
         hi,
+        failed_trials: failed.into_inner(),
+        first_failure: first_error.map(|e| crate::error::chain(&e)),
     })
 }
 
@@ -152,5 +184,26 @@ mod tests {
         assert!((out.value / 300.0 - 1.0).abs() < 1e-5, "{out:?}");
         assert!(!out.at_edge);
         assert!(out.starts >= 2);
+    }
+
+    #[test]
+    fn failing_trials_do_not_end_the_search() {
+        // The cost cannot be evaluated below x = 50 (as an integration that breaks down
+        // for soft trial values would); the minimum at x = 80 is found all the same.
+        let f = |x: f64| -> Result<f64, FitError> {
+            if x < 50.0 {
+                return Err(FitError::Optimiser("step size too small".into()));
+            }
+            Ok((x.ln() - 80f64.ln()).powi(2))
+        };
+        let out = search_log(&f, 1.0, 1e4).unwrap();
+        assert!((out.value / 80.0 - 1.0).abs() < 1e-5, "{out:?}");
+        assert!(out.failed_trials >= 20, "{out:?}");
+        assert!(out.first_failure.as_deref().is_some_and(|m| m.contains("step size")));
+        // Nothing finite at all: one clear error.
+        let never =
+            |_: f64| -> Result<f64, FitError> { Err(FitError::Optimiser("diverged".into())) };
+        let e = search_log(&never, 1.0, 1e4).unwrap_err();
+        assert!(e.to_string().contains("no trial gave a finite cost"), "{e}");
     }
 }

@@ -6,7 +6,7 @@
 
 use crate::data::require_samples;
 use crate::error::FitError;
-use crate::fix::Fixed;
+use crate::fix::{Fixed, fitted_info};
 use crate::linear::bounded_least_squares;
 use crate::report::{
     Correlation, Estimate, Explanation, FitReport, Judgement, Parameters, SearchSummary, judge,
@@ -141,10 +141,10 @@ pub fn fit_separable<P: Separable>(problem: &P, fixed: &Fixed) -> Result<Separab
     }
     let y = problem.measured();
     let n = y.len();
-    require_samples(n, &free_names)?;
-    let infos: Vec<_> = lin.iter().map(|nm| lookup(nm)).collect::<Result<_, _>>()?;
-    let lo: Vec<f64> = infos.iter().map(|i| i.min).collect();
-    let hi: Vec<f64> = infos.iter().map(|i| i.max).collect();
+    let sample_warning = require_samples(n, &free_names)?;
+    let infos: Vec<_> = lin.iter().map(|nm| fitted_info(nm)).collect::<Result<_, _>>()?;
+    let lo: Vec<f64> = infos.iter().map(|i| i.1).collect();
+    let hi: Vec<f64> = infos.iter().map(|i| i.2).collect();
     let qinfo = lookup(qname)?;
 
     // Global stage over ln q, or the closed form when q is fixed.
@@ -194,9 +194,9 @@ pub fn fit_separable<P: Separable>(problem: &P, fixed: &Fixed) -> Result<Separab
         .map(|(j, &nm)| (nm, if j < lin.len() { beta[j] } else { q }))
         .collect();
     for (j, &(name, value)) in values.iter().enumerate() {
-        let info = lookup(name)?;
+        let (unit, _, _) = fitted_info(name)?;
         let Some(k) = jac_names.iter().position(|n| *n == name) else {
-            params.0.push((name.to_string(), Estimate::held(value, info.unit, "fixed")));
+            params.0.push((name.to_string(), Estimate::held(value, unit, "fixed")));
             continue;
         };
         let col_rms = (jac[k].iter().map(|v| v * v).sum::<f64>() / n as f64).sqrt();
@@ -214,7 +214,7 @@ pub fn fit_separable<P: Separable>(problem: &P, fixed: &Fixed) -> Result<Separab
         let at_bound = (!nonlinear && inner.at_bound[j]).then_some(value);
         let (determined, note) = judge(&Judgement {
             name,
-            unit: info.unit,
+            unit: unit,
             value,
             std_error: cov.std_error[k],
             singular: cov.singular[k],
@@ -232,7 +232,7 @@ pub fn fit_separable<P: Separable>(problem: &P, fixed: &Fixed) -> Result<Separab
             name.to_string(),
             Estimate {
                 value,
-                unit: info.unit,
+                unit: unit,
                 std_error: cov.std_error[k],
                 ci95,
                 determined,
@@ -267,7 +267,7 @@ pub fn fit_separable<P: Separable>(problem: &P, fixed: &Fixed) -> Result<Separab
             starts: o.starts,
         }),
         stages: Vec::new(),
-        remarks: Vec::new(),
+        remarks: sample_warning.into_iter().collect(),
         wall_time_s: start.elapsed().as_secs_f64(),
     };
     Ok(SeparableFit {

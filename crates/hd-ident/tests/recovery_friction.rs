@@ -30,7 +30,12 @@ fn both_stages_recover_the_lugre_parameters() {
         assert!(rel_error(r, &p, "ws") < 0.05, "set {i}");
         assert!(rel_error(r, &p, "sigma0") < 0.10, "set {i}");
         assert!(rel_error(r, &p, "sigma1") < 0.10, "set {i}");
+        // σ2 is the least determined of the six here (standard errors of 4–14 %): its
+        // error must stay within 2.5 standard errors.
         rel_error(r, &p, "sigma2");
+        let s2 = r.parameters.get("sigma2").unwrap();
+        let dev = (s2.value - p.sigma2).abs();
+        assert!(dev <= 2.5 * s2.std_error.unwrap(), "set {i}: sigma2 off by {dev:e}");
         for name in ["sigma0", "sigma1", "Tc", "Ts", "ws"] {
             assert!(r.parameters.get(name).unwrap().determined, "set {i}: {name}\n{}", r.table());
         }
@@ -71,7 +76,7 @@ fn static_stage_alone_and_dynamic_stage_with_fixed_statics() {
     let transient = transient_data(&p, Noise { relative: 0.01, seed: 5 });
     let fixed = Fixed::parse(&["Tc=0.2", "Ts=0.35", "ws=0.02", "sigma2=0.05"]).unwrap();
     let r = fit_friction(None, Some(&transient), &fixed).unwrap().report;
-    assert_eq!(r.fit, "friction-dynamic");
+    assert_eq!(r.fit, "friction");
     assert!(rel_error(&r, &p, "sigma0") < 0.10 && rel_error(&r, &p, "sigma1") < 0.10);
     assert!(covers(&r, &p, "sigma0") && covers(&r, &p, "sigma1"));
     let tc = r.parameters.get("Tc").unwrap();

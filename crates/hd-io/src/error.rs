@@ -7,7 +7,7 @@ use thiserror::Error;
 #[derive(Debug, Error)]
 pub enum IoError {
     /// The file could not be opened, created or renamed.
-    #[error("{}: {source}", path.display())]
+    #[error("{}", path.display())]
     Fs {
         /// The file.
         path: PathBuf,

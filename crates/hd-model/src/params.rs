@@ -38,6 +38,14 @@ pub struct Params {
     pub ts: f64,
     /// Stribeck velocity ωs [rad/s]; default 0.01.
     pub ws: f64,
+    /// Coulomb friction torque for negative sliding speeds `Tc_neg` [N·m]; unset (the
+    /// default) means equal to Tc, a symmetric law.
+    #[serde(rename = "Tc_neg", skip_serializing_if = "Option::is_none")]
+    pub tc_neg: Option<f64>,
+    /// Static friction torque for negative sliding speeds `Ts_neg` [N·m]; unset (the
+    /// default) means equal to Ts.
+    #[serde(rename = "Ts_neg", skip_serializing_if = "Option::is_none")]
+    pub ts_neg: Option<f64>,
     /// Armature resistance R [Ω]; default 6.
     #[serde(rename = "R")]
     pub r: f64,
@@ -89,6 +97,8 @@ impl Default for Params {
             tc: 0.15,
             ts: 0.25,
             ws: 0.01,
+            tc_neg: None,
+            ts_neg: None,
             r: 6.0,
             km: 0.52,
             ke: 0.52,

@@ -102,13 +102,6 @@ pub fn friction_law(kind: FrictionKind, p: &Params) -> Friction {
     match kind {
         FrictionKind::None => Friction::None(NoFriction),
         FrictionKind::Viscous => Friction::Viscous(Viscous { c0: p.c0bar }),
-        FrictionKind::Lugre => Friction::LuGre(LuGre {
-            sigma0: p.sigma0,
-            sigma1: p.sigma1,
-            sigma2: p.sigma2,
-            tc: p.tc,
-            ts: p.ts,
-            ws: p.ws,
-        }),
+        FrictionKind::Lugre => Friction::LuGre(LuGre::from_params(p)),
     }
 }

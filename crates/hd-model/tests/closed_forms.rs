@@ -102,7 +102,7 @@ impl OdeSystem<1> for ImposedSpeed {
 }
 
 fn seed_lugre() -> LuGre {
-    LuGre { sigma0: 1.2e5, sigma1: 0.8, sigma2: 0.01, tc: 0.15, ts: 0.25, ws: 0.01 }
+    LuGre::symmetric(1.2e5, 0.8, 0.01, 0.15, 0.25, 0.01)
 }
 
 #[test]

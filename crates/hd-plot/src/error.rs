@@ -59,7 +59,7 @@ pub enum PlotError {
         reason: String,
     },
     /// The folder that should hold the plot could not be created.
-    #[error("{}: cannot create the output folder: {source}", path.display())]
+    #[error("{}: cannot create the output folder", path.display())]
     CreateDir {
         /// The requested output file.
         path: PathBuf,
@@ -83,7 +83,7 @@ pub enum PlotError {
         message: String,
     },
     /// The finished figure could not be moved into place.
-    #[error("{}: cannot write the plot: {source}", path.display())]
+    #[error("{}: cannot write the plot", path.display())]
     Write {
         /// The requested output file.
         path: PathBuf,

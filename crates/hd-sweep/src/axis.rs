@@ -123,6 +123,9 @@ impl Knob {
             (Knob::FrictionScale, Value::Num(v)) => {
                 cfg.params.tc *= v;
                 cfg.params.ts *= v;
+                for side in [&mut cfg.params.tc_neg, &mut cfg.params.ts_neg].into_iter().flatten() {
+                    *side *= v;
+                }
             }
             (Knob::Variant, Value::Variant(v)) => cfg.variant = v,
             _ => {}

@@ -2,23 +2,37 @@
 
 use crate::error::DataError;
 
-/// Samples a fit asks for per free parameter: fewer leave the residual too short to
-/// estimate the noise and the standard errors meaningfully.
+/// Samples per free parameter below which a fit still runs but warns: the residual is
+/// then short for estimating the noise, so the standard errors are rough.
 pub const SAMPLES_PER_PARAMETER: usize = 10;
 
-/// Check that `have` samples suffice for the free parameters `names`.
-pub fn require_samples(have: usize, names: &[&str]) -> Result<(), DataError> {
-    let need = SAMPLES_PER_PARAMETER * names.len();
+/// Degrees of freedom (samples beyond the free parameters) a fit needs at least: with
+/// fewer the noise, and so every standard error, cannot be estimated at all.
+pub const MIN_DOF: usize = 3;
+
+/// Check that `have` samples suffice for the free parameters `names`: an error below
+/// `names.len() + MIN_DOF`, a warning (returned) below [`SAMPLES_PER_PARAMETER`] per
+/// free parameter. A 38-point Stribeck table for four parameters is a normal experiment.
+pub fn require_samples(have: usize, names: &[&str]) -> Result<Option<String>, DataError> {
+    let need = names.len() + MIN_DOF;
     if have < need {
         return Err(DataError::TooFewSamples {
             have,
             need,
             free: names.len(),
             names: names.join(", "),
-            per: SAMPLES_PER_PARAMETER,
+            dof: MIN_DOF,
         });
     }
-    Ok(())
+    let comfortable = SAMPLES_PER_PARAMETER * names.len();
+    Ok((have < comfortable).then(|| {
+        format!(
+            "warning: {have} samples for {} free parameters ({}) leave only {} degrees of freedom; the fit ran, but the noise estimate and so the standard errors are rough (about {comfortable} samples or more make them reliable)",
+            names.len(),
+            names.join(", "),
+            have - names.len()
+        )
+    }))
 }
 
 /// Check that `col` has the length of the reference column and holds finite values.

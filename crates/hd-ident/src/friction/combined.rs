@@ -1,13 +1,14 @@
 //! The friction fit as a whole: the static stage, the dynamic stage, or both in order,
 //! with one report over every parameter involved.
 
+use super::joint::{FrictionOptions, fit_joint};
 use super::propagate::{Propagated, propagate};
-use super::steady::{STATIC_PARAMS, SteadyProblem};
+use super::steady::{STATIC_PARAMS, SteadyOptions, SteadyProblem};
 use super::transient::{DYNAMIC_PARAMS, TransientProblem};
 use crate::data::{SteadyData, TransientData};
 use crate::error::FitError;
 use crate::fix::Fixed;
-use crate::report::{Correlation, Estimate, FitReport, Parameters, REL_SE_LIMIT};
+use crate::report::{Correlation, FitReport, Parameters, REL_SE_LIMIT};
 use crate::separable::{SeparableFit, fit_separable};
 use hd_model::laws::friction::LuGre;
 use hd_model::registry::{REGISTRY, lookup};
@@ -15,6 +16,9 @@ use std::time::Instant;
 
 /// All six LuGre parameters (registry order).
 pub const FRICTION_PARAMS: [&str; 6] = ["sigma0", "sigma1", "sigma2", "Tc", "Ts", "ws"];
+/// The LuGre parameters of an asymmetric fit.
+pub const ASYMMETRIC_PARAMS: [&str; 8] =
+    ["sigma0", "sigma1", "sigma2", "Tc", "Ts", "ws", "Tc_neg", "Ts_neg"];
 
 /// Outcome of [`fit_friction`].
 #[derive(Clone, Debug, PartialEq)]
@@ -31,106 +35,126 @@ pub struct FrictionFit {
     pub law: LuGre,
 }
 
-fn held(name: &str, value: f64, why: &str) -> Result<(String, Estimate), FitError> {
-    let info = lookup(name)?;
-    Ok((name.to_string(), Estimate::held(value, info.unit, why)))
-}
-
 fn default_of(name: &str) -> f64 {
     lookup(name).map_or(0.0, |i| i.default_value())
 }
 
-/// Fit the friction parameters: with `steady` the static stage (Tc, Ts, ωs, σ2), with
-/// `transient` the dynamic stage (σ0, σ1) holding the static parameters at the static
-/// stage's result or at their `fixed` values; with both, the two stages in that order,
-/// the static stage's uncertainty carried into the dynamic stage's errors.
+/// Fit the symmetric friction law without offset: see [`fit_friction_with`].
 pub fn fit_friction(
     steady: Option<&SteadyData>,
     transient: Option<&TransientData>,
     fixed: &Fixed,
 ) -> Result<FrictionFit, FitError> {
+    fit_friction_with(steady, transient, fixed, FrictionOptions::default())
+}
+
+/// Fit the friction parameters: with `steady` alone the static stage (Tc, Ts, ωs, σ2);
+/// with `transient` alone every parameter jointly from the one series ([`fit_joint`]);
+/// with both, the static stage and then the dynamic stage (σ0, σ1) holding the static
+/// parameters at its result, the static stage's uncertainty carried into the dynamic
+/// stage's errors. `opts` adds direction-dependent levels and a torque offset (with one
+/// data set). Parameters in `fixed` are held.
+pub fn fit_friction_with(
+    steady: Option<&SteadyData>,
+    transient: Option<&TransientData>,
+    fixed: &Fixed,
+    opts: FrictionOptions,
+) -> Result<FrictionFit, FitError> {
     let start = Instant::now();
-    fixed.check_allowed("friction", &FRICTION_PARAMS)?;
+    let allowed: &[&str] = if opts.asymmetric { &ASYMMETRIC_PARAMS } else { &FRICTION_PARAMS };
+    fixed.check_allowed("friction", allowed)?;
     if steady.is_none() && transient.is_none() {
         return Err(FitError::NoData);
     }
-    // With a steady sweep only, the stage checks the fixed names itself (a dynamic
-    // parameter fixed for a static-only fit is an error, not silently ignored).
-    let stage1 = match steady {
-        Some(d) => {
-            let f = if transient.is_some() {
-                fixed.restricted_to(&STATIC_PARAMS)
-            } else {
-                fixed.clone()
-            };
-            Some(fit_separable(&SteadyProblem::new(d), &f)?)
-        }
-        None => None,
-    };
-    let static_value =
-        |name: &str| fixed.get(name).or_else(|| stage1.as_ref().and_then(|s| s.value(name)));
-    let mut statics = [0.0; 4];
-    let mut stage2 = None;
-    if let Some(d) = transient {
-        let missing: Vec<&str> =
-            ["Tc", "Ts", "ws"].into_iter().filter(|n| static_value(n).is_none()).collect();
-        if !missing.is_empty() {
-            return Err(FitError::MissingStatic { missing: missing.join(", ") });
-        }
-        for (s, name) in statics.iter_mut().zip(["Tc", "Ts", "ws", "sigma2"]) {
-            *s = static_value(name).unwrap_or_else(|| default_of(name));
-        }
-        let problem = TransientProblem::new(d, statics[0], statics[1], statics[2], statics[3]);
-        stage2 = Some(fit_separable(&problem, &fixed.restricted_to(&DYNAMIC_PARAMS))?);
+    if steady.is_some() && transient.is_some() && (opts.asymmetric || opts.offset) {
+        return Err(FitError::Setting {
+            field: "--asymmetric / --offset",
+            value: "with both --steady and --transient".into(),
+            expected: "one data set: the direction-dependent levels and the offset are fitted from a time series alone (every parameter jointly) or from a steady-state table alone".into(),
+        });
     }
-
+    if let (None, Some(d)) = (steady, transient) {
+        let joint = fit_joint(d, fixed, opts)?;
+        let value = |name: &str| {
+            joint.value(name).or_else(|| fixed.get(name)).unwrap_or_else(|| default_of(name))
+        };
+        let (tc, ts) = (value("Tc"), value("Ts"));
+        let law = LuGre {
+            sigma0: value("sigma0"),
+            sigma1: value("sigma1"),
+            sigma2: value("sigma2"),
+            tc,
+            ts,
+            ws: value("ws"),
+            tc_neg: if opts.asymmetric { value("Tc_neg") } else { tc },
+            ts_neg: if opts.asymmetric { value("Ts_neg") } else { ts },
+        };
+        let mut report = joint.report.clone();
+        report.parameters.0.sort_by_key(|(n, _)| order_key(n));
+        return Ok(FrictionFit { report, steady: None, transient: Some(joint), law });
+    }
+    if let (Some(d), None) = (steady, transient) {
+        let problem = SteadyProblem::with_options(
+            d,
+            SteadyOptions { asymmetric: opts.asymmetric, offset: opts.offset },
+        );
+        let s1 = fit_separable(&problem, fixed)?;
+        let value = |name: &str| {
+            s1.value(name).or_else(|| fixed.get(name)).unwrap_or_else(|| default_of(name))
+        };
+        let (tc, ts) = (value("Tc"), value("Ts"));
+        let law = LuGre {
+            sigma0: default_of("sigma0"),
+            sigma1: default_of("sigma1"),
+            sigma2: value("sigma2"),
+            tc,
+            ts,
+            ws: value("ws"),
+            tc_neg: if opts.asymmetric { value("Tc_neg") } else { tc },
+            ts_neg: if opts.asymmetric { value("Ts_neg") } else { ts },
+        };
+        let mut report = s1.report.clone();
+        report.parameters.0.sort_by_key(|(n, _)| order_key(n));
+        return Ok(FrictionFit { report, steady: Some(s1), transient: None, law });
+    }
+    // Both data sets: the static stage, then the dynamic stage holding its result.
+    let (Some(sd), Some(d)) = (steady, transient) else {
+        unreachable!("one data set is handled above")
+    };
+    let s1 = fit_separable(&SteadyProblem::new(sd), &fixed.restricted_to(&STATIC_PARAMS))?;
+    let static_value = |name: &str| fixed.get(name).or_else(|| s1.value(name));
+    let mut statics = [0.0; 4];
+    for (s, name) in statics.iter_mut().zip(["Tc", "Ts", "ws", "sigma2"]) {
+        *s = static_value(name).unwrap_or_else(|| default_of(name));
+    }
+    let problem = TransientProblem::new(d, statics[0], statics[1], statics[2], statics[3]);
+    let mut s2 = fit_separable(&problem, &fixed.restricted_to(&DYNAMIC_PARAMS))?;
     let value = |name: &str| {
-        [&stage2, &stage1]
-            .iter()
-            .find_map(|s| s.as_ref().and_then(|s| s.value(name)))
+        s2.value(name)
+            .or_else(|| s1.value(name))
             .or_else(|| fixed.get(name))
             .unwrap_or_else(|| default_of(name))
     };
-    let law = LuGre {
-        sigma0: value("sigma0"),
-        sigma1: value("sigma1"),
-        sigma2: value("sigma2"),
-        tc: value("Tc"),
-        ts: value("Ts"),
-        ws: value("ws"),
-    };
+    let law = LuGre::symmetric(
+        value("sigma0"),
+        value("sigma1"),
+        value("sigma2"),
+        value("Tc"),
+        value("Ts"),
+        value("ws"),
+    );
+    let prop = propagate(&s1, &s2, d, statics)?;
+    if let Some(p) = &prop {
+        widen(&mut s2, p);
+    }
+    let mut report = combine(&s1, &s2, prop.as_ref(), start);
+    report.parameters.0.sort_by_key(|(n, _)| order_key(n));
+    Ok(FrictionFit { report, steady: Some(s1), transient: Some(s2), law })
+}
 
-    let mut report = match (&stage1, &mut stage2, transient) {
-        (Some(s1), None, _) => s1.report.clone(),
-        (None, Some(s2), _) => {
-            // Show the static parameters the stage held, ahead of its own.
-            let mut r = s2.report.clone();
-            let mut params = Vec::new();
-            for name in STATIC_PARAMS {
-                let (v, why) = match fixed.get(name) {
-                    Some(v) => (v, "--fix"),
-                    None => (default_of(name), "registry default; no steady-state data"),
-                };
-                params.push(held(name, v, why)?);
-            }
-            params.append(&mut r.parameters.0);
-            r.parameters = Parameters(params);
-            r.remarks.push(
-                "the errors of sigma0 and sigma1 are conditional on the static parameters held above".into(),
-            );
-            r
-        }
-        (Some(s1), Some(s2), Some(d)) => {
-            let prop = propagate(s1, s2, d, statics)?;
-            if let Some(p) = &prop {
-                widen(s2, p);
-            }
-            combine(s1, s2, prop.as_ref(), start)
-        }
-        _ => unreachable!("at least one data set, checked above"),
-    };
-    report.parameters.0.sort_by_key(|(n, _)| REGISTRY.iter().position(|p| p.name == n));
-    Ok(FrictionFit { report, steady: stage1, transient: stage2, law })
+/// Report order: registry order, the offset last.
+fn order_key(name: &str) -> usize {
+    REGISTRY.iter().position(|p| p.name == name).unwrap_or(usize::MAX)
 }
 
 /// Replace the dynamic stage's conditional errors by the propagated ones, and re-judge.

@@ -2,10 +2,15 @@
 //! dynamic stage (σ0, σ1 from a time series, static parameters held) and the two in order.
 
 mod combined;
+pub mod joint;
 mod propagate;
+pub mod quasi_steady;
 mod steady;
 mod transient;
 
-pub use combined::{FRICTION_PARAMS, FrictionFit, fit_friction};
-pub use steady::{STATIC_PARAMS, SteadyProblem};
+pub use combined::{
+    ASYMMETRIC_PARAMS, FRICTION_PARAMS, FrictionFit, fit_friction, fit_friction_with,
+};
+pub use joint::{FrictionOptions, OFFSET, fit_joint};
+pub use steady::{STATIC_PARAMS, SteadyOptions, SteadyProblem};
 pub use transient::{DYNAMIC_PARAMS, TransientProblem, bristle_states, solver_options};

@@ -16,27 +16,52 @@ pub const STATIC_PARAMS: [&str; 4] = ["Tc", "Ts", "sigma2", "ws"];
 pub const WS_RANGE_FACTOR: f64 = 10.0;
 
 /// A LuGre law with only the static parameters set (the others do not affect the steady
-/// torque).
-fn static_law(tc: f64, ts: f64, sigma2: f64, ws: f64) -> LuGre {
-    LuGre { sigma0: 1.0, sigma1: 0.0, sigma2, tc, ts, ws }
+/// torque): levels `[Tc, Ts, Tc_neg, Ts_neg]`.
+fn static_law(levels: [f64; 4], sigma2: f64, ws: f64) -> LuGre {
+    let [tc, ts, tc_neg, ts_neg] = levels;
+    LuGre { sigma0: 1.0, sigma1: 0.0, sigma2, tc, ts, ws, tc_neg, ts_neg }
+}
+
+/// Optional terms of the static fit.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct SteadyOptions {
+    /// Separate levels `Tc_neg`, `Ts_neg` for negative speeds.
+    pub asymmetric: bool,
+    /// A constant torque offset of the measurement.
+    pub offset: bool,
 }
 
 /// The static friction problem on one steady-state sweep.
 pub struct SteadyProblem<'a> {
     data: &'a SteadyData,
     speed_range: (f64, f64),
+    opts: SteadyOptions,
 }
 
 impl<'a> SteadyProblem<'a> {
-    /// Set up the problem on `data`.
+    /// Set up the symmetric problem without offset on `data`.
     pub fn new(data: &'a SteadyData) -> Self {
+        Self::with_options(data, SteadyOptions::default())
+    }
+
+    /// Set up the problem on `data` with the optional terms of `opts`.
+    pub fn with_options(data: &'a SteadyData, opts: SteadyOptions) -> Self {
         let speeds = data.omega().iter().map(|w| w.abs());
         let (lo, hi) = speeds.fold((f64::INFINITY, 0.0f64), |(l, h), w| (l.min(w), h.max(w)));
-        Self { data, speed_range: (lo, hi) }
+        Self { data, speed_range: (lo, hi), opts }
     }
 
     fn curve(&self, law: &LuGre) -> Vec<f64> {
         self.data.omega().iter().map(|&w| law.steady_torque(w)).collect()
+    }
+
+    /// Levels `[Tc, Ts, Tc_neg, Ts_neg]` from the linear parameters `beta`.
+    fn levels(&self, beta: &[f64]) -> [f64; 4] {
+        if self.opts.asymmetric {
+            [beta[0], beta[1], beta[2], beta[3]]
+        } else {
+            [beta[0], beta[1], beta[0], beta[1]]
+        }
     }
 }
 
@@ -45,7 +70,12 @@ impl Separable for SteadyProblem<'_> {
         "friction-static"
     }
     fn linear_names(&self) -> &'static [&'static str] {
-        &["Tc", "Ts", "sigma2"]
+        match (self.opts.asymmetric, self.opts.offset) {
+            (false, false) => &["Tc", "Ts", "sigma2"],
+            (false, true) => &["Tc", "Ts", "sigma2", "offset"],
+            (true, false) => &["Tc", "Ts", "Tc_neg", "Ts_neg", "sigma2"],
+            (true, true) => &["Tc", "Ts", "Tc_neg", "Ts_neg", "sigma2", "offset"],
+        }
     }
     fn nonlinear_name(&self) -> &'static str {
         "ws"
@@ -57,25 +87,43 @@ impl Separable for SteadyProblem<'_> {
         self.data.torque()
     }
     fn basis(&self, q: f64) -> Result<Basis, FitError> {
-        let columns = vec![
-            self.curve(&static_law(1.0, 0.0, 0.0, q)),
-            self.curve(&static_law(0.0, 1.0, 0.0, q)),
-            self.curve(&static_law(0.0, 0.0, 1.0, q)),
-        ];
+        let unit_levels: Vec<[f64; 4]> = if self.opts.asymmetric {
+            vec![
+                [1.0, 0.0, 0.0, 0.0],
+                [0.0, 1.0, 0.0, 0.0],
+                [0.0, 0.0, 1.0, 0.0],
+                [0.0, 0.0, 0.0, 1.0],
+            ]
+        } else {
+            vec![[1.0, 0.0, 1.0, 0.0], [0.0, 1.0, 0.0, 1.0]]
+        };
+        let mut columns: Vec<Vec<f64>> =
+            unit_levels.into_iter().map(|l| self.curve(&static_law(l, 0.0, q))).collect();
+        columns.push(self.curve(&static_law([0.0; 4], 1.0, q)));
+        if self.opts.offset {
+            columns.push(vec![1.0; self.data.len()]);
+        }
         Ok(Basis { columns, offset: None })
     }
     fn predict(&self, beta: &[f64], q: f64) -> Result<Vec<f64>, FitError> {
-        Ok(self.curve(&static_law(beta[0], beta[1], beta[2], q)))
+        let k = if self.opts.asymmetric { 4 } else { 2 };
+        let offset = if self.opts.offset { beta[k + 1] } else { 0.0 };
+        let curve = self.curve(&static_law(self.levels(beta), beta[k], q));
+        Ok(curve.into_iter().map(|v| v + offset).collect())
     }
     fn explain(&self, name: &str, _values: &[(&'static str, f64)]) -> Explanation {
         let (lo, hi) = self.speed_range;
         let (effect, remedy) = match name {
-            "Tc" => (
-                "the Coulomb level Tc".into(),
+            "offset" => (
+                "the torque offset".into(),
+                "on a steady-state table it cannot be told from the difference between the two directions' levels; a time series through reversals, or a known zero, would fix it".into(),
+            ),
+            "Tc" | "Tc_neg" => (
+                format!("the Coulomb level {name}"),
                 format!("speeds well above ωs (here |ω| ≤ {hi:.3e} rad/s) would reveal it"),
             ),
-            "Ts" => (
-                "the static level Ts".into(),
+            "Ts" | "Ts_neg" => (
+                format!("the static level {name}"),
                 format!("speeds well below ωs (here |ω| ≥ {lo:.3e} rad/s) would reveal it"),
             ),
             "sigma2" => (

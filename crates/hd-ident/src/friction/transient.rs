@@ -61,7 +61,7 @@ impl<'a> TransientProblem<'a> {
         let median = steps[steps.len() / 2];
         let median_step =
             if median > 0.0 { median } else { steps.iter().sum::<f64>() / steps.len() as f64 };
-        let statics = LuGre { sigma0: 1.0, sigma1: 0.0, sigma2, tc, ts, ws };
+        let statics = LuGre::symmetric(1.0, 0.0, sigma2, tc, ts, ws);
         Self { data, statics, median_step }
     }
 
@@ -93,7 +93,7 @@ impl Separable for TransientProblem<'_> {
         "sigma0"
     }
     fn search_range(&self) -> (f64, f64) {
-        let level = self.statics.ts.max(self.statics.tc);
+        let level = self.statics.max_level();
         let span = self.displacement_span().max(self.median_step);
         (level / (SIGMA0_LOW_SPAN * span), SIGMA0_HIGH_PER_SAMPLE * level / self.median_step)
     }

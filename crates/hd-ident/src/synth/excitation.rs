@@ -53,6 +53,67 @@ impl Signal for GrowingSine {
     }
 }
 
+/// A joint friction test as rigs run it: the speed steps through plateaus at log-spaced
+/// levels from `omega_min` to `omega_max`, each level held first forwards and then
+/// backwards, joined by smooth raised-cosine transitions (so every reversal passes
+/// slowly through zero, where the bristles' pre-sliding shows). Starts and ends at rest.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PlateauProfile {
+    /// Slowest plateau speed [rad/s].
+    pub omega_min: f64,
+    /// Fastest plateau speed [rad/s].
+    pub omega_max: f64,
+    /// Number of levels.
+    pub levels: usize,
+    /// Time held at each plateau [s].
+    pub dwell: f64,
+    /// Duration of each transition [s].
+    pub transition: f64,
+}
+
+impl PlateauProfile {
+    /// The plateau speeds in order: +v1, −v1, +v2, −v2, …
+    fn targets(&self) -> Vec<f64> {
+        let m = self.levels.max(1);
+        let ratio =
+            if m > 1 { (self.omega_max / self.omega_min).ln() / (m - 1) as f64 } else { 0.0 };
+        (0..m)
+            .flat_map(|k| {
+                let v = self.omega_min * (ratio * k as f64).exp();
+                [v, -v]
+            })
+            .collect()
+    }
+
+    /// Total duration [s]: every plateau with its incoming transition, and a final
+    /// transition back to rest.
+    pub fn duration(&self) -> f64 {
+        self.targets().len() as f64 * (self.dwell + self.transition) + self.transition
+    }
+}
+
+impl Signal for PlateauProfile {
+    fn at(&self, t: f64) -> [f64; 3] {
+        let targets = self.targets();
+        let period = self.dwell + self.transition;
+        let k = (t.max(0.0) / period).floor() as usize;
+        let (from, to) = match k {
+            0 => (0.0, targets[0]),
+            k if k < targets.len() => (targets[k - 1], targets[k]),
+            _ => (targets[targets.len() - 1], 0.0),
+        };
+        let tau = t - k as f64 * period;
+        if k > targets.len() || tau >= self.transition {
+            let held = if k >= targets.len() && tau >= self.transition { 0.0 } else { to };
+            return [held, 0.0, 0.0];
+        }
+        let w = std::f64::consts::PI / self.transition;
+        let (s, c) = (w * tau).sin_cos();
+        let d = to - from;
+        [from + d * (1.0 - c) / 2.0, d * w * s / 2.0, d * w * w * c / 2.0]
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -72,5 +133,36 @@ mod tests {
         check_derivatives(&s, 0.0123, 300.0);
         let g = GrowingSine { peak: 1.0, frequency: 50.0, decades: 2.0, duration: 0.1 };
         check_derivatives(&g, 0.0377, 300.0);
+        let p = PlateauProfile {
+            omega_min: 0.01,
+            omega_max: 1.0,
+            levels: 3,
+            dwell: 0.2,
+            transition: 0.05,
+        };
+        check_derivatives(&p, 0.27, 100.0);
+        check_derivatives(&p, 0.51, 100.0);
+    }
+
+    #[test]
+    fn plateaus_hold_their_levels_and_end_at_rest() {
+        let p = PlateauProfile {
+            omega_min: 0.01,
+            omega_max: 1.0,
+            levels: 3,
+            dwell: 0.2,
+            transition: 0.05,
+        };
+        assert_eq!(p.at(0.0)[0], 0.0);
+        assert!((p.at(0.1)[0] - 0.01).abs() < 1e-15);
+        assert!((p.at(0.35)[0] + 0.01).abs() < 1e-15);
+        assert!((p.at(1.4)[0] + 1.0).abs() < 1e-15);
+        assert!((p.duration() - 1.55).abs() < 1e-12);
+        assert!(p.at(p.duration() - 1e-9)[0].abs() < 1e-6);
+        // Continuous at every segment boundary.
+        for k in 1..7 {
+            let tb = k as f64 * 0.25;
+            assert!((p.at(tb - 1e-12)[0] - p.at(tb + 1e-12)[0]).abs() < 1e-9, "at {tb}");
+        }
     }
 }

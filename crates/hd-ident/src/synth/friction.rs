@@ -3,7 +3,7 @@
 //! hd-model's Rodas4.
 
 use super::Synthetic;
-use super::excitation::GrowingSine;
+use super::excitation::{GrowingSine, PlateauProfile};
 use super::noise::{Noise, add_noise};
 use crate::error::FitError;
 use crate::path::{BristleAlong, Signal, state_at_samples};
@@ -16,7 +16,7 @@ fn setting(field: &'static str, value: impl ToString, expected: &str) -> FitErro
 }
 
 fn lugre(p: &Params) -> LuGre {
-    LuGre { sigma0: p.sigma0, sigma1: p.sigma1, sigma2: p.sigma2, tc: p.tc, ts: p.ts, ws: p.ws }
+    LuGre::from_params(p)
 }
 
 /// A steady-state sweep: log-spaced speeds of both signs.
@@ -169,6 +169,88 @@ pub fn synth_transient(
         p.tc,
         p.ts,
         p.ws,
+        noise.relative,
+        sd,
+        noise.seed
+    );
+    Ok(Synthetic {
+        names: vec!["t", "omega", "torque"],
+        columns: vec![t, omega, torque],
+        noise_std: sd,
+        description,
+    })
+}
+
+/// Columns `t, omega, torque` of a joint friction test ([`PlateauProfile`]) sampled
+/// every `dt` [s]: the LuGre torque along the imposed speed from rest, plus noise.
+pub fn synth_plateaus(
+    p: &Params,
+    profile: &PlateauProfile,
+    dt: f64,
+    noise: &Noise,
+) -> Result<Synthetic, FitError> {
+    p.validate()?;
+    let ok = |v: f64| v > 0.0 && v.is_finite();
+    if !(ok(profile.omega_min) && profile.omega_max >= profile.omega_min && ok(profile.omega_max)) {
+        return Err(setting(
+            "speed range",
+            format!("[{}, {}]", profile.omega_min, profile.omega_max),
+            "0 < omega_min <= omega_max [rad/s]",
+        ));
+    }
+    if !(ok(profile.dwell) && ok(profile.transition) && profile.levels >= 1) {
+        return Err(setting(
+            "levels x dwell x transition",
+            format!("{} x {} x {}", profile.levels, profile.dwell, profile.transition),
+            "at least 1 level, dwell and transition > 0 [s]",
+        ));
+    }
+    let duration = profile.duration();
+    if !(ok(dt) && dt < profile.transition / 4.0) {
+        return Err(setting(
+            "sample interval",
+            dt,
+            "a value > 0 and below a quarter of the transition [s]",
+        ));
+    }
+    let n = (duration / dt).floor() as usize + 1;
+    let t: Vec<f64> = (0..n).map(|k| k as f64 * dt).collect();
+    let law = LuGre::from_params(p);
+    let sys = BristleAlong { law, speed: profile };
+    let opts =
+        SolverOptions { method: Method::Rodas4, rtol: 1e-10, atol: 1e-10, ..Default::default() };
+    let w = state_at_samples(&sys, &t, 0.0, &opts).map_err(|source| FitError::Solver {
+        what: "the LuGre bristle state along the joint-test profile".into(),
+        source,
+    })?;
+    let (omega, mut torque): (Vec<f64>, Vec<f64>) = t
+        .iter()
+        .zip(&w)
+        .map(|(&ti, &wi)| {
+            let v = profile.at(ti)[0];
+            (v, law.eval(v, wi).torque)
+        })
+        .unzip();
+    let sd = add_noise(&mut torque, noise);
+    let description = format!(
+        "friction joint test: {} speed levels from {:e} to {:e} rad/s, each held {} s forwards then backwards, \
+         raised-cosine transitions of {} s, sampled every {} s ({} rows); sigma0={:e}, sigma1={:e}, sigma2={:e}, \
+         Tc={:e}, Ts={:e}, ws={:e}, Tc_neg={:e}, Ts_neg={:e}; Gaussian noise {} x RMS torque = {:.4e} N·m (seed {})",
+        profile.levels,
+        profile.omega_min,
+        profile.omega_max,
+        profile.dwell,
+        profile.transition,
+        dt,
+        n,
+        p.sigma0,
+        p.sigma1,
+        p.sigma2,
+        p.tc,
+        p.ts,
+        p.ws,
+        law.tc_neg,
+        law.ts_neg,
         noise.relative,
         sd,
         noise.seed

@@ -7,8 +7,10 @@ mod friction;
 mod hysteresis;
 mod noise;
 
-pub use excitation::{GrowingSine, SumOfSines};
-pub use friction::{SteadySweep, TransientExcitation, synth_steady, synth_transient};
+pub use excitation::{GrowingSine, PlateauProfile, SumOfSines};
+pub use friction::{
+    SteadySweep, TransientExcitation, synth_plateaus, synth_steady, synth_transient,
+};
 pub use hysteresis::{HysteresisExcitation, synth_hysteresis};
 pub use noise::{Noise, add_noise};
 

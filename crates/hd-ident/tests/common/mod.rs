@@ -51,3 +51,20 @@ pub fn covers(r: &FitReport, p: &Params, name: &str) -> bool {
     let truth = p.get(name).unwrap();
     r.parameters.get(name).unwrap().ci95.is_some_and(|[lo, hi]| lo <= truth && truth <= hi)
 }
+
+/// The default joint-test profile: 8 levels from 1e-3 to 1 rad/s, 0.25 s dwell, 0.05 s
+/// transitions, sampled at 5 kHz (24 751 samples).
+pub fn joint_profile() -> hd_ident::synth::PlateauProfile {
+    hd_ident::synth::PlateauProfile {
+        omega_min: 1e-3,
+        omega_max: 1.0,
+        levels: 8,
+        dwell: 0.25,
+        transition: 0.05,
+    }
+}
+
+pub fn joint_data(p: &Params, noise: Noise) -> TransientData {
+    let c = hd_ident::synth::synth_plateaus(p, &joint_profile(), 2e-4, &noise).unwrap().columns;
+    TransientData::new(c[0].clone(), c[1].clone(), c[2].clone()).unwrap()
+}

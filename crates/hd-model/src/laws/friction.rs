@@ -87,18 +87,56 @@ pub struct LuGre {
     pub ts: f64,
     /// Stribeck velocity ωs [rad/s].
     pub ws: f64,
+    /// Coulomb torque for negative speeds [N·m] (equal to `tc` for a symmetric law).
+    pub tc_neg: f64,
+    /// Static torque for negative speeds [N·m] (equal to `ts` for a symmetric law).
+    pub ts_neg: f64,
 }
 
 impl LuGre {
-    /// Stribeck level `σ0·g(v) = Tc + (Ts − Tc)·e^{−(v/ωs)²}` [N·m] and its derivative
-    /// with respect to v [N·m·s/rad].
+    /// A direction-independent law: the negative-side levels equal Tc and Ts.
+    pub fn symmetric(sigma0: f64, sigma1: f64, sigma2: f64, tc: f64, ts: f64, ws: f64) -> Self {
+        Self { sigma0, sigma1, sigma2, tc, ts, ws, tc_neg: tc, ts_neg: ts }
+    }
+
+    /// The law with the parameters' values (negative-side levels default to Tc, Ts).
+    pub fn from_params(p: &crate::Params) -> Self {
+        Self {
+            sigma0: p.sigma0,
+            sigma1: p.sigma1,
+            sigma2: p.sigma2,
+            tc: p.tc,
+            ts: p.ts,
+            ws: p.ws,
+            tc_neg: p.tc_neg.unwrap_or(p.tc),
+            ts_neg: p.ts_neg.unwrap_or(p.ts),
+        }
+    }
+
+    /// Coulomb and static levels for sliding speed v: `(Tc, Ts)` for v ≥ 0,
+    /// `(Tc_neg, Ts_neg)` for v < 0 [N·m].
+    #[inline]
+    pub fn levels(&self, v: f64) -> (f64, f64) {
+        if v < 0.0 { (self.tc_neg, self.ts_neg) } else { (self.tc, self.ts) }
+    }
+
+    /// Stribeck level `σ0·g(v) = Tc + (Ts − Tc)·e^{−(v/ωs)²}` [N·m] (with the
+    /// negative-side levels for v < 0) and its derivative with respect to v [N·m·s/rad].
+    /// With asymmetric levels the level jumps at v = 0; the bristle rate stays continuous
+    /// there because it multiplies the level's inverse by |v|.
     #[inline]
     pub fn stribeck(&self, v: f64) -> (f64, f64) {
+        let (tc, ts) = self.levels(v);
         let r = v / self.ws;
         let e = (-(r * r)).exp();
-        let level = self.tc + (self.ts - self.tc) * e;
-        let slope = (self.ts - self.tc) * e * (-2.0 * r / self.ws);
+        let level = tc + (ts - tc) * e;
+        let slope = (ts - tc) * e * (-2.0 * r / self.ws);
         (level, slope)
+    }
+
+    /// Largest of the four levels [N·m]: a scale for the bristle torque w.
+    pub fn max_level(&self) -> f64 {
+        self.tc.max(self.ts).max(self.tc_neg).max(self.ts_neg)
     }
 }
 

@@ -1,0 +1,656 @@
+//! The joint friction fit: every LuGre parameter from one time series of speed and
+//! torque, with no steady-state sweep.
+//!
+//! The model is `Tf = w + σ1·ṡ + σ2·v (+ offset)`, where the bristle torque w = σ0·s runs
+//! along the measured speed ([`bristle_states`], hd-model's LuGre law integrated by its
+//! Rodas4). For given levels and rates (Tc, Ts, ωs, σ0 and, with `asymmetric`, Tc_neg,
+//! Ts_neg) w and ṡ are fixed, so σ1, σ2 and the offset follow by bounded linear least
+//! squares (variable projection); the nonlinear ones are refined together by
+//! Levenberg–Marquardt over their logarithms ([`crate::lm`]).
+//!
+//! The pipeline, each step tolerant of failed trials:
+//! 1. start the static parameters from quasi-steady samples of the series itself
+//!    ([`quasi_steady`]) with the static fit, or from plain torque levels when the series
+//!    has too few;
+//! 2. start σ0 by a global search over ln σ0 (grid + Brent), the others held;
+//! 3. refine all free parameters jointly from that start and from [`EXTRA_STARTS`]
+//!    perturbed ones (real data have local optima); the best wins;
+//! 4. standard errors, intervals, correlations and determined flags from the Jacobian at
+//!    the optimum, as for every fit.
+
+use super::quasi_steady::quasi_steady;
+use super::steady::{SteadyOptions, SteadyProblem};
+use super::transient::bristle_states;
+use crate::data::{TransientData, require_samples};
+use crate::error::{FitError, chain};
+use crate::fix::Fixed;
+use crate::linear::bounded_least_squares;
+use crate::lm::{LmOptions, levenberg_marquardt};
+use crate::report::{
+    Correlation, Estimate, Explanation, FitReport, Judgement, Parameters, SearchSummary, judge,
+};
+use crate::search::{GRID_POINTS, search_log};
+use crate::separable::{SeparableFit, fit_separable};
+use crate::uncertainty::covariance;
+use hd_model::laws::friction::{FrictionLaw, LuGre};
+use hd_model::registry::lookup;
+use rayon::prelude::*;
+use std::time::Instant;
+
+/// Which optional terms the friction fits include.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct FrictionOptions {
+    /// Separate Coulomb and static levels for negative speeds (`Tc_neg`, `Ts_neg`).
+    pub asymmetric: bool,
+    /// A constant torque offset of the measurement (`offset` [N·m]).
+    pub offset: bool,
+}
+
+pub use crate::fix::OFFSET;
+
+/// Perturbed starts refined besides the main one (ωs and σ0 moved by a factor each way).
+pub const EXTRA_STARTS: usize = 4;
+/// Factor by which the extra starts move ωs and σ0.
+pub const START_FACTOR: f64 = 5.0;
+
+const NONLINEAR_ALL: [&str; 6] = ["Tc", "Ts", "ws", "sigma0", "Tc_neg", "Ts_neg"];
+const LINEAR_ALL: [&str; 3] = ["sigma1", "sigma2", OFFSET];
+
+/// Unit of a parameter of the friction fits.
+fn unit_of(name: &str) -> &'static str {
+    crate::fix::fitted_info(name).map_or("", |i| i.0)
+}
+
+/// The joint problem on one series.
+pub struct JointProblem<'a> {
+    data: &'a TransientData,
+    /// Free nonlinear parameters, in [`NONLINEAR_ALL`] order.
+    nonlinear: Vec<&'static str>,
+    /// Linear parameters in the model, in [`LINEAR_ALL`] order, with their fixed values.
+    linear: Vec<(&'static str, Option<f64>)>,
+    /// Values of every nonlinear parameter (fixed ones stay; free ones are overwritten).
+    base: [f64; 6],
+    asymmetric: bool,
+}
+
+/// The model's pieces for one set of nonlinear values.
+struct Pieces {
+    /// Torque with σ1 = σ2 = 0 and no offset: the bristle torque w [N·m].
+    w: Vec<f64>,
+    /// One column per model linear parameter.
+    columns: Vec<Vec<f64>>,
+}
+
+/// A projected solution: the linear parameters and the residuals.
+struct Projected {
+    pieces: Pieces,
+    beta: Vec<f64>,
+    at_bound: Vec<bool>,
+    residuals: Vec<f64>,
+}
+
+impl<'a> JointProblem<'a> {
+    /// Set up the problem with `fixed` values held and `start` values for the rest.
+    fn new(
+        data: &'a TransientData,
+        fixed: &Fixed,
+        opts: FrictionOptions,
+        start: &[(&'static str, f64)],
+    ) -> Self {
+        let asymmetric = opts.asymmetric;
+        let value = |name: &str| {
+            fixed
+                .get(name)
+                .or_else(|| start.iter().find(|(n, _)| *n == name).map(|v| v.1))
+                .unwrap_or_else(|| lookup(name).map_or(0.0, |i| i.default_value()))
+        };
+        let mut base = NONLINEAR_ALL.map(value);
+        if !asymmetric {
+            base[4] = base[0];
+            base[5] = base[1];
+        }
+        let nonlinear = NONLINEAR_ALL
+            .iter()
+            .take(if asymmetric { 6 } else { 4 })
+            .copied()
+            .filter(|n| fixed.get(n).is_none())
+            .collect();
+        let linear = LINEAR_ALL
+            .iter()
+            .copied()
+            .filter(|&n| n != OFFSET || opts.offset)
+            .map(|n| (n, if n == OFFSET { None } else { fixed.get(n) }))
+            .collect();
+        Self { data, nonlinear, linear, base, asymmetric }
+    }
+
+    /// All nonlinear values with the free ones taken from `x` (logarithms).
+    fn values(&self, x: &[f64]) -> [f64; 6] {
+        let mut v = self.base;
+        for (name, xi) in self.nonlinear.iter().zip(x) {
+            let k = NONLINEAR_ALL.iter().position(|n| n == name).expect("a nonlinear name");
+            v[k] = xi.exp();
+        }
+        if !self.asymmetric {
+            v[4] = v[0];
+            v[5] = v[1];
+        }
+        v
+    }
+
+    fn x_of(&self, values: &[f64; 6]) -> Vec<f64> {
+        self.nonlinear
+            .iter()
+            .map(|name| values[NONLINEAR_ALL.iter().position(|n| n == name).unwrap()].ln())
+            .collect()
+    }
+
+    fn pieces(&self, v: &[f64; 6]) -> Result<Pieces, FitError> {
+        let law = LuGre {
+            sigma0: v[3],
+            sigma1: 0.0,
+            sigma2: 0.0,
+            tc: v[0],
+            ts: v[1],
+            ws: v[2],
+            tc_neg: v[4],
+            ts_neg: v[5],
+        };
+        let (t, omega) = (self.data.t(), self.data.omega());
+        let w = bristle_states(t, omega, &law)?;
+        let mut columns = Vec::with_capacity(self.linear.len());
+        for (name, _) in &self.linear {
+            let col: Vec<f64> = match *name {
+                "sigma1" => omega
+                    .iter()
+                    .zip(&w)
+                    .map(|(&o, &wk)| law.eval(o, wk).w_rate / law.sigma0)
+                    .collect(),
+                "sigma2" => omega.to_vec(),
+                _ => vec![1.0; omega.len()],
+            };
+            columns.push(col);
+        }
+        if w.iter().chain(columns.iter().flatten()).any(|v| !v.is_finite()) {
+            return Err(FitError::Optimiser(format!(
+                "non-finite bristle state with sigma0 = {:e}",
+                law.sigma0
+            )));
+        }
+        Ok(Pieces { w, columns })
+    }
+
+    fn project(&self, v: &[f64; 6]) -> Result<Projected, FitError> {
+        let pieces = self.pieces(v)?;
+        let y = self.data.torque();
+        let mut target: Vec<f64> = y.iter().zip(&pieces.w).map(|(a, b)| a - b).collect();
+        let mut free = Vec::new();
+        for (j, (_, fixed)) in self.linear.iter().enumerate() {
+            match fixed {
+                Some(val) => {
+                    target.iter_mut().zip(&pieces.columns[j]).for_each(|(t, c)| *t -= val * c)
+                }
+                None => free.push(j),
+            }
+        }
+        let bounds = |j: usize| -> (f64, f64) {
+            match self.linear[j].0 {
+                OFFSET => (f64::NEG_INFINITY, f64::INFINITY),
+                name => lookup(name).map_or((f64::NEG_INFINITY, f64::INFINITY), |i| (i.min, i.max)),
+            }
+        };
+        let cols: Vec<&[f64]> = free.iter().map(|&j| pieces.columns[j].as_slice()).collect();
+        let lo: Vec<f64> = free.iter().map(|&j| bounds(j).0).collect();
+        let hi: Vec<f64> = free.iter().map(|&j| bounds(j).1).collect();
+        let sol = bounded_least_squares(&cols, &target, &lo, &hi);
+        let mut beta: Vec<f64> = self.linear.iter().map(|(_, f)| f.unwrap_or(0.0)).collect();
+        let mut at_bound = vec![false; beta.len()];
+        for (k, &j) in free.iter().enumerate() {
+            beta[j] = sol.coef[k];
+            at_bound[j] = sol.at_bound[k];
+        }
+        let mut residuals = target;
+        for (k, &j) in free.iter().enumerate() {
+            residuals.iter_mut().zip(&pieces.columns[j]).for_each(|(r, c)| *r -= sol.coef[k] * c);
+        }
+        Ok(Projected { pieces, beta, at_bound, residuals })
+    }
+
+    fn rss_at(&self, v: &[f64; 6]) -> Result<f64, FitError> {
+        Ok(self.project(v)?.residuals.iter().map(|r| r * r).sum())
+    }
+
+    /// Range of σ0 worth searching, from the record: see [`super::transient`].
+    fn sigma0_range(&self, level: f64) -> (f64, f64) {
+        let (t, w) = (self.data.t(), self.data.omega());
+        let mut steps: Vec<f64> =
+            (1..t.len()).map(|k| 0.5 * (w[k].abs() + w[k - 1].abs()) * (t[k] - t[k - 1])).collect();
+        steps.sort_by(f64::total_cmp);
+        let median = steps[steps.len() / 2];
+        let step =
+            if median > 0.0 { median } else { steps.iter().sum::<f64>() / steps.len() as f64 };
+        let (mut x, mut lo, mut hi) = (0.0f64, 0.0f64, 0.0f64);
+        for k in 1..t.len() {
+            x += 0.5 * (w[k] + w[k - 1]) * (t[k] - t[k - 1]);
+            lo = lo.min(x);
+            hi = hi.max(x);
+        }
+        let span = (hi - lo).max(step);
+        (
+            level / (super::transient::SIGMA0_LOW_SPAN * span),
+            super::transient::SIGMA0_HIGH_PER_SAMPLE * level / step,
+        )
+    }
+
+    fn explain(&self, name: &str, v: &[f64; 6]) -> Explanation {
+        let (lo, hi) = speed_range(self.data.omega());
+        let presliding = v[1].max(v[5]) / v[3];
+        let (effect, remedy) = match name {
+            "Tc" | "Tc_neg" => (
+                format!("the Coulomb level {name}"),
+                format!("sliding well above ωs ≈ {:.2e} rad/s (here |ω| up to {hi:.2e} rad/s) in that direction would reveal it", v[2]),
+            ),
+            "Ts" | "Ts_neg" => (
+                format!("the static level {name}"),
+                format!("slow sliding well below ωs ≈ {:.2e} rad/s (here |ω| from {lo:.2e} rad/s) in that direction would reveal it", v[2]),
+            ),
+            "ws" => (
+                "the Stribeck speed ωs".into(),
+                format!("sliding at speeds spread from well below to well above ωs (here |ω| from {lo:.2e} to {hi:.2e} rad/s) would reveal it"),
+            ),
+            "sigma0" => (
+                "the bristle stiffness σ0 (pre-sliding)".into(),
+                format!("reversals sampled finely enough to resolve the pre-sliding displacement Ts/σ0 ≈ {presliding:.2e} rad would reveal it"),
+            ),
+            "sigma1" => (
+                "the bristle damping σ1·ṡ".into(),
+                format!("fast reversals that cross the pre-sliding displacement ≈ {presliding:.2e} rad quickly, finely sampled, would reveal it"),
+            ),
+            "sigma2" => (
+                "the viscous torque σ2·ω".into(),
+                format!("faster sliding than |ω| ≤ {hi:.2e} rad/s would reveal it; a value consistent with 0 means no viscous friction shows in the data"),
+            ),
+            _ => (
+                "the torque offset".into(),
+                "it is confounded with the difference between the two directions' levels unless the record shows the torque pass through the pre-sliding range at reversals; a record with a known zero (the drive at rest, unloaded) would fix it".into(),
+            ),
+        };
+        Explanation { effect, remedy }
+    }
+}
+
+fn speed_range(omega: &[f64]) -> (f64, f64) {
+    omega
+        .iter()
+        .map(|w| w.abs())
+        .filter(|w| *w > 0.0)
+        .fold((f64::INFINITY, 0.0f64), |(l, h), w| (l.min(w), h.max(w)))
+}
+
+/// Median of |x| over the samples where `keep` holds.
+fn median_abs(x: &[f64], keep: impl Fn(usize) -> bool) -> Option<f64> {
+    let mut v: Vec<f64> = (0..x.len()).filter(|&k| keep(k)).map(|k| x[k].abs()).collect();
+    if v.is_empty() {
+        return None;
+    }
+    v.sort_by(f64::total_cmp);
+    Some(v[v.len() / 2])
+}
+
+/// Start values of the static parameters (Tc, Ts, ωs, σ2, Tc_neg, Ts_neg) and how they
+/// were found.
+fn static_start(
+    data: &TransientData,
+    fixed: &Fixed,
+    opts: FrictionOptions,
+) -> (Vec<(&'static str, f64)>, String) {
+    let statics = ["Tc", "Ts", "ws", "sigma2", "Tc_neg", "Ts_neg"];
+    if let Some(table) = quasi_steady(data) {
+        let steady_opts = SteadyOptions { asymmetric: opts.asymmetric, offset: false };
+        let held = fixed.restricted_to(&statics);
+        let problem = SteadyProblem::with_options(&table, steady_opts);
+        if let Ok(fit) = fit_separable(&problem, &held) {
+            let start: Vec<(&'static str, f64)> =
+                fit.values.iter().copied().filter(|(_, v)| v.is_finite() && *v > 0.0).collect();
+            // A level the table could not separate (at its bound 0) falls back below.
+            let has = |name: &str| start.iter().any(|(n, _)| *n == name);
+            if has("Tc") && has("Ts") {
+                return (
+                    start,
+                    format!(
+                        "static start from {} quasi-steady points picked from the series (sliding past {:.0} % of each stroke, calm speed)",
+                        table.len(),
+                        100.0 * super::quasi_steady::MIN_STROKE_SHARE
+                    ),
+                );
+            }
+        }
+    }
+    let (t, w, y) = (data.t(), data.omega(), data.torque());
+    let _ = t;
+    let pos = median_abs(y, |k| w[k] > 0.0).unwrap_or(1.0).max(f64::MIN_POSITIVE);
+    let neg = median_abs(y, |k| w[k] < 0.0).unwrap_or(pos).max(f64::MIN_POSITIVE);
+    let speed = median_abs(w, |k| w[k] != 0.0).unwrap_or(1.0);
+    let mut start = vec![("Tc", pos), ("Ts", 1.2 * pos), ("ws", 0.1 * speed)];
+    if opts.asymmetric {
+        start.push(("Tc_neg", neg));
+        start.push(("Ts_neg", 1.2 * neg));
+    }
+    (start, "static start from the median torque on each side (too few quasi-steady samples for a static fit)".into())
+}
+
+/// One refined start.
+struct Refined {
+    values: [f64; 6],
+    rss: f64,
+    iterations: usize,
+    evaluations: usize,
+    failed: usize,
+    termination: String,
+}
+
+/// Fit every free LuGre parameter (and, by `opts`, the negative-side levels and the
+/// offset) to one time series.
+pub fn fit_joint(
+    data: &TransientData,
+    fixed: &Fixed,
+    opts: FrictionOptions,
+) -> Result<SeparableFit, FitError> {
+    let started = Instant::now();
+    let mut remarks = Vec::new();
+    let (start, how) = static_start(data, fixed, opts);
+    remarks.push(how);
+    let problem = JointProblem::new(data, fixed, opts, &start);
+    let free_linear: Vec<&str> =
+        problem.linear.iter().filter(|(_, f)| f.is_none()).map(|(n, _)| *n).collect();
+    let free_names: Vec<&str> =
+        problem.nonlinear.iter().copied().chain(free_linear.iter().copied()).collect();
+    if free_names.is_empty() {
+        return Err(FitError::NothingFree { fit: "friction" });
+    }
+    if let Some(w) = require_samples(data.len(), &free_names)? {
+        remarks.push(w);
+    }
+
+    // σ0's start: a global search over ln σ0 with the static start held.
+    let mut base = problem.base;
+    let mut search = None;
+    let mut evaluations = 0usize;
+    let mut failed = 0usize;
+    if problem.nonlinear.contains(&"sigma0") {
+        let level = base[0].max(base[1]).max(base[4]).max(base[5]);
+        let (mut lo, mut hi) = problem.sigma0_range(level);
+        lo = lo.max(f64::MIN_POSITIVE);
+        hi = hi.min(f64::MAX);
+        let cost = |s0: f64| {
+            let mut v = base;
+            v[3] = s0;
+            problem.rss_at(&v)
+        };
+        let out = search_log(&cost, lo, hi)?;
+        base[3] = out.value;
+        evaluations += out.evaluations as usize;
+        failed += out.failed_trials as usize;
+        if out.failed_trials > 0 {
+            remarks.push(format!(
+                "{} of the σ0 search's trials failed and counted as the worst cost (first: {})",
+                out.failed_trials,
+                out.first_failure.as_deref().unwrap_or("a non-finite cost")
+            ));
+        }
+        search = Some(SearchSummary {
+            parameter: "sigma0".into(),
+            range: [lo, hi],
+            grid_points: GRID_POINTS,
+            starts: out.starts,
+        });
+    }
+
+    // Joint refinement from the main start and the perturbed ones.
+    let mut starts = vec![base];
+    let k_ws = 2;
+    let k_s0 = 3;
+    for (k, factor) in [
+        (k_ws, START_FACTOR),
+        (k_ws, 1.0 / START_FACTOR),
+        (k_s0, START_FACTOR),
+        (k_s0, 1.0 / START_FACTOR),
+    ] {
+        if problem.nonlinear.contains(&NONLINEAR_ALL[k]) && starts.len() <= EXTRA_STARTS {
+            let mut v = base;
+            v[k] *= factor;
+            starts.push(v);
+        }
+    }
+    let residuals = |x: &[f64]| -> Result<Vec<f64>, FitError> {
+        let v = problem.values(x);
+        Ok(problem.project(&v)?.residuals)
+    };
+    let lm = LmOptions::default();
+    let refined: Vec<Result<Refined, FitError>> = starts
+        .iter()
+        .map(|v| {
+            let x0 = problem.x_of(v);
+            let out = levenberg_marquardt(&residuals, &x0, &lm)?;
+            Ok(Refined {
+                values: problem.values(&out.x),
+                rss: out.cost,
+                iterations: out.iterations,
+                evaluations: out.evaluations,
+                failed: out.failed_trials,
+                termination: out.termination,
+            })
+        })
+        .collect();
+    let mut best: Option<Refined> = None;
+    let mut iterations = 0usize;
+    let mut start_failures = Vec::new();
+    for r in refined {
+        match r {
+            Ok(r) => {
+                iterations += r.iterations;
+                evaluations += r.evaluations;
+                failed += r.failed;
+                if best.as_ref().is_none_or(|b| r.rss < b.rss) {
+                    best = Some(r);
+                }
+            }
+            Err(e) => start_failures.push(chain(&e)),
+        }
+    }
+    let Some(best) = best else {
+        return Err(FitError::Optimiser(format!(
+            "no start of the joint refinement could be evaluated ({})",
+            start_failures.join("; ")
+        )));
+    };
+    if !start_failures.is_empty() {
+        remarks.push(format!(
+            "{} of {} starts could not be evaluated and were skipped",
+            start_failures.len(),
+            starts.len()
+        ));
+    }
+    if failed > 0 {
+        remarks.push(format!("{failed} trial parameter sets failed to integrate or gave non-finite torques; each counted as a rejected trial"));
+    }
+    let fit = finish(
+        &problem,
+        &best.values,
+        started,
+        remarks,
+        search,
+        iterations,
+        evaluations,
+        &best.termination,
+        starts.len(),
+    )?;
+    Ok(fit)
+}
+
+/// Estimates, covariance and report at the optimum `v`.
+#[allow(clippy::too_many_arguments)]
+fn finish(
+    problem: &JointProblem,
+    v: &[f64; 6],
+    started: Instant,
+    remarks: Vec<String>,
+    search: Option<SearchSummary>,
+    iterations: usize,
+    evaluations: usize,
+    termination: &str,
+    starts: usize,
+) -> Result<SeparableFit, FitError> {
+    let proj = problem.project(v)?;
+    let y = problem.data.torque();
+    let n = y.len();
+    let fitted: Vec<f64> = y.iter().zip(&proj.residuals).map(|(a, r)| a - r).collect();
+    let rss: f64 = proj.residuals.iter().map(|r| r * r).sum();
+
+    // Sensitivities of the full prediction: nonlinear parameters by central differences
+    // in ln p (with the linear ones held), linear ones are their columns.
+    let h: f64 = 1e-4;
+    let beta = proj.beta.clone();
+    let predict = |vals: &[f64; 6]| -> Result<Vec<f64>, FitError> {
+        let p = problem.pieces(vals)?;
+        let mut out = p.w;
+        for (j, col) in p.columns.iter().enumerate() {
+            out.iter_mut().zip(col).for_each(|(o, c)| *o += beta[j] * c);
+        }
+        Ok(out)
+    };
+    let mut names: Vec<&'static str> = Vec::new();
+    let mut jac: Vec<Vec<f64>> = Vec::new();
+    let nl_cols: Vec<Result<Vec<f64>, FitError>> = problem
+        .nonlinear
+        .par_iter()
+        .map(|name| {
+            let k = NONLINEAR_ALL.iter().position(|n| n == name).unwrap();
+            let (mut up, mut down) = (*v, *v);
+            up[k] *= h.exp();
+            down[k] *= (-h).exp();
+            if !problem.asymmetric && k < 2 {
+                up[k + 4] = up[k];
+                down[k + 4] = down[k];
+            }
+            let (a, b) = (predict(&up)?, predict(&down)?);
+            let dp = v[k] * (h.exp() - (-h).exp());
+            Ok(a.iter().zip(&b).map(|(a, b)| (a - b) / dp).collect())
+        })
+        .collect();
+    for (name, col) in problem.nonlinear.iter().zip(nl_cols) {
+        names.push(name);
+        jac.push(col?);
+    }
+    for (j, (name, fixed)) in problem.linear.iter().enumerate() {
+        if fixed.is_none() {
+            names.push(name);
+            jac.push(proj.pieces.columns[j].clone());
+        }
+    }
+    let cov = covariance(&jac, rss);
+
+    let mut all: Vec<(&'static str, f64, bool)> = Vec::new(); // name, value, nonlinear
+    let nl_count = if problem.asymmetric { 6 } else { 4 };
+    for (k, name) in NONLINEAR_ALL.iter().enumerate().take(nl_count) {
+        all.push((name, v[k], true));
+    }
+    for (j, (name, _)) in problem.linear.iter().enumerate() {
+        all.push((name, proj.beta[j], false));
+    }
+    let mut params = Parameters::default();
+    for &(name, value, nonlinear) in &all {
+        let unit = unit_of(name);
+        let Some(k) = names.iter().position(|n| *n == name) else {
+            params.0.push((name.to_string(), Estimate::held(value, unit, "fixed")));
+            continue;
+        };
+        let col_rms = (jac[k].iter().map(|x| x * x).sum::<f64>() / n as f64).sqrt();
+        let contribution =
+            if nonlinear { 0.01 * value.abs() * col_rms } else { value.abs() * col_rms };
+        let strongest = (0..names.len())
+            .filter(|&o| o != k)
+            .filter_map(|o| cov.correlation[k][o].map(|r| (names[o], r)))
+            .max_by(|a, b| a.1.abs().total_cmp(&b.1.abs()));
+        let at_bound = if nonlinear {
+            None
+        } else {
+            let j = problem.linear.iter().position(|(n, _)| *n == name).unwrap();
+            proj.at_bound[j].then_some(value)
+        };
+        let at_edge = match (&search, name) {
+            (Some(s), "sigma0") if value <= s.range[0] * 1.0001 || value >= s.range[1] * 0.9999 => {
+                Some((s.range[0], s.range[1]))
+            }
+            _ => None,
+        };
+        let explanation = problem.explain(name, v);
+        let (determined, note) = judge(&Judgement {
+            name,
+            unit,
+            value,
+            std_error: cov.std_error[k],
+            singular: cov.singular[k],
+            at_bound,
+            at_edge,
+            contribution,
+            nonlinear,
+            noise: cov.sigma,
+            output_unit: "N·m",
+            strongest,
+            explanation: &explanation,
+        });
+        let ci95 = cov.std_error[k].map(|se| [value - cov.t95 * se, value + cov.t95 * se]);
+        params.0.push((
+            name.to_string(),
+            Estimate {
+                value,
+                unit,
+                std_error: cov.std_error[k],
+                ci95,
+                determined,
+                fixed: false,
+                note,
+            },
+        ));
+    }
+    let mean = y.iter().sum::<f64>() / n as f64;
+    let sst: f64 = y.iter().map(|x| (x - mean).powi(2)).sum();
+    let values: Vec<(&'static str, f64)> = all.iter().map(|&(n, v, _)| (n, v)).collect();
+    let mut remarks = remarks;
+    remarks.push(format!(
+        "joint refinement: Levenberg–Marquardt over ln of {} from {starts} starts; {} by bounded linear least squares at every trial",
+        problem.nonlinear.join(", "),
+        problem.linear.iter().map(|(n, _)| *n).collect::<Vec<_>>().join(", ")
+    ));
+    let report = FitReport {
+        fit: "friction".into(),
+        data: Vec::new(),
+        parameters: params,
+        rms: (rss / n as f64).sqrt(),
+        r2: if sst > 0.0 { 1.0 - rss / sst } else { f64::NAN },
+        iterations: iterations as u64,
+        termination: termination.to_string(),
+        correlation: Correlation {
+            names: names.iter().map(|s| s.to_string()).collect(),
+            matrix: cov.correlation.clone(),
+        },
+        samples: n,
+        dof: cov.dof,
+        noise_std: cov.sigma,
+        evaluations: evaluations as u64,
+        search,
+        stages: Vec::new(),
+        remarks,
+        wall_time_s: started.elapsed().as_secs_f64(),
+    };
+    Ok(SeparableFit {
+        report,
+        values,
+        fitted,
+        residuals: proj.residuals,
+        free: names,
+        jacobian: jac,
+        covariance: cov,
+    })
+}
