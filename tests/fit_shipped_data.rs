@@ -49,3 +49,31 @@ fn friction_files_determine_all_six() {
         assert!(determined(&j, name), "{name}");
     }
 }
+
+#[test]
+fn real_tribometer_recording_fits_without_preprocessing() {
+    // A real measurement (data/README.md): position only, in mm; friction in µN with the
+    // opposite sign. The independent least-squares LuGre fit reaches 0.26 N RMS.
+    let j = fit(&[
+        "friction",
+        "--transient",
+        &data("tribometer-reciprocating.txt"),
+        "--transient-columns",
+        "Time [s],Friction [uN]",
+        "--position-column",
+        "Position [mm]",
+        "--position-scale",
+        "1e-3",
+        "--torque-scale",
+        "-1e-6",
+    ]);
+    let rms = j["rms"].as_f64().unwrap();
+    println!("tribometer: RMS residual {rms:.4} N over {} samples", j["samples"]);
+    assert!(rms <= 0.27, "rms {rms}");
+    assert_eq!(j["samples"].as_u64().unwrap(), 42_579);
+    for name in ["Tc", "sigma0", "ws"] {
+        assert!(determined(&j, name), "{name}: {}", j["parameters"][name]);
+    }
+    let pre = j["data"][0]["preprocessing"].as_array().unwrap();
+    assert!(pre.iter().any(|p| p.as_str().unwrap().contains("Savitzky–Golay")), "{pre:?}");
+}

@@ -29,6 +29,7 @@ pub const B_HIGH_PER_SAMPLE: f64 = 10.0;
 pub struct HysteresisProblem<'a> {
     data: &'a HysteresisData,
     cubic_cols: [Vec<f64>; 3],
+    offset: bool,
 }
 
 impl<'a> HysteresisProblem<'a> {
@@ -38,7 +39,18 @@ impl<'a> HysteresisProblem<'a> {
             let law = CubicSpring { a, b, c };
             data.theta().iter().map(|&th| law.torque(th)).collect::<Vec<f64>>()
         };
-        Self { data, cubic_cols: [unit(1.0, 0.0, 0.0), unit(0.0, 1.0, 0.0), unit(0.0, 0.0, 1.0)] }
+        Self {
+            data,
+            cubic_cols: [unit(1.0, 0.0, 0.0), unit(0.0, 1.0, 0.0), unit(0.0, 0.0, 1.0)],
+            offset: false,
+        }
+    }
+
+    /// The same problem with a constant torque offset of the measurement fitted too
+    /// (`offset` [N·m]; a rig's torque zero is never exact).
+    pub fn with_offset(mut self) -> Self {
+        self.offset = true;
+        self
     }
 
     /// The memory state along the record for memory law `m`, from z = 0.
@@ -70,7 +82,7 @@ impl Separable for HysteresisProblem<'_> {
         "hysteresis"
     }
     fn linear_names(&self) -> &'static [&'static str] {
-        &["a", "b", "c", "A"]
+        if self.offset { &["a", "b", "c", "A", "offset"] } else { &["a", "b", "c", "A"] }
     }
     fn nonlinear_name(&self) -> &'static str {
         "B"
@@ -86,7 +98,11 @@ impl Separable for HysteresisProblem<'_> {
     fn basis(&self, q: f64) -> Result<Basis, FitError> {
         let zeta = self.memory(&FadingMemory { a: 1.0, b: q });
         let [c3, c2, c1] = self.cubic_cols.clone();
-        Ok(Basis { columns: vec![c3, c2, c1, zeta], offset: None })
+        let mut columns = vec![c3, c2, c1, zeta];
+        if self.offset {
+            columns.push(vec![1.0; self.data.len()]);
+        }
+        Ok(Basis { columns, offset: None })
     }
     fn predict(&self, beta: &[f64], q: f64) -> Result<Vec<f64>, FitError> {
         let law = Hysteretic {
@@ -95,10 +111,11 @@ impl Separable for HysteresisProblem<'_> {
         };
         let z = self.memory(&law.memory);
         let (t, th) = (self.data.t(), self.data.theta());
+        let offset = if self.offset { beta[4] } else { 0.0 };
         Ok((0..t.len())
             .map(|k| {
                 let rate = if k == 0 { 0.0 } else { (th[k] - th[k - 1]) / (t[k] - t[k - 1]) };
-                law.eval(th[k], rate, z[k]).torque
+                law.eval(th[k], rate, z[k]).torque + offset
             })
             .collect())
     }
@@ -115,6 +132,10 @@ impl Separable for HysteresisProblem<'_> {
                 format!(
                     "data over a wider (or one-sided) deflection range than {range} would reveal it"
                 ),
+            ),
+            "offset" => (
+                "the torque offset".into(),
+                "a record whose deflection swings symmetrically about zero would separate it from b·θ²".into(),
             ),
             "c" => (
                 "c·θ".into(),
@@ -150,6 +171,7 @@ pub fn sampling_error(
     data: &HysteresisData,
     beta: &[f64],
     b: f64,
+    offset: bool,
 ) -> Result<Option<f64>, FitError> {
     if data.len() < 20 {
         return Ok(None);
@@ -160,8 +182,12 @@ pub fn sampling_error(
         every_other(data.theta()),
         every_other(data.torque()),
     )?;
-    let full = HysteresisProblem::new(data).predict(beta, b)?;
-    let coarse = HysteresisProblem::new(&half).predict(beta, b)?;
+    let problem = |d| {
+        let p = HysteresisProblem::new(d);
+        if offset { p.with_offset() } else { p }
+    };
+    let full = problem(data).predict(beta, b)?;
+    let coarse = problem(&half).predict(beta, b)?;
     let sq: f64 = full.iter().step_by(2).zip(&coarse).map(|(f, c)| (f - c).powi(2)).sum();
     Ok(Some((sq / coarse.len() as f64).sqrt() / 3.0))
 }
@@ -170,10 +196,32 @@ pub fn sampling_error(
 /// remark with the [`sampling_error`] estimate, as a warning when it exceeds
 /// [`SAMPLING_WARN`] of the noise.
 pub fn fit_hysteresis(data: &HysteresisData, fixed: &Fixed) -> Result<SeparableFit, FitError> {
-    let mut fit = fit_separable(&HysteresisProblem::new(data), fixed)?;
+    fit_hysteresis_with(data, fixed, false)
+}
+
+/// [`fit_hysteresis`], with a constant torque offset of the measurement fitted too when
+/// `offset` is set. A deflection offset θ0 needs no parameter of its own: for the cubic
+/// spring, f(θ − θ0) + T0 is again a cubic in θ plus a constant (the memory term sees
+/// only θ̇), so b, c and the torque offset absorb it exactly; the report says so.
+pub fn fit_hysteresis_with(
+    data: &HysteresisData,
+    fixed: &Fixed,
+    offset: bool,
+) -> Result<SeparableFit, FitError> {
+    let problem = if offset {
+        HysteresisProblem::new(data).with_offset()
+    } else {
+        HysteresisProblem::new(data)
+    };
+    let mut fit = fit_separable(&problem, fixed)?;
+    if offset {
+        fit.report.remarks.push(
+            "offsets: the torque offset is fitted as `offset`; a deflection offset θ0 is absorbed exactly by b, c and the torque offset (f(θ − θ0) is again a cubic in θ, and the memory sees only θ̇), so b and c here describe the spring about the recorded zero of θ".into(),
+        );
+    }
     let v = |n: &str| fit.value(n).unwrap_or(0.0);
-    let beta = [v("a"), v("b"), v("c"), v("A")];
-    if let Some(err) = sampling_error(data, &beta, v("B"))? {
+    let beta = [v("a"), v("b"), v("c"), v("A"), v("offset")];
+    if let Some(err) = sampling_error(data, &beta, v("B"), offset)? {
         let share = err / fit.report.noise_std;
         let remark = if share > SAMPLING_WARN {
             format!(

@@ -20,6 +20,7 @@
 //! [`FadingMemory::step_linear`]: hd_model::laws::stiffness::FadingMemory::step_linear
 
 pub mod data;
+pub mod derivative;
 pub mod error;
 pub mod fix;
 pub mod friction;
@@ -38,6 +39,6 @@ pub use data::{HysteresisData, SteadyData, TransientData};
 pub use error::{DataError, FitError};
 pub use fix::Fixed;
 pub use friction::{FrictionFit, FrictionOptions, fit_friction, fit_friction_with};
-pub use hysteresis::{HYSTERESIS_PARAMS, fit_hysteresis};
+pub use hysteresis::{HYSTERESIS_PARAMS, fit_hysteresis, fit_hysteresis_with};
 pub use report::{DataSource, Estimate, FitReport};
 pub use separable::SeparableFit;

@@ -214,7 +214,7 @@ pub fn fit_separable<P: Separable>(problem: &P, fixed: &Fixed) -> Result<Separab
         let at_bound = (!nonlinear && inner.at_bound[j]).then_some(value);
         let (determined, note) = judge(&Judgement {
             name,
-            unit: unit,
+            unit,
             value,
             std_error: cov.std_error[k],
             singular: cov.singular[k],
@@ -232,7 +232,7 @@ pub fn fit_separable<P: Separable>(problem: &P, fixed: &Fixed) -> Result<Separab
             name.to_string(),
             Estimate {
                 value,
-                unit: unit,
+                unit,
                 std_error: cov.std_error[k],
                 ci95,
                 determined,

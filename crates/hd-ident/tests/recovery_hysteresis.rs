@@ -144,3 +144,30 @@ fn coarse_sampling_is_flagged() {
     .report;
     assert!(fine.remarks.iter().any(|m| m.starts_with("sampling check")), "{:?}", fine.remarks);
 }
+
+#[test]
+fn a_torque_offset_is_fitted_with_the_law() {
+    let p = params(SETS[0]);
+    let clean =
+        hysteresis_data(&p, &HysteresisExcitation::default(), Noise { relative: 0.01, seed: 3 });
+    // The rig's torque zero is 1.5 N·m off.
+    let shifted: Vec<f64> = clean.torque().iter().map(|v| v + 1.5).collect();
+    let data =
+        hd_ident::HysteresisData::new(clean.t().to_vec(), clean.theta().to_vec(), shifted).unwrap();
+    let plain = fit_hysteresis(&data, &Fixed::none()).unwrap().report;
+    let fit = hd_ident::fit_hysteresis_with(&data, &Fixed::none(), true).unwrap();
+    let r = &fit.report;
+    let off = r.parameters.get("offset").unwrap();
+    println!(
+        "offset {:.4} ± {:.4} N·m (truth 1.5); rms {:.4e} with offset, {:.4e} without",
+        off.value,
+        off.std_error.unwrap(),
+        r.rms,
+        plain.rms
+    );
+    assert!((off.value - 1.5).abs() < 3.0 * off.std_error.unwrap(), "{}", r.table());
+    for name in ["c", "A", "B"] {
+        assert!(rel_error(r, &p, name) < 0.02, "{name}");
+    }
+    assert!(r.rms < plain.rms);
+}

@@ -6,6 +6,7 @@
 
 pub mod atomic;
 pub mod columns;
+pub mod csv_sniff;
 pub mod error;
 pub mod explore;
 pub mod runs;

@@ -2,11 +2,14 @@
 //! uncertainty; writes fit.json, the fitted signals and plots.
 
 use super::common::ensure_dir;
+use super::fit_input::{
+    FrictionUnits, angle_factor, column_names, data_context, friction_series, load, scale, source,
+};
 use anyhow::{Context, Result, bail};
 use clap::{Args, Subcommand};
 use hd_ident::{
-    DataSource, FitReport, Fixed, HysteresisData, SeparableFit, SteadyData, TransientData,
-    fit_friction, fit_hysteresis,
+    FitReport, Fixed, FrictionOptions, HysteresisData, SeparableFit, SteadyData, TransientData,
+    fit_friction_with, fit_hysteresis_with,
 };
 use hd_model::laws::friction::{FrictionLaw, LuGre};
 use hd_plot::{Series, fit_plot, residual_plot};
@@ -51,6 +54,19 @@ pub struct HysteresisArgs {
     /// Names of the time [s], deflection [rad] and torque [N·m] columns.
     #[arg(long, value_name = "T,THETA,TORQUE", default_value = "t,theta,torque")]
     pub columns: String,
+    /// Unit of the deflection column: rad, mrad, urad, deg, arcmin or arcsec.
+    #[arg(long, value_name = "UNIT", default_value = "rad")]
+    pub theta_unit: String,
+    /// Factor from the file's time unit to seconds (e.g. 1e-3 for ms).
+    #[arg(long, value_name = "K", default_value_t = 1.0, allow_hyphen_values = true)]
+    pub time_scale: f64,
+    /// Factor from the file's torque unit to N·m; negative flips the sign.
+    #[arg(long, value_name = "K", default_value_t = 1.0, allow_hyphen_values = true)]
+    pub torque_scale: f64,
+    /// Fit a constant torque offset of the rig (`offset` [N·m]) with a, b, c, A, B; a
+    /// deflection offset is absorbed exactly by b, c and the torque offset (see fit.json).
+    #[arg(long)]
+    pub fit_offsets: bool,
     /// Hold a parameter at a value instead of fitting it, e.g. `--fix B=300` (repeatable).
     #[arg(long = "fix", value_name = "NAME=VALUE")]
     pub fix: Vec<String>,
@@ -62,15 +78,20 @@ pub struct HysteresisArgs {
 /// `hdw fit friction`.
 #[derive(Args, Debug)]
 #[command(
-    after_help = "Static stage (--steady): T(ω) = sign(ω)·(Tc + (Ts − Tc)·exp(−(ω/ωs)²)) + σ2·ω, linear in Tc, Ts,\n\
-σ2 for a given ωs; ωs from a grid over ln ωs refined by Brent's method. Dynamic stage\n\
-(--transient): the LuGre bristle state runs along the measured ω(t) (linear between samples,\n\
-starting in steady state at the first speed) with hd-model's Rodas4; σ1 follows by linear least\n\
-squares for each trial σ0, σ0 from a grid over ln σ0 refined by Brent's method. The static\n\
-parameters are held at the static stage's result or at --fix values (σ2 defaults to 0); with both\n\
-files the static stage's uncertainty is carried into σ0's and σ1's errors.\n\n\
-Outputs (in --out DIR):\n  fit.json                   parameters (value, std_error, ci95, determined, note), correlation, rms,\n                             r2, iterations, termination (and each stage's report)\n  steady-fitted.parquet      omega, torque, fitted, residual          (with --steady)\n  stribeck.svg               torque in the direction of motion against log10 |ω|, measured and fitted\n  residuals-steady.svg       steady-state residuals against log10 |ω|\n  transient-fitted.parquet   t, omega, torque, fitted, residual       (with --transient)\n  transient.svg              measured vs fitted friction torque over time, residuals below\n  residuals-transient.svg    transient residuals over time\n\n\
-Example:\n  hdw fit friction --steady data/friction-steady.csv --transient data/friction-transient.parquet --out out/fit-fric\n  hdw fit friction --transient data/friction-transient.parquet --fix Tc=0.2 --fix Ts=0.35 --fix ws=0.02 --fix sigma2=0.05"
+    after_help = "One time series (--transient alone): every LuGre parameter at once. The bristle state runs along\n\
+the measured ω(t) (linear between samples, from the first measured torque) with hd-model's\n\
+LuGre law and Rodas4; σ1, σ2 (and the offset) follow by linear least squares at every trial. The\n\
+static levels start from quasi-steady samples picked from the series itself, σ0 from a grid over\n\
+ln σ0 refined by Brent's method, then Levenberg–Marquardt refines Tc, Ts, ωs, σ0 (and Tc_neg,\n\
+Ts_neg) jointly from several starts. A trial whose integration fails counts as a bad trial.\n\
+Steady sweep alone (--steady): T(ω) = sign(ω)·(Tc + (Ts − Tc)·exp(−(ω/ωs)²)) + σ2·ω, linear in Tc,\n\
+Ts, σ2 for a given ωs. Both files: the static stage, then σ0 and σ1 from the series with the static\n\
+parameters held, the static stage's uncertainty carried into their errors.\n\
+Rig files need no preprocessing: only the named columns are read (CSV, tab- or semicolon-separated,\n\
+# comment lines, or Parquet); --*-scale factors convert to SI (a negative torque scale flips the\n\
+sign); --position-column derives the speed from an encoder position (Savitzky–Golay).\n\n\
+Outputs (in --out DIR):\n  fit.json                   parameters (value, std_error, ci95, determined, note), correlation, rms,\n                             r2, iterations, termination, data preprocessing (and each stage's report)\n  steady-fitted.parquet      omega, torque, fitted, residual          (with --steady)\n  stribeck.svg               torque in the direction of motion against log10 |ω|, measured and fitted\n  residuals-steady.svg       steady-state residuals against log10 |ω|\n  transient-fitted.parquet   t, omega, torque, fitted, residual       (with --transient)\n  transient.svg              measured vs fitted friction torque over time, residuals below\n  friction-speed.svg         measured and fitted torque against speed (the friction loop)\n  residuals-transient.svg    transient residuals over time\n\n\
+Examples:\n  hdw synth friction --transient --profile joint --set Tc=0.2 --set Ts=0.35 --out out/joint.csv\n  hdw fit friction --transient out/joint.csv --out out/fit-joint\n  hdw fit friction --transient data/tribometer-reciprocating.txt \\\n      --transient-columns 'Time [s],Friction [uN]' --position-column 'Position [mm]' \\\n      --position-scale 1e-3 --torque-scale -1e-6 --asymmetric --out out/fit-tribometer\n  hdw fit friction --steady data/friction-steady.csv --transient data/friction-transient.parquet --out out/fit-fric"
 )]
 pub struct FrictionArgs {
     /// Steady-state sweep (.csv or .parquet): speed [rad/s] and friction torque [N·m].
@@ -82,40 +103,25 @@ pub struct FrictionArgs {
     /// Time series (.csv or .parquet): time [s], speed [rad/s], friction torque [N·m].
     #[arg(long, value_name = "FILE")]
     pub transient: Option<PathBuf>,
-    /// Names of the time, speed and torque columns of the time-series file.
+    /// Names of the time, speed and torque columns of the time-series file (T,TORQUE with
+    /// --position-column).
     #[arg(long, value_name = "T,OMEGA,TORQUE", default_value = "t,omega,torque")]
     pub transient_columns: String,
+    /// Fit separate Coulomb and static levels for negative speeds (Tc_neg, Ts_neg; Tc, Ts then
+    /// mean positive speeds) and a constant torque offset of the measurement (offset [N·m]).
+    #[arg(long)]
+    pub asymmetric: bool,
+    /// Fit a constant torque offset of the measurement (offset [N·m]), e.g. a sensor bias.
+    #[arg(long)]
+    pub offset: bool,
+    #[command(flatten)]
+    pub units: FrictionUnits,
     /// Hold a parameter at a value instead of fitting it, e.g. `--fix sigma2=0` (repeatable).
     #[arg(long = "fix", value_name = "NAME=VALUE")]
     pub fix: Vec<String>,
     /// Output folder.
     #[arg(long, value_name = "DIR", default_value = "out/fit-friction")]
     pub out: PathBuf,
-}
-
-/// Split `a,b,c` into exactly `n` non-empty column names.
-fn column_names(text: &str, n: usize, flag: &str) -> Result<Vec<String>> {
-    let names: Vec<String> = text.split(',').map(|s| s.trim().to_string()).collect();
-    if names.len() != n || names.iter().any(String::is_empty) {
-        bail!("{flag} {text}: expected {n} comma-separated column names");
-    }
-    Ok(names)
-}
-
-/// Read the named columns of `path`.
-fn load(path: &Path, names: &[String]) -> Result<Vec<Vec<f64>>> {
-    let refs: Vec<&str> = names.iter().map(String::as_str).collect();
-    Ok(hd_io::read_columns(path, &refs)?)
-}
-
-fn source(role: &str, path: &Path, names: &[String]) -> DataSource {
-    DataSource { role: role.into(), file: path.display().to_string(), columns: names.to_vec() }
-}
-
-/// Context for a data-set error: the file and which columns played which role.
-fn data_context(path: &Path, roles: &[&str], names: &[String]) -> String {
-    let map: Vec<String> = roles.iter().zip(names).map(|(r, n)| format!("{r} = '{n}'")).collect();
-    format!("{} (columns {})", path.display(), map.join(", "))
 }
 
 /// Write fit.json and print the table.
@@ -145,17 +151,23 @@ pub fn run(args: FitArgs) -> Result<()> {
 }
 
 fn run_hysteresis(args: HysteresisArgs) -> Result<()> {
-    let names = column_names(&args.columns, 3, "--columns")?;
+    let names = column_names(&args.columns, &[3], "--columns")?;
     let fixed = Fixed::parse(&args.fix).context("--fix")?;
+    let to_rad = angle_factor(&args.theta_unit)?;
     let mut cols = load(&args.file, &names)?;
-    let (torque, theta, t) = (cols.pop().unwrap(), cols.pop().unwrap(), cols.pop().unwrap());
+    let (mut torque, mut theta, mut t) =
+        (cols.pop().unwrap(), cols.pop().unwrap(), cols.pop().unwrap());
+    let mut log = Vec::new();
+    scale(&mut t, args.time_scale, "time", "--time-scale", &mut log)?;
+    scale(&mut theta, to_rad, "deflection", "--theta-unit", &mut log)?;
+    scale(&mut torque, args.torque_scale, "torque", "--torque-scale", &mut log)?;
     let data = HysteresisData::new(t, theta, torque)
         .with_context(|| data_context(&args.file, &["t", "theta", "torque"], &names))?;
-    let fit = fit_hysteresis(&data, &fixed)
+    let fit = fit_hysteresis_with(&data, &fixed, args.fit_offsets)
         .with_context(|| format!("fitting {}", args.file.display()))?;
     let dir = ensure_dir(&args.out)?;
     let mut report = fit.report.clone();
-    report.data.push(source("hysteresis", &args.file, &names));
+    report.data.push(source("hysteresis", &args.file, &names, log));
     report_out(&dir, &report)?;
     let [m, f, r] = fitted_columns(&fit, data.torque());
     hd_io::write_columns(
@@ -198,32 +210,44 @@ fn run_friction(args: FrictionArgs) -> Result<()> {
         bail!("no friction data: give --steady FILE, --transient FILE or both");
     }
     let mut sources = Vec::new();
+    let u = &args.units;
     let steady = match &args.steady {
         Some(path) => {
-            let names = column_names(&args.steady_columns, 2, "--steady-columns")?;
+            let names = column_names(&args.steady_columns, &[2], "--steady-columns")?;
             let mut cols = load(path, &names)?;
-            let (torque, omega) = (cols.pop().unwrap(), cols.pop().unwrap());
+            let (mut torque, mut omega) = (cols.pop().unwrap(), cols.pop().unwrap());
+            let mut log = Vec::new();
+            scale(&mut omega, u.speed_scale, "speed", "--speed-scale", &mut log)?;
+            scale(&mut torque, u.torque_scale, "torque", "--torque-scale", &mut log)?;
             let d = SteadyData::new(omega, torque)
                 .with_context(|| data_context(path, &["omega", "torque"], &names))?;
-            sources.push(source("steady", path, &names));
+            sources.push(source("steady", path, &names, log));
             Some(d)
         }
         None => None,
     };
+    if u.position_column.is_some() && args.transient.is_none() {
+        bail!("--position-column needs --transient FILE (the time series it belongs to)");
+    }
     let transient = match &args.transient {
         Some(path) => {
-            let names = column_names(&args.transient_columns, 3, "--transient-columns")?;
-            let mut cols = load(path, &names)?;
-            let (torque, omega, t) =
-                (cols.pop().unwrap(), cols.pop().unwrap(), cols.pop().unwrap());
-            let d = TransientData::new(t, omega, torque)
-                .with_context(|| data_context(path, &["t", "omega", "torque"], &names))?;
-            sources.push(source("transient", path, &names));
+            let s = friction_series(path, &args.transient_columns, u)?;
+            let roles = if u.position_column.is_some() {
+                ["t", "position", "torque"]
+            } else {
+                ["t", "omega", "torque"]
+            };
+            let d = TransientData::new(s.t, s.omega, s.torque)
+                .with_context(|| data_context(path, &roles, &s.names))?;
+            sources.push(source("transient", path, &s.names, s.log));
             Some(d)
         }
         None => None,
     };
-    let fit = fit_friction(steady.as_ref(), transient.as_ref(), &fixed).context("friction fit")?;
+    let opts =
+        FrictionOptions { asymmetric: args.asymmetric, offset: args.offset || args.asymmetric };
+    let fit = fit_friction_with(steady.as_ref(), transient.as_ref(), &fixed, opts)
+        .context("friction fit")?;
     let dir = ensure_dir(&args.out)?;
     let mut report = fit.report.clone();
     report.data = sources;
@@ -242,6 +266,17 @@ fn run_friction(args: FrictionArgs) -> Result<()> {
         let fitted = Series::new("fitted (LuGre)", d.t().to_vec(), f);
         let title = "Friction fit: torque under the imposed speed";
         fit_plot(&dir.join("transient.svg"), title, "t [s]", "Tf [N·m]", &measured, &fitted)?;
+        let measured = Series::new("measured", d.omega().to_vec(), d.torque().to_vec());
+        let fitted = Series::new("fitted (LuGre)", d.omega().to_vec(), fitted.y.clone());
+        let title = "Friction fit: torque against speed";
+        fit_plot(
+            &dir.join("friction-speed.svg"),
+            title,
+            "ω [rad/s]",
+            "Tf [N·m]",
+            &measured,
+            &fitted,
+        )?;
         let res = Series::new("residual", d.t().to_vec(), r);
         let title = "Friction fit residuals (time series)";
         residual_plot(&dir.join("residuals-transient.svg"), title, "t [s]", "Tf [N·m]", &res)?;

@@ -5,8 +5,8 @@ use super::common::load_params;
 use anyhow::{Context, Result, bail};
 use clap::{Args, Subcommand};
 use hd_ident::synth::{
-    HysteresisExcitation, Noise, SteadySweep, Synthetic, TransientExcitation, synth_hysteresis,
-    synth_steady, synth_transient,
+    HysteresisExcitation, Noise, PlateauProfile, SteadySweep, Synthetic, TransientExcitation,
+    synth_hysteresis, synth_plateaus, synth_steady, synth_transient,
 };
 use std::path::PathBuf;
 
@@ -90,7 +90,7 @@ pre-sliding cycles, partial slip and full reversals; the bristle state follows t
 (hd-model's Rodas4) from rest, and the torque is σ0·s + σ1·ṡ + σ2·ω.\n\n\
 Output: --out FILE with columns omega [rad/s], torque [N·m] (steady) or t [s], omega [rad/s],\n\
 torque [N·m] (time series).\n\n\
-Example:\n  hdw synth friction --set Tc=0.2 --set Ts=0.35 --set ws=0.02 --out out/steady.csv\n  hdw synth friction --transient --set sigma0=8e4 --set sigma1=0.5 --out out/transient.parquet"
+Example:\n  hdw synth friction --set Tc=0.2 --set Ts=0.35 --set ws=0.02 --out out/steady.csv\n  hdw synth friction --transient --set sigma0=8e4 --set sigma1=0.5 --out out/transient.parquet\n  hdw synth friction --transient --profile joint --set Tc_neg=0.12 --out out/joint.csv"
 )]
 pub struct FrictionSynthArgs {
     #[command(flatten)]
@@ -98,6 +98,24 @@ pub struct FrictionSynthArgs {
     /// Write a time series instead of a steady-state sweep.
     #[arg(long)]
     pub transient: bool,
+    /// Time series: speed profile. `growing-sine`: a sine through zero whose amplitude grows;
+    /// `joint`: a joint friction test, plateaus at --levels log-spaced speeds from --omega-min
+    /// to --omega-max, each held --dwell s forwards then backwards, smooth --transition s
+    /// reversals, sampled at --sample-rate.
+    #[arg(long, value_name = "NAME", default_value = "growing-sine")]
+    pub profile: String,
+    /// Joint profile: number of speed levels.
+    #[arg(long, default_value_t = 8)]
+    pub levels: usize,
+    /// Joint profile: time held at each plateau [s].
+    #[arg(long, default_value_t = 0.25)]
+    pub dwell: f64,
+    /// Joint profile: duration of each speed change [s].
+    #[arg(long, default_value_t = 0.05)]
+    pub transition: f64,
+    /// Joint profile: sampling rate [Hz].
+    #[arg(long, default_value_t = 5000.0)]
+    pub sample_rate: f64,
     /// Steady sweep: slowest |ω| [rad/s].
     #[arg(long, default_value_t = 1e-4)]
     pub omega_min: f64,
@@ -160,7 +178,24 @@ pub fn run(args: SynthArgs) -> Result<()> {
         SynthWhat::Friction(a) => {
             let p = load_params(a.common.params.as_deref(), &a.common.set)?;
             let n = noise(&a.common)?;
-            let data = if a.transient {
+            let data = if a.transient && a.profile == "joint" {
+                // The steady sweep's defaults (1e-4..1) suit a sweep; a joint test starts at 1e-3.
+                let omega_min = if a.omega_min == 1e-4 { 1e-3 } else { a.omega_min };
+                let profile = PlateauProfile {
+                    omega_min,
+                    omega_max: a.omega_max,
+                    levels: a.levels,
+                    dwell: a.dwell,
+                    transition: a.transition,
+                };
+                if !(a.sample_rate > 0.0 && a.sample_rate.is_finite()) {
+                    bail!("--sample-rate {}: expected a finite value > 0 [Hz]", a.sample_rate);
+                }
+                synth_plateaus(&p, &profile, 1.0 / a.sample_rate, &n)?
+            } else if a.transient {
+                if a.profile != "growing-sine" {
+                    bail!("--profile {}: expected growing-sine or joint", a.profile);
+                }
                 let exc = TransientExcitation {
                     peak_speed: a.peak_speed,
                     frequency: a.freq,

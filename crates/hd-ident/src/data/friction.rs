@@ -48,7 +48,7 @@ impl SteadyData {
 
 /// A friction time series: time `t` [s], imposed sliding speed `omega` [rad/s] and the
 /// friction torque `torque` [N·m]. Between samples the speed is taken as linear in time.
-/// The bristle state starts in steady state at the first sample's speed (zero at rest).
+/// The bristle state starts at the first measured torque, held inside the bristles' range.
 #[derive(Clone, Debug, PartialEq)]
 pub struct TransientData {
     t: Vec<f64>,

@@ -157,7 +157,7 @@ impl<'a> JointProblem<'a> {
             ts_neg: v[5],
         };
         let (t, omega) = (self.data.t(), self.data.omega());
-        let w = bristle_states(t, omega, &law)?;
+        let w = bristle_states(t, omega, &law, self.data.torque()[0])?;
         let mut columns = Vec::with_capacity(self.linear.len());
         for (name, _) in &self.linear {
             let col: Vec<f64> = match *name {

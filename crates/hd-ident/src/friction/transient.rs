@@ -30,11 +30,21 @@ pub fn solver_options() -> SolverOptions {
     SolverOptions { method: Method::Rodas4, rtol: 1e-8, atol: 1e-8, ..Default::default() }
 }
 
-/// The bristle state w [N·m] at every sample of `data` under `law`, starting in steady
-/// state at the first sample's speed (w = 0 at rest).
-pub fn bristle_states(t: &[f64], omega: &[f64], law: &LuGre) -> Result<Vec<f64>, FitError> {
-    let v0 = omega[0];
-    let w0 = if v0 == 0.0 { 0.0 } else { v0.signum() * law.stribeck(v0).0 };
+/// The bristle state w [N·m] at every sample under `law`, starting from the first
+/// measured torque `first_torque` held inside the bristles' range at the first speed
+/// (a record rarely starts exactly at rest or in steady sliding: a speed derived from an
+/// encoder is never exactly zero, and a start in steady state at a tiny negative speed
+/// would put w at −Ts where the torque says 0).
+pub fn bristle_states(
+    t: &[f64],
+    omega: &[f64],
+    law: &LuGre,
+    first_torque: f64,
+) -> Result<Vec<f64>, FitError> {
+    let v0 = omega[0].abs();
+    let hi = law.stribeck(v0).0;
+    let lo = -law.stribeck(-v0.max(f64::MIN_POSITIVE)).0;
+    let w0 = if lo <= hi { first_torque.clamp(lo, hi) } else { 0.0 };
     let speed = Sampled::new(t, omega);
     let sys = BristleAlong { law: *law, speed: &speed };
     state_at_samples(&sys, t, w0, &solver_options()).map_err(|source| FitError::Solver {
@@ -105,7 +115,7 @@ impl Separable for TransientProblem<'_> {
     }
     fn basis(&self, q: f64) -> Result<Basis, FitError> {
         let law = self.law(q, 0.0);
-        let w = bristle_states(self.data.t(), self.data.omega(), &law)?;
+        let w = bristle_states(self.data.t(), self.data.omega(), &law, self.data.torque()[0])?;
         let (offset, s_rate): (Vec<f64>, Vec<f64>) = self
             .data
             .omega()
@@ -120,7 +130,7 @@ impl Separable for TransientProblem<'_> {
     }
     fn predict(&self, beta: &[f64], q: f64) -> Result<Vec<f64>, FitError> {
         let law = self.law(q, beta[0]);
-        let w = bristle_states(self.data.t(), self.data.omega(), &law)?;
+        let w = bristle_states(self.data.t(), self.data.omega(), &law, self.data.torque()[0])?;
         Ok(self.data.omega().iter().zip(&w).map(|(&v, &wk)| law.eval(v, wk).torque).collect())
     }
     fn explain(&self, name: &str, values: &[(&'static str, f64)]) -> Explanation {

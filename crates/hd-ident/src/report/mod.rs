@@ -104,6 +104,10 @@ pub struct DataSource {
     pub file: String,
     /// Columns read, in the order t/omega, theta/omega, torque as applicable.
     pub columns: Vec<String>,
+    /// What was done to the columns before fitting (unit scaling, sign, speed derived
+    /// from position), in order.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub preprocessing: Vec<String>,
 }
 
 /// The outcome of a fit (or of one stage of a staged fit).
