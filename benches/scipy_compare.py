@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Time the harmonic-drive model in scipy against the hd-model Rust solver.
 
-The equations are those of shared/MODEL.md, written here a second time in the state
+The equations are those of docs/model.md, written here a second time in the state
 coordinates that hd-model integrates (crates/hd-model/src/state.rs):
 
     y = [θj, ωj, θ, ωz, z, w]      θ = θj/N − θz (gear deflection), w = σ0·s (bristle torque)
@@ -46,7 +46,7 @@ from scipy.integrate import LSODA, odeint, solve_ivp
 
 REPO = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 
-# Seed parameters (shared/MODEL.md §8; crates/hd-model/src/params.rs defaults).
+# Seed parameters (docs/model.md §1; crates/hd-model/src/params.rs defaults).
 P = dict(
     a=0.12, b=0.56, c=52_000.0, mem_a=40_000.0, mem_b=300.0,
     sigma0=1.2e5, sigma1=0.8, sigma2=0.0, tc=0.15, ts=0.25, ws=0.01,

@@ -1,4 +1,4 @@
-//! The full harmonic-drive model (shared/MODEL.md: hysteretic stiffness, LuGre friction, seed
+//! The full harmonic-drive model (docs/model.md: hysteretic stiffness, LuGre friction, seed
 //! parameters, 24 V sine at 50 Hz) in hd-model's state coordinates
 //! `x = [θj, ωj, θ, ωz, z, w]` with θ = θj/N − θz and w = σ0·s.
 

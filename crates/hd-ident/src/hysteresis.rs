@@ -1,7 +1,7 @@
 //! The hysteresis fit: a, b, c, A, B from a torque–deflection record.
 //!
 //! The torque is `Tb = a·θ³ + b·θ² + c·θ + z` with `ż = A·θ̇ − B·z`, z(0) = 0
-//! (shared/MODEL.md §2). Since z = A·ζ where ζ is the memory of unit intensity, the torque
+//! (docs/model.md §2.1). Since z = A·ζ where ζ is the memory of unit intensity, the torque
 //! is linear in a, b, c and A for a given B; B is found by the global search over ln B.
 //! The memory runs along the measured θ(t), taken as linear between samples, with the
 //! exact step [`FadingMemory::step_linear`]; the cubic terms and the composed prediction

@@ -1,6 +1,6 @@
 //! Physics of the harmonic-drive workbench: a DC motor driving an inertial load through a
 //! harmonic drive whose stiffness is hysteretic (cubic spring plus fading memory) and whose
-//! friction is dynamic (LuGre). The equations are those of `shared/MODEL.md`.
+//! friction is dynamic (LuGre). The equations are those of `docs/model.md`.
 //!
 //! Main types:
 //! - [`Params`] and the [`registry`]: every parameter with one name, unit, default, range;

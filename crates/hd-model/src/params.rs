@@ -1,5 +1,5 @@
 //! Physical parameters of the motor–gear–load system, with the seed study's tables as
-//! defaults (shared/MODEL.md §8).
+//! defaults (docs/model.md §1).
 
 use serde::{Deserialize, Serialize};
 

@@ -1,4 +1,4 @@
-//! Derived signals at one instant: the reported coordinates of shared/MODEL.md §1 and the
+//! Derived signals at one instant: the reported coordinates of docs/model.md §1 and the
 //! seed's K(t) and C0(t), NaN where they are undefined (§2, §3).
 
 use crate::laws::friction::FrictionLaw;

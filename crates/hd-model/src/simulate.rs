@@ -75,7 +75,7 @@ pub enum SimError {
 pub struct SimOutput {
     /// Sampled signals, if requested.
     pub trace: Option<Trace>,
-    /// Metrics (shared/MODEL.md §7).
+    /// Metrics (docs/model.md §2.10).
     pub metrics: Metrics,
     /// Solver work.
     pub stats: SolverStats,

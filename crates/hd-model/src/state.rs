@@ -3,7 +3,7 @@
 //! The drive is integrated in coordinates chosen for conditioning: the gear deflection θ
 //! is a state (not θz, from which θ would follow by cancellation), and the LuGre bristle
 //! state is carried in torque units (`σ0·s`). The reported signals use the coordinates of
-//! shared/MODEL.md §1 (`θz = θj/N − θ`, `s = w/σ0`).
+//! docs/model.md §1 (`θz = θj/N − θ`, `s = w/σ0`).
 //!
 //! The trailing states are running integrals (quadratures) used by the metrics and the
 //! energy audit; nothing feeds back from them.

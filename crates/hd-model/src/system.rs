@@ -1,5 +1,5 @@
 //! The assembled drive: motor, gear (stiffness + friction) and load, as an ODE system
-//! with its analytic Jacobian (shared/MODEL.md §4).
+//! with its analytic Jacobian (docs/model.md §2.6).
 
 use crate::laws::friction::{Friction, FrictionEval, FrictionLaw};
 use crate::laws::input::Input;

@@ -1,5 +1,5 @@
 //! Model variants: named combinations of a stiffness law and a friction law
-//! (shared/MODEL.md §5). The laws are separate components; a variant only picks them.
+//! (docs/model.md §2.7). The laws are separate components; a variant only picks them.
 
 use crate::laws::friction::{Friction, LuGre, NoFriction, Viscous};
 use crate::laws::stiffness::{CubicSpring, FadingMemory, Hysteretic, LinearSpring, Stiffness};

@@ -1,4 +1,4 @@
-//! The laws against the closed forms of shared/MODEL.md §2–§3, integrated by the
+//! The laws against the closed forms of docs/model.md §2.1–§2.3, integrated by the
 //! workbench's own solvers under imposed motion.
 
 use hd_model::laws::friction::{FrictionLaw, LuGre};

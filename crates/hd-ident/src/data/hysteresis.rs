@@ -5,7 +5,7 @@ use crate::error::DataError;
 
 /// A hysteresis record: time `t` [s], deflection `theta` [rad] and transmitted torque
 /// `torque` [N·m], sampled together. The memory state starts from z = 0 at the first
-/// sample (shared/MODEL.md §2), so a record should begin at rest or be long compared
+/// sample (docs/model.md §2.1), so a record should begin at rest or be long compared
 /// with 1/B.
 #[derive(Clone, Debug, PartialEq)]
 pub struct HysteresisData {

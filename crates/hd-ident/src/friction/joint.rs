@@ -71,6 +71,10 @@ pub struct JointProblem<'a> {
     /// Values of every nonlinear parameter (fixed ones stay; free ones are overwritten).
     base: [f64; 6],
     asymmetric: bool,
+    /// The part of the first measured torque that is not bristle torque (offset and
+    /// viscous term at the first sample) [N·m]: the bristle state starts at the first
+    /// torque minus this.
+    first_bias: f64,
 }
 
 /// The model's pieces for one set of nonlinear values.
@@ -121,7 +125,7 @@ impl<'a> JointProblem<'a> {
             .filter(|&n| n != OFFSET || opts.offset)
             .map(|n| (n, if n == OFFSET { None } else { fixed.get(n) }))
             .collect();
-        Self { data, nonlinear, linear, base, asymmetric }
+        Self { data, nonlinear, linear, base, asymmetric, first_bias: 0.0 }
     }
 
     /// All nonlinear values with the free ones taken from `x` (logarithms).
@@ -157,7 +161,7 @@ impl<'a> JointProblem<'a> {
             ts_neg: v[5],
         };
         let (t, omega) = (self.data.t(), self.data.omega());
-        let w = bristle_states(t, omega, &law, self.data.torque()[0])?;
+        let w = bristle_states(t, omega, &law, self.data.torque()[0] - self.first_bias)?;
         let mut columns = Vec::with_capacity(self.linear.len());
         for (name, _) in &self.linear {
             let col: Vec<f64> = match *name {
@@ -360,7 +364,7 @@ pub fn fit_joint(
     let mut remarks = Vec::new();
     let (start, how) = static_start(data, fixed, opts);
     remarks.push(how);
-    let problem = JointProblem::new(data, fixed, opts, &start);
+    let mut problem = JointProblem::new(data, fixed, opts, &start);
     let free_linear: Vec<&str> =
         problem.linear.iter().filter(|(_, f)| f.is_none()).map(|(n, _)| *n).collect();
     let free_names: Vec<&str> =
@@ -422,10 +426,7 @@ pub fn fit_joint(
             starts.push(v);
         }
     }
-    let residuals = |x: &[f64]| -> Result<Vec<f64>, FitError> {
-        let v = problem.values(x);
-        Ok(problem.project(&v)?.residuals)
-    };
+    let residuals = residuals_of(&problem);
     let lm = LmOptions::default();
     let refined: Vec<Result<Refined, FitError>> = starts
         .iter()
@@ -442,6 +443,7 @@ pub fn fit_joint(
             })
         })
         .collect();
+    drop(residuals);
     let mut best: Option<Refined> = None;
     let mut iterations = 0usize;
     let mut start_failures = Vec::new();
@@ -474,6 +476,31 @@ pub fn fit_joint(
     if failed > 0 {
         remarks.push(format!("{failed} trial parameter sets failed to integrate or gave non-finite torques; each counted as a rejected trial"));
     }
+    // The bristle state starts from the first torque less the offset and viscous term,
+    // which are only known now: refine once more with that start (a fixed point in one
+    // step: the start's effect on the optimum is second order).
+    let mut best = best;
+    let proj = problem.project(&best.values)?;
+    let beta = |name: &str| {
+        problem.linear.iter().position(|(n, _)| *n == name).map_or(0.0, |j| proj.beta[j])
+    };
+    let bias = beta(OFFSET) + beta("sigma2") * data.omega()[0];
+    if bias != 0.0 {
+        problem.first_bias = bias;
+        let x0 = problem.x_of(&best.values);
+        if let Ok(out) = levenberg_marquardt(&residuals_of(&problem), &x0, &lm) {
+            iterations += out.iterations;
+            evaluations += out.evaluations;
+            best = Refined {
+                values: problem.values(&out.x),
+                rss: out.cost,
+                iterations: out.iterations,
+                evaluations: out.evaluations,
+                failed: out.failed_trials,
+                termination: out.termination,
+            };
+        }
+    }
     let fit = finish(
         &problem,
         &best.values,
@@ -486,6 +513,16 @@ pub fn fit_joint(
         starts.len(),
     )?;
     Ok(fit)
+}
+
+/// The projected residuals as a function of the free nonlinear parameters' logarithms.
+fn residuals_of<'p, 'a: 'p>(
+    problem: &'p JointProblem<'a>,
+) -> impl Fn(&[f64]) -> Result<Vec<f64>, FitError> + Sync + 'p {
+    move |x: &[f64]| {
+        let v = problem.values(x);
+        Ok(problem.project(&v)?.residuals)
+    }
 }
 
 /// Estimates, covariance and report at the optimum `v`.

@@ -1,4 +1,4 @@
-//! Friction laws acting at the gear's sliding speed v (shared/MODEL.md §3).
+//! Friction laws acting at the gear's sliding speed v (docs/model.md §2.3).
 //!
 //! The LuGre law is written in torque units: its internal state is the bristle torque
 //! `w = σ0·s` [N·m], which keeps the state well scaled when σ0 is large; the mean bristle

@@ -1,4 +1,4 @@
-//! Armature-voltage inputs u(t) (shared/MODEL.md §6).
+//! Armature-voltage inputs u(t) (docs/model.md §2.8).
 
 use crate::error::ConfigError;
 use serde::{Deserialize, Serialize};

@@ -1,4 +1,4 @@
-//! The armature-controlled DC motor (shared/MODEL.md §4).
+//! The armature-controlled DC motor (docs/model.md §2.6).
 
 use serde::{Deserialize, Serialize};
 

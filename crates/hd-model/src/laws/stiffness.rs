@@ -1,5 +1,5 @@
 //! Stiffness laws: the torque the gear transmits as a function of deflection and, for the
-//! hysteretic law, of a fading-memory state `z` (shared/MODEL.md §2).
+//! hysteretic law, of a fading-memory state `z` (docs/model.md §2.1).
 
 use serde::{Deserialize, Serialize};
 

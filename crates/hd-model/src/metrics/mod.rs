@@ -1,4 +1,4 @@
-//! Metrics every run reports (shared/MODEL.md §7). Undefined metrics are NaN (null in
+//! Metrics every run reports (docs/model.md §2.10). Undefined metrics are NaN (null in
 //! JSON), never a made-up zero.
 
 mod collector;
