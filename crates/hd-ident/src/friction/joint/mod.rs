@@ -10,7 +10,7 @@
 //!
 //! The pipeline, each step tolerant of failed trials:
 //! 1. start the static parameters from quasi-steady samples of the series itself
-//!    ([`quasi_steady`]) with the static fit, or from plain torque levels when the series
+//!    ([`super::quasi_steady`]) with the static fit, or from plain torque levels when the series
 //!    has too few;
 //! 2. start σ0 by a global search over ln σ0 (grid + Brent), the others held;
 //! 3. refine all free parameters jointly from that start and from [`EXTRA_STARTS`]
@@ -18,23 +18,22 @@
 //! 4. standard errors, intervals, correlations and determined flags from the Jacobian at
 //!    the optimum, as for every fit.
 
-use super::quasi_steady::quasi_steady;
-use super::steady::{SteadyOptions, SteadyProblem};
+mod finish;
+mod start;
+
 use super::transient::bristle_states;
 use crate::data::{TransientData, require_samples};
 use crate::error::{FitError, chain};
 use crate::fix::Fixed;
 use crate::linear::bounded_least_squares;
 use crate::lm::{LmOptions, levenberg_marquardt};
-use crate::report::{
-    Correlation, Estimate, Explanation, FitReport, Judgement, Parameters, SearchSummary, judge,
-};
+use crate::report::{Explanation, SearchSummary};
 use crate::search::{GRID_POINTS, search_log};
-use crate::separable::{SeparableFit, fit_separable};
-use crate::uncertainty::covariance;
+use crate::separable::SeparableFit;
+use finish::finish;
 use hd_model::laws::friction::{FrictionLaw, LuGre};
 use hd_model::registry::lookup;
-use rayon::prelude::*;
+use start::{speed_range, static_start};
 use std::time::Instant;
 
 /// Which optional terms the friction fits include.
@@ -283,66 +282,6 @@ impl<'a> JointProblem<'a> {
     }
 }
 
-fn speed_range(omega: &[f64]) -> (f64, f64) {
-    omega
-        .iter()
-        .map(|w| w.abs())
-        .filter(|w| *w > 0.0)
-        .fold((f64::INFINITY, 0.0f64), |(l, h), w| (l.min(w), h.max(w)))
-}
-
-/// Median of |x| over the samples where `keep` holds.
-fn median_abs(x: &[f64], keep: impl Fn(usize) -> bool) -> Option<f64> {
-    let mut v: Vec<f64> = (0..x.len()).filter(|&k| keep(k)).map(|k| x[k].abs()).collect();
-    if v.is_empty() {
-        return None;
-    }
-    v.sort_by(f64::total_cmp);
-    Some(v[v.len() / 2])
-}
-
-/// Start values of the static parameters (Tc, Ts, ωs, σ2, Tc_neg, Ts_neg) and how they
-/// were found.
-fn static_start(
-    data: &TransientData,
-    fixed: &Fixed,
-    opts: FrictionOptions,
-) -> (Vec<(&'static str, f64)>, String) {
-    let statics = ["Tc", "Ts", "ws", "sigma2", "Tc_neg", "Ts_neg"];
-    if let Some(table) = quasi_steady(data) {
-        let steady_opts = SteadyOptions { asymmetric: opts.asymmetric, offset: false };
-        let held = fixed.restricted_to(&statics);
-        let problem = SteadyProblem::with_options(&table, steady_opts);
-        if let Ok(fit) = fit_separable(&problem, &held) {
-            let start: Vec<(&'static str, f64)> =
-                fit.values.iter().copied().filter(|(_, v)| v.is_finite() && *v > 0.0).collect();
-            // A level the table could not separate (at its bound 0) falls back below.
-            let has = |name: &str| start.iter().any(|(n, _)| *n == name);
-            if has("Tc") && has("Ts") {
-                return (
-                    start,
-                    format!(
-                        "static start from {} quasi-steady points picked from the series (sliding past {:.0} % of each stroke, calm speed)",
-                        table.len(),
-                        100.0 * super::quasi_steady::MIN_STROKE_SHARE
-                    ),
-                );
-            }
-        }
-    }
-    let (t, w, y) = (data.t(), data.omega(), data.torque());
-    let _ = t;
-    let pos = median_abs(y, |k| w[k] > 0.0).unwrap_or(1.0).max(f64::MIN_POSITIVE);
-    let neg = median_abs(y, |k| w[k] < 0.0).unwrap_or(pos).max(f64::MIN_POSITIVE);
-    let speed = median_abs(w, |k| w[k] != 0.0).unwrap_or(1.0);
-    let mut start = vec![("Tc", pos), ("Ts", 1.2 * pos), ("ws", 0.1 * speed)];
-    if opts.asymmetric {
-        start.push(("Tc_neg", neg));
-        start.push(("Ts_neg", 1.2 * neg));
-    }
-    (start, "static start from the median torque on each side (too few quasi-steady samples for a static fit)".into())
-}
-
 /// One refined start.
 struct Refined {
     values: [f64; 6],
@@ -523,171 +462,4 @@ fn residuals_of<'p, 'a: 'p>(
         let v = problem.values(x);
         Ok(problem.project(&v)?.residuals)
     }
-}
-
-/// Estimates, covariance and report at the optimum `v`.
-#[allow(clippy::too_many_arguments)]
-fn finish(
-    problem: &JointProblem,
-    v: &[f64; 6],
-    started: Instant,
-    remarks: Vec<String>,
-    search: Option<SearchSummary>,
-    iterations: usize,
-    evaluations: usize,
-    termination: &str,
-    starts: usize,
-) -> Result<SeparableFit, FitError> {
-    let proj = problem.project(v)?;
-    let y = problem.data.torque();
-    let n = y.len();
-    let fitted: Vec<f64> = y.iter().zip(&proj.residuals).map(|(a, r)| a - r).collect();
-    let rss: f64 = proj.residuals.iter().map(|r| r * r).sum();
-
-    // Sensitivities of the full prediction: nonlinear parameters by central differences
-    // in ln p (with the linear ones held), linear ones are their columns.
-    let h: f64 = 1e-4;
-    let beta = proj.beta.clone();
-    let predict = |vals: &[f64; 6]| -> Result<Vec<f64>, FitError> {
-        let p = problem.pieces(vals)?;
-        let mut out = p.w;
-        for (j, col) in p.columns.iter().enumerate() {
-            out.iter_mut().zip(col).for_each(|(o, c)| *o += beta[j] * c);
-        }
-        Ok(out)
-    };
-    let mut names: Vec<&'static str> = Vec::new();
-    let mut jac: Vec<Vec<f64>> = Vec::new();
-    let nl_cols: Vec<Result<Vec<f64>, FitError>> = problem
-        .nonlinear
-        .par_iter()
-        .map(|name| {
-            let k = NONLINEAR_ALL.iter().position(|n| n == name).unwrap();
-            let (mut up, mut down) = (*v, *v);
-            up[k] *= h.exp();
-            down[k] *= (-h).exp();
-            if !problem.asymmetric && k < 2 {
-                up[k + 4] = up[k];
-                down[k + 4] = down[k];
-            }
-            let (a, b) = (predict(&up)?, predict(&down)?);
-            let dp = v[k] * (h.exp() - (-h).exp());
-            Ok(a.iter().zip(&b).map(|(a, b)| (a - b) / dp).collect())
-        })
-        .collect();
-    for (name, col) in problem.nonlinear.iter().zip(nl_cols) {
-        names.push(name);
-        jac.push(col?);
-    }
-    for (j, (name, fixed)) in problem.linear.iter().enumerate() {
-        if fixed.is_none() {
-            names.push(name);
-            jac.push(proj.pieces.columns[j].clone());
-        }
-    }
-    let cov = covariance(&jac, rss);
-
-    let mut all: Vec<(&'static str, f64, bool)> = Vec::new(); // name, value, nonlinear
-    let nl_count = if problem.asymmetric { 6 } else { 4 };
-    for (k, name) in NONLINEAR_ALL.iter().enumerate().take(nl_count) {
-        all.push((name, v[k], true));
-    }
-    for (j, (name, _)) in problem.linear.iter().enumerate() {
-        all.push((name, proj.beta[j], false));
-    }
-    let mut params = Parameters::default();
-    for &(name, value, nonlinear) in &all {
-        let unit = unit_of(name);
-        let Some(k) = names.iter().position(|n| *n == name) else {
-            params.0.push((name.to_string(), Estimate::held(value, unit, "fixed")));
-            continue;
-        };
-        let col_rms = (jac[k].iter().map(|x| x * x).sum::<f64>() / n as f64).sqrt();
-        let contribution =
-            if nonlinear { 0.01 * value.abs() * col_rms } else { value.abs() * col_rms };
-        let strongest = (0..names.len())
-            .filter(|&o| o != k)
-            .filter_map(|o| cov.correlation[k][o].map(|r| (names[o], r)))
-            .max_by(|a, b| a.1.abs().total_cmp(&b.1.abs()));
-        let at_bound = if nonlinear {
-            None
-        } else {
-            let j = problem.linear.iter().position(|(n, _)| *n == name).unwrap();
-            proj.at_bound[j].then_some(value)
-        };
-        let at_edge = match (&search, name) {
-            (Some(s), "sigma0") if value <= s.range[0] * 1.0001 || value >= s.range[1] * 0.9999 => {
-                Some((s.range[0], s.range[1]))
-            }
-            _ => None,
-        };
-        let explanation = problem.explain(name, v);
-        let (determined, note) = judge(&Judgement {
-            name,
-            unit,
-            value,
-            std_error: cov.std_error[k],
-            singular: cov.singular[k],
-            at_bound,
-            at_edge,
-            contribution,
-            nonlinear,
-            noise: cov.sigma,
-            output_unit: "N·m",
-            strongest,
-            explanation: &explanation,
-        });
-        let ci95 = cov.std_error[k].map(|se| [value - cov.t95 * se, value + cov.t95 * se]);
-        params.0.push((
-            name.to_string(),
-            Estimate {
-                value,
-                unit,
-                std_error: cov.std_error[k],
-                ci95,
-                determined,
-                fixed: false,
-                note,
-            },
-        ));
-    }
-    let mean = y.iter().sum::<f64>() / n as f64;
-    let sst: f64 = y.iter().map(|x| (x - mean).powi(2)).sum();
-    let values: Vec<(&'static str, f64)> = all.iter().map(|&(n, v, _)| (n, v)).collect();
-    let mut remarks = remarks;
-    remarks.push(format!(
-        "joint refinement: Levenberg–Marquardt over ln of {} from {starts} starts; {} by bounded linear least squares at every trial",
-        problem.nonlinear.join(", "),
-        problem.linear.iter().map(|(n, _)| *n).collect::<Vec<_>>().join(", ")
-    ));
-    let report = FitReport {
-        fit: "friction".into(),
-        data: Vec::new(),
-        parameters: params,
-        rms: (rss / n as f64).sqrt(),
-        r2: if sst > 0.0 { 1.0 - rss / sst } else { f64::NAN },
-        iterations: iterations as u64,
-        termination: termination.to_string(),
-        correlation: Correlation {
-            names: names.iter().map(|s| s.to_string()).collect(),
-            matrix: cov.correlation.clone(),
-        },
-        samples: n,
-        dof: cov.dof,
-        noise_std: cov.sigma,
-        evaluations: evaluations as u64,
-        search,
-        stages: Vec::new(),
-        remarks,
-        wall_time_s: started.elapsed().as_secs_f64(),
-    };
-    Ok(SeparableFit {
-        report,
-        values,
-        fitted,
-        residuals: proj.residuals,
-        free: names,
-        jacobian: jac,
-        covariance: cov,
-    })
 }

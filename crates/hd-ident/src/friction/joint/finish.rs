@@ -1,0 +1,178 @@
+//! The joint fit's report at the optimum: sensitivities, covariance, estimates.
+
+use super::{JointProblem, NONLINEAR_ALL, unit_of};
+use crate::error::FitError;
+use crate::report::{
+    Correlation, Estimate, FitReport, Judgement, Parameters, SearchSummary, judge,
+};
+use crate::separable::SeparableFit;
+use crate::uncertainty::covariance;
+use rayon::prelude::*;
+use std::time::Instant;
+
+/// Estimates, covariance and report at the optimum `v`.
+#[allow(clippy::too_many_arguments)]
+pub(super) fn finish(
+    problem: &JointProblem,
+    v: &[f64; 6],
+    started: Instant,
+    remarks: Vec<String>,
+    search: Option<SearchSummary>,
+    iterations: usize,
+    evaluations: usize,
+    termination: &str,
+    starts: usize,
+) -> Result<SeparableFit, FitError> {
+    let proj = problem.project(v)?;
+    let y = problem.data.torque();
+    let n = y.len();
+    let fitted: Vec<f64> = y.iter().zip(&proj.residuals).map(|(a, r)| a - r).collect();
+    let rss: f64 = proj.residuals.iter().map(|r| r * r).sum();
+
+    // Sensitivities of the full prediction: nonlinear parameters by central differences
+    // in ln p (with the linear ones held), linear ones are their columns.
+    let h: f64 = 1e-4;
+    let beta = proj.beta.clone();
+    let predict = |vals: &[f64; 6]| -> Result<Vec<f64>, FitError> {
+        let p = problem.pieces(vals)?;
+        let mut out = p.w;
+        for (j, col) in p.columns.iter().enumerate() {
+            out.iter_mut().zip(col).for_each(|(o, c)| *o += beta[j] * c);
+        }
+        Ok(out)
+    };
+    let mut names: Vec<&'static str> = Vec::new();
+    let mut jac: Vec<Vec<f64>> = Vec::new();
+    let nl_cols: Vec<Result<Vec<f64>, FitError>> = problem
+        .nonlinear
+        .par_iter()
+        .map(|name| {
+            let k = NONLINEAR_ALL.iter().position(|n| n == name).unwrap();
+            let (mut up, mut down) = (*v, *v);
+            up[k] *= h.exp();
+            down[k] *= (-h).exp();
+            if !problem.asymmetric && k < 2 {
+                up[k + 4] = up[k];
+                down[k + 4] = down[k];
+            }
+            let (a, b) = (predict(&up)?, predict(&down)?);
+            let dp = v[k] * (h.exp() - (-h).exp());
+            Ok(a.iter().zip(&b).map(|(a, b)| (a - b) / dp).collect())
+        })
+        .collect();
+    for (name, col) in problem.nonlinear.iter().zip(nl_cols) {
+        names.push(name);
+        jac.push(col?);
+    }
+    for (j, (name, fixed)) in problem.linear.iter().enumerate() {
+        if fixed.is_none() {
+            names.push(name);
+            jac.push(proj.pieces.columns[j].clone());
+        }
+    }
+    let cov = covariance(&jac, rss);
+
+    let mut all: Vec<(&'static str, f64, bool)> = Vec::new(); // name, value, nonlinear
+    let nl_count = if problem.asymmetric { 6 } else { 4 };
+    for (k, name) in NONLINEAR_ALL.iter().enumerate().take(nl_count) {
+        all.push((name, v[k], true));
+    }
+    for (j, (name, _)) in problem.linear.iter().enumerate() {
+        all.push((name, proj.beta[j], false));
+    }
+    let mut params = Parameters::default();
+    for &(name, value, nonlinear) in &all {
+        let unit = unit_of(name);
+        let Some(k) = names.iter().position(|n| *n == name) else {
+            params.0.push((name.to_string(), Estimate::held(value, unit, "fixed")));
+            continue;
+        };
+        let col_rms = (jac[k].iter().map(|x| x * x).sum::<f64>() / n as f64).sqrt();
+        let contribution =
+            if nonlinear { 0.01 * value.abs() * col_rms } else { value.abs() * col_rms };
+        let strongest = (0..names.len())
+            .filter(|&o| o != k)
+            .filter_map(|o| cov.correlation[k][o].map(|r| (names[o], r)))
+            .max_by(|a, b| a.1.abs().total_cmp(&b.1.abs()));
+        let at_bound = if nonlinear {
+            None
+        } else {
+            let j = problem.linear.iter().position(|(n, _)| *n == name).unwrap();
+            proj.at_bound[j].then_some(value)
+        };
+        let at_edge = match (&search, name) {
+            (Some(s), "sigma0") if value <= s.range[0] * 1.0001 || value >= s.range[1] * 0.9999 => {
+                Some((s.range[0], s.range[1]))
+            }
+            _ => None,
+        };
+        let explanation = problem.explain(name, v);
+        let (determined, note) = judge(&Judgement {
+            name,
+            unit,
+            value,
+            std_error: cov.std_error[k],
+            singular: cov.singular[k],
+            at_bound,
+            at_edge,
+            contribution,
+            nonlinear,
+            noise: cov.sigma,
+            output_unit: "N·m",
+            strongest,
+            explanation: &explanation,
+        });
+        let ci95 = cov.std_error[k].map(|se| [value - cov.t95 * se, value + cov.t95 * se]);
+        params.0.push((
+            name.to_string(),
+            Estimate {
+                value,
+                unit,
+                std_error: cov.std_error[k],
+                ci95,
+                determined,
+                fixed: false,
+                note,
+            },
+        ));
+    }
+    let mean = y.iter().sum::<f64>() / n as f64;
+    let sst: f64 = y.iter().map(|x| (x - mean).powi(2)).sum();
+    let values: Vec<(&'static str, f64)> = all.iter().map(|&(n, v, _)| (n, v)).collect();
+    let mut remarks = remarks;
+    remarks.push(format!(
+        "joint refinement: Levenberg–Marquardt over ln of {} from {starts} starts; {} by bounded linear least squares at every trial",
+        problem.nonlinear.join(", "),
+        problem.linear.iter().map(|(n, _)| *n).collect::<Vec<_>>().join(", ")
+    ));
+    let report = FitReport {
+        fit: "friction".into(),
+        data: Vec::new(),
+        parameters: params,
+        rms: (rss / n as f64).sqrt(),
+        r2: if sst > 0.0 { 1.0 - rss / sst } else { f64::NAN },
+        iterations: iterations as u64,
+        termination: termination.to_string(),
+        correlation: Correlation {
+            names: names.iter().map(|s| s.to_string()).collect(),
+            matrix: cov.correlation.clone(),
+        },
+        samples: n,
+        dof: cov.dof,
+        noise_std: cov.sigma,
+        evaluations: evaluations as u64,
+        search,
+        stages: Vec::new(),
+        remarks,
+        wall_time_s: started.elapsed().as_secs_f64(),
+    };
+    Ok(SeparableFit {
+        report,
+        values,
+        fitted,
+        residuals: proj.residuals,
+        free: names,
+        jacobian: jac,
+        covariance: cov,
+    })
+}
