@@ -75,23 +75,7 @@ pub fn fit_friction_with(
     }
     if let (None, Some(d)) = (steady, transient) {
         let joint = fit_joint(d, fixed, opts)?;
-        let value = |name: &str| {
-            joint.value(name).or_else(|| fixed.get(name)).unwrap_or_else(|| default_of(name))
-        };
-        let (tc, ts) = (value("Tc"), value("Ts"));
-        let law = LuGre {
-            sigma0: value("sigma0"),
-            sigma1: value("sigma1"),
-            sigma2: value("sigma2"),
-            tc,
-            ts,
-            ws: value("ws"),
-            tc_neg: if opts.asymmetric { value("Tc_neg") } else { tc },
-            ts_neg: if opts.asymmetric { value("Ts_neg") } else { ts },
-        };
-        let mut report = joint.report.clone();
-        report.parameters.0.sort_by_key(|(n, _)| order_key(n));
-        return Ok(FrictionFit { report, steady: None, transient: Some(joint), law });
+        return Ok(single(joint, fixed, opts, false));
     }
     if let (Some(d), None) = (steady, transient) {
         let problem = SteadyProblem::with_options(
@@ -99,23 +83,7 @@ pub fn fit_friction_with(
             SteadyOptions { asymmetric: opts.asymmetric, offset: opts.offset },
         );
         let s1 = fit_separable(&problem, fixed)?;
-        let value = |name: &str| {
-            s1.value(name).or_else(|| fixed.get(name)).unwrap_or_else(|| default_of(name))
-        };
-        let (tc, ts) = (value("Tc"), value("Ts"));
-        let law = LuGre {
-            sigma0: default_of("sigma0"),
-            sigma1: default_of("sigma1"),
-            sigma2: value("sigma2"),
-            tc,
-            ts,
-            ws: value("ws"),
-            tc_neg: if opts.asymmetric { value("Tc_neg") } else { tc },
-            ts_neg: if opts.asymmetric { value("Ts_neg") } else { ts },
-        };
-        let mut report = s1.report.clone();
-        report.parameters.0.sort_by_key(|(n, _)| order_key(n));
-        return Ok(FrictionFit { report, steady: Some(s1), transient: None, law });
+        return Ok(single(s1, fixed, opts, true));
     }
     // Both data sets: the static stage, then the dynamic stage holding its result.
     let (Some(sd), Some(d)) = (steady, transient) else {
@@ -150,6 +118,32 @@ pub fn fit_friction_with(
     let mut report = combine(&s1, &s2, prop.as_ref(), start);
     report.parameters.0.sort_by_key(|(n, _)| order_key(n));
     Ok(FrictionFit { report, steady: Some(s1), transient: Some(s2), law })
+}
+
+/// The outcome of a fit on one data set (`steady` tells which kind): its law, with the
+/// parameters it did not estimate at their fixed or default values.
+fn single(fit: SeparableFit, fixed: &Fixed, opts: FrictionOptions, steady: bool) -> FrictionFit {
+    let value = |name: &str| {
+        fit.value(name).or_else(|| fixed.get(name)).unwrap_or_else(|| default_of(name))
+    };
+    let (tc, ts) = (value("Tc"), value("Ts"));
+    let law = LuGre {
+        sigma0: value("sigma0"),
+        sigma1: value("sigma1"),
+        sigma2: value("sigma2"),
+        tc,
+        ts,
+        ws: value("ws"),
+        tc_neg: if opts.asymmetric { value("Tc_neg") } else { tc },
+        ts_neg: if opts.asymmetric { value("Ts_neg") } else { ts },
+    };
+    let mut report = fit.report.clone();
+    report.parameters.0.sort_by_key(|(n, _)| order_key(n));
+    if steady {
+        FrictionFit { report, steady: Some(fit), transient: None, law }
+    } else {
+        FrictionFit { report, steady: None, transient: Some(fit), law }
+    }
 }
 
 /// Report order: registry order, the offset last.
