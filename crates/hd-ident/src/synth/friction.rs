@@ -19,6 +19,31 @@ fn lugre(p: &Params) -> LuGre {
     LuGre::from_params(p)
 }
 
+/// The imposed speed at the times `t` and the LuGre torque along it, the bristle state
+/// integrated from rest by hd-model's Rodas4 at tight tolerances; `what` names the speed
+/// in an error.
+fn torque_along<S: Signal>(
+    law: &LuGre,
+    speed: &S,
+    t: &[f64],
+    what: &str,
+) -> Result<(Vec<f64>, Vec<f64>), FitError> {
+    let sys = BristleAlong { law: *law, speed };
+    let opts =
+        SolverOptions { method: Method::Rodas4, rtol: 1e-10, atol: 1e-10, ..Default::default() };
+    let w = state_at_samples(&sys, t, 0.0, &opts).map_err(|source| FitError::Solver {
+        what: format!("the LuGre bristle state along {what}"),
+        source,
+    })?;
+    Ok(t.iter()
+        .zip(&w)
+        .map(|(&ti, &wi)| {
+            let v = speed.at(ti)[0];
+            (v, law.eval(v, wi).torque)
+        })
+        .unzip())
+}
+
 /// A steady-state sweep: log-spaced speeds of both signs.
 #[derive(Clone, Debug, PartialEq)]
 pub struct SteadySweep {
@@ -137,21 +162,7 @@ pub fn synth_transient(
     let dt = duration / (n - 1) as f64;
     let t: Vec<f64> = (0..n).map(|k| k as f64 * dt).collect();
     let law = lugre(p);
-    let sys = BristleAlong { law, speed: &signal };
-    let opts =
-        SolverOptions { method: Method::Rodas4, rtol: 1e-10, atol: 1e-10, ..Default::default() };
-    let w = state_at_samples(&sys, &t, 0.0, &opts).map_err(|source| FitError::Solver {
-        what: "the LuGre bristle state along the imposed speed".into(),
-        source,
-    })?;
-    let (omega, mut torque): (Vec<f64>, Vec<f64>) = t
-        .iter()
-        .zip(&w)
-        .map(|(&ti, &wi)| {
-            let v = signal.at(ti)[0];
-            (v, law.eval(v, wi).torque)
-        })
-        .unzip();
+    let (omega, mut torque) = torque_along(&law, &signal, &t, "the imposed speed")?;
     let sd = add_noise(&mut torque, noise);
     let description = format!(
         "friction time series: omega(t) = sine at {} Hz through zero, amplitude growing over {} decades to {:e} rad/s, \
@@ -216,21 +227,7 @@ pub fn synth_plateaus(
     let n = (duration / dt).floor() as usize + 1;
     let t: Vec<f64> = (0..n).map(|k| k as f64 * dt).collect();
     let law = LuGre::from_params(p);
-    let sys = BristleAlong { law, speed: profile };
-    let opts =
-        SolverOptions { method: Method::Rodas4, rtol: 1e-10, atol: 1e-10, ..Default::default() };
-    let w = state_at_samples(&sys, &t, 0.0, &opts).map_err(|source| FitError::Solver {
-        what: "the LuGre bristle state along the joint-test profile".into(),
-        source,
-    })?;
-    let (omega, mut torque): (Vec<f64>, Vec<f64>) = t
-        .iter()
-        .zip(&w)
-        .map(|(&ti, &wi)| {
-            let v = profile.at(ti)[0];
-            (v, law.eval(v, wi).torque)
-        })
-        .unzip();
+    let (omega, mut torque) = torque_along(&law, profile, &t, "the joint-test profile")?;
     let sd = add_noise(&mut torque, noise);
     let description = format!(
         "friction joint test: {} speed levels from {:e} to {:e} rad/s, each held {} s forwards then backwards, \

@@ -282,6 +282,19 @@ impl<'a> JointProblem<'a> {
     }
 }
 
+impl Refined {
+    fn from_outcome(problem: &JointProblem, out: crate::lm::LmOutcome) -> Self {
+        Refined {
+            values: problem.values(&out.x),
+            rss: out.cost,
+            iterations: out.iterations,
+            evaluations: out.evaluations,
+            failed: out.failed_trials,
+            termination: out.termination,
+        }
+    }
+}
+
 /// One refined start.
 struct Refined {
     values: [f64; 6],
@@ -372,14 +385,7 @@ pub fn fit_joint(
         .map(|v| {
             let x0 = problem.x_of(v);
             let out = levenberg_marquardt(&residuals, &x0, &lm)?;
-            Ok(Refined {
-                values: problem.values(&out.x),
-                rss: out.cost,
-                iterations: out.iterations,
-                evaluations: out.evaluations,
-                failed: out.failed_trials,
-                termination: out.termination,
-            })
+            Ok(Refined::from_outcome(&problem, out))
         })
         .collect();
     drop(residuals);
@@ -430,14 +436,7 @@ pub fn fit_joint(
         if let Ok(out) = levenberg_marquardt(&residuals_of(&problem), &x0, &lm) {
             iterations += out.iterations;
             evaluations += out.evaluations;
-            best = Refined {
-                values: problem.values(&out.x),
-                rss: out.cost,
-                iterations: out.iterations,
-                evaluations: out.evaluations,
-                failed: out.failed_trials,
-                termination: out.termination,
-            };
+            best = Refined::from_outcome(&problem, out);
         }
     }
     let fit = finish(
