@@ -1,17 +1,6 @@
 //! `hdw synth` then `hdw fit` end to end: files written, fit.json layout, recovered values.
 
-use std::path::Path;
-use std::process::{Command, Output};
-
-fn hdw(args: &[&str]) -> Output {
-    let out = Command::new(env!("CARGO_BIN_EXE_hdw")).args(args).output().expect("run hdw");
-    assert!(out.status.success(), "hdw {args:?} failed:\n{}", String::from_utf8_lossy(&out.stderr));
-    out
-}
-
-fn json(path: &Path) -> serde_json::Value {
-    serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap()
-}
+use crate::common::*;
 
 #[test]
 fn hysteresis_synth_then_fit() {
@@ -19,7 +8,7 @@ fn hysteresis_synth_then_fit() {
     let data = dir.path().join("hyst.csv");
     let out = dir.path().join("fit");
     let (d, o) = (data.to_str().unwrap(), out.to_str().unwrap());
-    hdw(&[
+    hdw_ok(&[
         "synth",
         "hysteresis",
         "--set",
@@ -33,7 +22,7 @@ fn hysteresis_synth_then_fit() {
         "--out",
         d,
     ]);
-    let run = hdw(&["fit", "hysteresis", d, "--out", o]);
+    let run = hdw_ok(&["fit", "hysteresis", d, "--out", o]);
     let table = String::from_utf8_lossy(&run.stdout);
     assert!(
         table.contains("hysteresis fit: 20000 samples") && table.contains("correlation:"),
@@ -71,7 +60,7 @@ fn friction_synth_then_fit_both_stages() {
     let mut a = vec!["synth", "friction"];
     a.extend(truth);
     a.extend(["--out", s]);
-    hdw(&a);
+    hdw_ok(&a);
     let mut a = vec![
         "synth",
         "friction",
@@ -85,8 +74,8 @@ fn friction_synth_then_fit_both_stages() {
     ];
     a.extend(truth);
     a.extend(["--out", t]);
-    hdw(&a);
-    hdw(&["fit", "friction", "--steady", s, "--transient", t, "--out", o]);
+    hdw_ok(&a);
+    hdw_ok(&["fit", "friction", "--steady", s, "--transient", t, "--out", o]);
     for f in [
         "fit.json",
         "stribeck.svg",
@@ -129,7 +118,7 @@ fn fix_holds_a_parameter_and_renamed_columns_are_read() {
     std::fs::write(&csv, text).unwrap();
     let out = dir.path().join("fit");
     let (c, o) = (csv.to_str().unwrap(), out.to_str().unwrap());
-    hdw(&[
+    hdw_ok(&[
         "fit",
         "hysteresis",
         c,

@@ -1,12 +1,13 @@
 //! Bad data given to `hdw fit` is an error on stderr, with a non-zero exit, that says
 //! what is wrong and where.
 
+use crate::common::*;
+
 use std::path::Path;
-use std::process::Command;
 
 /// Run hdw, expect failure, return stderr.
 fn fails(args: &[&str]) -> String {
-    let out = Command::new(env!("CARGO_BIN_EXE_hdw")).args(args).output().expect("run hdw");
+    let out = hdw(args);
     assert!(!out.status.success(), "hdw {args:?} should fail");
     String::from_utf8_lossy(&out.stderr).into_owned()
 }

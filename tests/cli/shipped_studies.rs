@@ -1,11 +1,13 @@
 //! The shipped studies: every file parses and expands to the documented number of runs,
 //! and the small ones run end to end through `hdw study`.
 
+use crate::common::*;
+
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
 fn studies_dir() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../studies")
+    repo_path("studies")
 }
 
 #[test]

@@ -1,30 +1,7 @@
 //! End-to-end tests of `hdw simulate`: outputs on the seed case, and one clear error line
 //! for each kind of bad input.
 
-use std::path::PathBuf;
-use std::process::{Command, Output};
-
-fn hdw(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_hdw")).args(args).output().expect("run hdw")
-}
-
-fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("hdw-e2e-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
-}
-
-/// The run fails with a non-zero exit and a single stderr line containing every needle.
-fn assert_one_line_error(out: &Output, needles: &[&str]) {
-    assert!(!out.status.success(), "expected failure, got success");
-    let err = String::from_utf8_lossy(&out.stderr);
-    let lines: Vec<&str> = err.lines().filter(|l| !l.trim().is_empty()).collect();
-    assert_eq!(lines.len(), 1, "expected one error line, got:\n{err}");
-    for n in needles {
-        assert!(lines[0].contains(n), "error line {:?} lacks {n:?}", lines[0]);
-    }
-}
+use crate::common::*;
 
 #[test]
 fn seed_case_writes_trace_metrics_and_plot() {

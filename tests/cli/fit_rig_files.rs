@@ -1,18 +1,10 @@
 //! `hdw fit` on files as rigs write them: comment lines, other separators, extra and
 //! mixed-type columns, native units with the opposite sign, speed only as a position.
 
+use crate::common::*;
+
 use std::fmt::Write as _;
 use std::path::Path;
-use std::process::Command;
-
-fn hdw(args: &[&str]) -> std::process::Output {
-    Command::new(env!("CARGO_BIN_EXE_hdw")).args(args).output().unwrap()
-}
-
-fn ok(args: &[&str]) {
-    let run = hdw(args);
-    assert!(run.status.success(), "{}", String::from_utf8_lossy(&run.stderr));
-}
 
 fn read_csv(path: &Path) -> (Vec<String>, Vec<Vec<f64>>) {
     let text = std::fs::read_to_string(path).unwrap();
@@ -50,7 +42,7 @@ fn a_messy_joint_test_file_fits_from_the_command_line() {
         args.extend(["--set", t]);
     }
     args.extend(["--out", clean.to_str().unwrap()]);
-    ok(&args);
+    hdw_ok(&args);
     let (_, rows) = read_csv(&clean);
 
     // The rig's file: two comment lines, semicolons, time in ms, the encoder position in
@@ -78,7 +70,7 @@ fn a_messy_joint_test_file_fits_from_the_command_line() {
     let messy = dir.path().join("rig.txt");
     std::fs::write(&messy, text).unwrap();
     let out = dir.path().join("fit");
-    ok(&[
+    hdw_ok(&[
         "fit",
         "friction",
         "--transient",
@@ -118,7 +110,7 @@ fn a_messy_joint_test_file_fits_from_the_command_line() {
 fn hysteresis_in_native_units() {
     let dir = tempfile::tempdir().unwrap();
     let clean = dir.path().join("h.csv");
-    ok(&[
+    hdw_ok(&[
         "synth",
         "hysteresis",
         "--set",
@@ -138,7 +130,7 @@ fn hysteresis_in_native_units() {
     let f = dir.path().join("rig.tsv");
     std::fs::write(&f, text).unwrap();
     let out = dir.path().join("fit");
-    ok(&[
+    hdw_ok(&[
         "fit",
         "hysteresis",
         f.to_str().unwrap(),

@@ -1,29 +1,16 @@
 //! End-to-end tests of `hdw study`: schema, failed rows, kill-and-resume, shards.
 
+use crate::common::*;
+
 use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output, Stdio};
+use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
-
-fn hdw(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_hdw")).args(args).output().expect("run hdw")
-}
-
-fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("hdw-study-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
-}
 
 fn write_study(dir: &Path, text: &str) -> PathBuf {
     let p = dir.join("study.toml");
     std::fs::write(&p, text).unwrap();
     p
-}
-
-fn ok(out: &Output) {
-    assert!(out.status.success(), "hdw failed:\n{}", String::from_utf8_lossy(&out.stderr));
 }
 
 fn ids(table: &hd_io::Table) -> Vec<String> {

@@ -1,26 +1,11 @@
 //! End-to-end tests of global sensitivity through the `hdw` binary: a tiny Sobol' study
 //! and a tiny Morris study, runs that fail, runs that are missing, and the argument rules.
 
+use crate::common::*;
+
 use serde_json::Value;
 use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
-
-fn hdw(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_hdw")).args(args).output().expect("run hdw")
-}
-
-fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("hdw-sens-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
-}
-
-fn ok(out: &Output) -> String {
-    assert!(out.status.success(), "hdw failed:\n{}", String::from_utf8_lossy(&out.stderr));
-    String::from_utf8_lossy(&out.stdout).into_owned()
-}
 
 /// Write `text` as a study file in a fresh folder, run it, return the output folder.
 fn run_study(name: &str, text: &str, extra: &[&str]) -> PathBuf {

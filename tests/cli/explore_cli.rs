@@ -1,13 +1,11 @@
 //! `hdw explore` and `hdw plot` on small tables written for the test.
 
+use crate::common::*;
+
 use hd_io::explore::write_table;
 use hd_io::{ColumnData, Table};
 use std::path::Path;
-use std::process::{Command, Output};
-
-fn hdw(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_hdw")).args(args).output().expect("hdw runs")
-}
+use std::process::Output;
 
 fn text(v: &[&str]) -> ColumnData {
     ColumnData::Text(v.iter().map(|s| Some(s.to_string())).collect())

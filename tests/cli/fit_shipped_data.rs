@@ -1,11 +1,11 @@
 //! The data sets shipped in data/ fit as data/README.md says.
 
-use std::path::PathBuf;
+use crate::common::*;
+
 use std::process::Command;
 
 fn data(name: &str) -> String {
-    let p = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../data").join(name);
-    p.to_str().unwrap().to_string()
+    repo_path("data").join(name).to_str().unwrap().to_string()
 }
 
 /// Run `hdw fit ...` into a fresh folder and return the parsed fit.json.

@@ -1,0 +1,51 @@
+//! Helpers shared by every end-to-end test of the `hdw` binary.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+/// Runs the `hdw` binary built for this test run with `args`.
+pub fn hdw(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_hdw")).args(args).output().expect("run hdw")
+}
+
+/// Runs `hdw` and fails the test, with its stderr, unless it succeeds.
+pub fn hdw_ok(args: &[&str]) -> Output {
+    let out = hdw(args);
+    assert!(out.status.success(), "hdw {args:?} failed:\n{}", String::from_utf8_lossy(&out.stderr));
+    out
+}
+
+/// Asserts `out` succeeded and returns its stdout.
+pub fn ok(out: &Output) -> String {
+    assert!(out.status.success(), "hdw failed:\n{}", String::from_utf8_lossy(&out.stderr));
+    String::from_utf8_lossy(&out.stdout).into_owned()
+}
+
+/// A fresh, empty scratch folder unique to this process and `name`.
+pub fn scratch(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("hdw-cli-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+/// A path under the repository root (`data/...`, `studies/...`).
+pub fn repo_path(rel: &str) -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../..").join(rel)
+}
+
+/// Parses a JSON file.
+pub fn json(path: &Path) -> serde_json::Value {
+    serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap()
+}
+
+/// The run fails with a non-zero exit and a single stderr line containing every needle.
+pub fn assert_one_line_error(out: &Output, needles: &[&str]) {
+    assert!(!out.status.success(), "expected failure, got success");
+    let err = String::from_utf8_lossy(&out.stderr);
+    let lines: Vec<&str> = err.lines().filter(|l| !l.trim().is_empty()).collect();
+    assert_eq!(lines.len(), 1, "expected one error line, got:\n{err}");
+    for n in needles {
+        assert!(lines[0].contains(n), "error line {:?} lacks {n:?}", lines[0]);
+    }
+}

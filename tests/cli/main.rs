@@ -1,0 +1,12 @@
+//! End-to-end tests of the `hdw` binary, in one test binary so polars is linked once.
+
+mod common;
+mod explore_cli;
+mod fit_bad_data;
+mod fit_cli;
+mod fit_rig_files;
+mod fit_shipped_data;
+mod sensitivity_cli;
+mod shipped_studies;
+mod simulate_cli;
+mod study_cli;
