@@ -34,7 +34,7 @@ fn hysteresis_synth_then_fit() {
     let j = json(&out.join("fit.json"));
     let params = j["parameters"].as_object().unwrap();
     assert_eq!(params.len(), 5);
-    for (name, truth) in [("c", 6.5e4), ("A", 2.5e4), ("B", 150.0)] {
+    for (name, truth) in [("c", 6.5e4), ("mem_A", 2.5e4), ("mem_B", 150.0)] {
         let p = &params[name];
         let v = p["value"].as_f64().unwrap();
         assert!((v / truth - 1.0).abs() < 0.02, "{name} = {v}");
@@ -136,7 +136,7 @@ fn fix_holds_a_parameter_and_renamed_columns_are_read() {
         o,
     ]);
     let j = json(&out.join("fit.json"));
-    assert_eq!(j["parameters"]["A"]["fixed"], true);
+    assert_eq!(j["parameters"]["mem_A"]["fixed"], true);
     assert!((j["parameters"]["c"]["value"].as_f64().unwrap() / 5.2e4 - 1.0).abs() < 1e-9);
     assert_eq!(j["iterations"], 0);
 }

@@ -145,7 +145,7 @@ fn hysteresis_in_native_units() {
     ]);
     let j = fit_json(&out);
     let c = value(&j, "c");
-    let b = value(&j, "B");
+    let b = value(&j, "mem_B");
     println!("c = {c}, B = {b}");
     assert!((c / 6.5e4 - 1.0).abs() < 0.01 && (b / 150.0 - 1.0).abs() < 0.02, "c {c}, B {b}");
 }

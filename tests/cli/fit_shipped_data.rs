@@ -28,13 +28,13 @@ fn determined(j: &serde_json::Value, name: &str) -> bool {
 fn paper_range_leaves_a_and_b_undetermined() {
     let j = fit(&["hysteresis", &data("hysteresis-paper-range.csv")]);
     assert!(!determined(&j, "a") && !determined(&j, "b"));
-    assert!(determined(&j, "c") && determined(&j, "A") && determined(&j, "B"));
+    assert!(determined(&j, "c") && determined(&j, "mem_A") && determined(&j, "mem_B"));
 }
 
 #[test]
 fn wide_range_determines_all_five() {
     let j = fit(&["hysteresis", &data("hysteresis-wide-range.parquet")]);
-    for (name, truth) in [("a", 1e8), ("b", 2e6), ("c", 5.2e4), ("A", 4e4), ("B", 300.0)] {
+    for (name, truth) in [("a", 1e8), ("b", 2e6), ("c", 5.2e4), ("mem_A", 4e4), ("mem_B", 300.0)] {
         assert!(determined(&j, name), "{name}");
         let v = j["parameters"][name]["value"].as_f64().unwrap();
         assert!((v / truth - 1.0).abs() < 0.02, "{name} = {v}");

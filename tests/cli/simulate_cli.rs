@@ -9,7 +9,8 @@ fn seed_case_writes_trace_metrics_and_plot() {
     let out = hdw(&["simulate", "--t-end", "0.06", "--out", dir.to_str().unwrap()]);
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
     let table = hd_io::read_table(&dir.join("trace.parquet")).unwrap();
-    let expected: Vec<String> = hd_model::TRACE_COLUMNS.iter().map(|c| c.0.to_string()).collect();
+    let expected: Vec<String> =
+        hd_model::TRACE_COLUMNS.iter().map(|c| c.name.to_string()).collect();
     assert_eq!(table.names, expected);
     assert!(table.height > 100);
     let metrics: serde_json::Value =

@@ -28,7 +28,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         }
     }
     let names: Vec<&str> = if kind == "hysteresis" {
-        vec!["a", "b", "c", "A", "B"]
+        vec!["a", "b", "c", "mem_A", "mem_B"]
     } else {
         vec!["Tc", "Ts", "ws", "sigma2", "sigma0", "sigma1"]
     };

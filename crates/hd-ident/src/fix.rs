@@ -1,8 +1,7 @@
 //! Parameters held fixed during a fit (`--fix NAME=VALUE`), by registry name.
 
 use crate::error::FitError;
-use hd_model::ParamError;
-use hd_model::registry::lookup;
+use hd_model::registry::{lookup, parse_assignment};
 
 /// A set of parameters held at given values, checked against the registry.
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -23,15 +22,7 @@ impl Fixed {
         let mut fixed = Self::none();
         for text in assignments {
             let text = text.as_ref();
-            let (name, value) = text.split_once('=').ok_or_else(|| ParamError::Syntax {
-                text: text.to_string(),
-                expected: "NAME=VALUE, e.g. B=300".to_string(),
-            })?;
-            let info = lookup(name.trim())?;
-            let value: f64 = value.trim().parse().map_err(|_| ParamError::Syntax {
-                text: text.to_string(),
-                expected: format!("a number after '{}='", info.name),
-            })?;
+            let (info, value) = parse_assignment(text)?;
             fixed.insert(info.name, value)?;
         }
         Ok(fixed)

@@ -15,7 +15,7 @@ use crate::separable::{Basis, Separable, SeparableFit, fit_separable};
 use hd_model::laws::stiffness::{CubicSpring, FadingMemory, Hysteretic, StiffnessLaw};
 
 /// Parameters of the hysteresis fit, in report order.
-pub const HYSTERESIS_PARAMS: [&str; 5] = ["a", "b", "c", "A", "B"];
+pub const HYSTERESIS_PARAMS: [&str; 5] = ["a", "b", "c", "mem_A", "mem_B"];
 
 /// Practical search range of B: from `B_LOW_CYCLES` memory time constants over the
 /// record (below that the memory is a pure integrator of θ, indistinguishable from c·θ)
@@ -82,10 +82,10 @@ impl Separable for HysteresisProblem<'_> {
         "hysteresis"
     }
     fn linear_names(&self) -> &'static [&'static str] {
-        if self.offset { &["a", "b", "c", "A", "offset"] } else { &["a", "b", "c", "A"] }
+        if self.offset { &["a", "b", "c", "mem_A", "offset"] } else { &["a", "b", "c", "mem_A"] }
     }
     fn nonlinear_name(&self) -> &'static str {
-        "B"
+        "mem_B"
     }
     fn search_range(&self) -> (f64, f64) {
         let t = self.data.t();
@@ -121,7 +121,7 @@ impl Separable for HysteresisProblem<'_> {
     }
     fn explain(&self, name: &str, values: &[(&'static str, f64)]) -> Explanation {
         let range = format!("max |θ| = {:.2e} rad", self.theta_max());
-        let b = values.iter().find(|(n, _)| *n == "B").map_or(f64::NAN, |v| v.1);
+        let b = values.iter().find(|(n, _)| *n == "mem_B").map_or(f64::NAN, |v| v.1);
         let (effect, remedy) = match name {
             "a" => (
                 "a·θ³".into(),
@@ -141,7 +141,7 @@ impl Separable for HysteresisProblem<'_> {
                 "c·θ".into(),
                 format!("a deflection that varies more than {range} would reveal it"),
             ),
-            "A" => (
+            "mem_A" => (
                 "the memory torque A·ζ".into(),
                 format!(
                     "deflection rates with content near the memory's corner frequency B/2π ≈ {:.3e} Hz would reveal it",
@@ -220,8 +220,8 @@ pub fn fit_hysteresis_with(
         );
     }
     let v = |n: &str| fit.value(n).unwrap_or(0.0);
-    let beta = [v("a"), v("b"), v("c"), v("A"), v("offset")];
-    if let Some(err) = sampling_error(data, &beta, v("B"), offset)? {
+    let beta = [v("a"), v("b"), v("c"), v("mem_A"), v("offset")];
+    if let Some(err) = sampling_error(data, &beta, v("mem_B"), offset)? {
         let share = err / fit.report.noise_std;
         let remark = if share > SAMPLING_WARN {
             format!(

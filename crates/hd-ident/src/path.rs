@@ -31,14 +31,8 @@ impl<'a> Sampled<'a> {
 
 impl Signal for Sampled<'_> {
     fn at(&self, t: f64) -> [f64; 3] {
-        let n = self.t.len();
-        if n < 2 {
-            return [self.x.first().copied().unwrap_or(0.0), 0.0, 0.0];
-        }
-        // The segment whose start is at or before t (the right-hand slope at a sample).
-        let k = self.t.partition_point(|&s| s <= t).saturating_sub(1).min(n - 2);
-        let slope = (self.x[k + 1] - self.x[k]) / (self.t[k + 1] - self.t[k]);
-        [self.x[k] + slope * (t - self.t[k]), slope, 0.0]
+        let (x, slope) = hd_model::interp::linear_at(self.t, self.x, t);
+        [x, slope, 0.0]
     }
 }
 

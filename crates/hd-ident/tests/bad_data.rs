@@ -67,7 +67,7 @@ fn too_few_samples_for_the_free_parameters() {
         FitError::Data(DataError::TooFewSamples { have: 7, need: 8, free: 5, .. }) => {}
         other => panic!("{other}"),
     }
-    assert!(e.to_string().contains("a, b, c, A, B"), "{e}");
+    assert!(e.to_string().contains("a, b, c, mem_A, mem_B"), "{e}");
     // Fixing three leaves two, which 7 samples suffice for.
     let fixed = Fixed::parse(&["a=0", "b=0", "B=300"]).unwrap();
     assert!(fit_hysteresis(&data, &fixed).is_ok());

@@ -26,7 +26,7 @@ fn recovers_c_a_b_within_two_percent() {
         );
         let fit = fit_hysteresis(&data, &Fixed::none()).unwrap();
         let r = &fit.report;
-        for name in ["c", "A", "B"] {
+        for name in ["c", "mem_A", "mem_B"] {
             assert!(rel_error(r, &p, name) < 0.02, "set {i}: {name}");
             assert!(r.parameters.get(name).unwrap().determined, "set {i}: {name}");
         }
@@ -65,7 +65,7 @@ fn large_deflection_range_recovers_a_and_b() {
     )
     .unwrap()
     .report;
-    for name in ["a", "b", "c", "A", "B"] {
+    for name in ["a", "b", "c", "mem_A", "mem_B"] {
         assert!(rel_error(&r, &p, name) < 0.02, "{name}");
         assert!(covers(&r, &p, name), "{name}");
         assert!(r.parameters.get(name).unwrap().determined, "{name}");
@@ -79,7 +79,7 @@ fn noise_free_data_are_reproduced_by_the_same_laws() {
         hysteresis_data(&p, &HysteresisExcitation::default(), Noise { relative: 0.0, seed: 1 });
     let fit = fit_hysteresis(&data, &Fixed::none()).unwrap();
     // Only the piecewise-linear reading of θ between samples separates fit and data.
-    for name in ["c", "A", "B"] {
+    for name in ["c", "mem_A", "mem_B"] {
         assert!(rel_error(&fit.report, &p, name) < 2e-4, "{name}");
     }
 }
@@ -91,11 +91,11 @@ fn fixing_b_gives_the_closed_form_and_reports_it_held() {
         hysteresis_data(&p, &HysteresisExcitation::default(), Noise { relative: 0.01, seed: 2 });
     let fixed = Fixed::parse(&["B=150", "a=0.5"]).unwrap();
     let r = fit_hysteresis(&data, &fixed).unwrap().report;
-    let b = r.parameters.get("B").unwrap();
+    let b = r.parameters.get("mem_B").unwrap();
     assert!(b.fixed && b.std_error.is_none() && b.value == 150.0);
     assert_eq!(r.iterations, 0);
     assert!(r.search.is_none() && r.termination.contains("closed form"));
-    assert!(rel_error(&r, &p, "A") < 0.02);
+    assert!(rel_error(&r, &p, "mem_A") < 0.02);
 }
 
 #[test]
@@ -103,7 +103,7 @@ fn intervals_cover_the_truth_at_about_the_stated_rate() {
     // Ten noise realisations for each set: 30 intervals per parameter, of which a 95 %
     // interval should miss about 1.5; allow up to 5.
     let exc = HysteresisExcitation::default();
-    let names = ["a", "b", "c", "A", "B"];
+    let names = ["a", "b", "c", "mem_A", "mem_B"];
     let mut misses = [0; 5];
     for set in SETS {
         let p = params(set);
@@ -166,7 +166,7 @@ fn a_torque_offset_is_fitted_with_the_law() {
         plain.rms
     );
     assert!((off.value - 1.5).abs() < 3.0 * off.std_error.unwrap(), "{}", r.table());
-    for name in ["c", "A", "B"] {
+    for name in ["c", "mem_A", "mem_B"] {
         assert!(rel_error(r, &p, name) < 0.02, "{name}");
     }
     assert!(r.rms < plain.rms);

@@ -22,12 +22,31 @@ pub enum IoError {
         /// What is wrong and what was expected.
         message: String,
     },
+    /// Polars could not read, combine or write the data; the polars error is the source.
+    #[error("{}: {context}", path.display())]
+    Polars {
+        /// The file.
+        path: PathBuf,
+        /// What was being done.
+        context: String,
+        /// The polars error.
+        source: polars::error::PolarsError,
+    },
 }
 
 impl IoError {
     /// A format error for `path`.
     pub fn format(path: impl Into<PathBuf>, message: impl Into<String>) -> Self {
         IoError::Format { path: path.into(), message: message.into() }
+    }
+
+    /// A converter of a polars error met while doing `context` on `path`, for `map_err`.
+    pub fn polars(
+        path: impl Into<PathBuf>,
+        context: impl Into<String>,
+    ) -> impl FnOnce(polars::error::PolarsError) -> IoError {
+        let (path, context) = (path.into(), context.into());
+        move |source| IoError::Polars { path, context, source }
     }
 
     /// A file-system error for `path`.

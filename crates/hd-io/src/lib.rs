@@ -9,6 +9,7 @@ pub mod columns;
 pub mod csv_sniff;
 pub mod error;
 pub mod explore;
+pub mod parquet_out;
 pub mod runs;
 pub mod sensitivity;
 pub mod store;
@@ -18,6 +19,7 @@ pub mod write_columns;
 
 pub use columns::{read_columns, read_frame, read_profile};
 pub use error::IoError;
+pub use parquet_out::{write_frame, write_out_table};
 pub use table::{ColumnData, Table, read_table};
 pub use trace::write_trace;
 pub use write_columns::write_columns;

@@ -10,8 +10,9 @@
 //! Every file is written to a temporary name and renamed, so each part is all or nothing.
 
 use crate::error::IoError;
-use crate::runs::{merge_files, read_run_ids, runs_frame, traces_frame, write_frame};
-use hd_sweep::RunRow;
+use crate::parquet_out::write_out_table;
+use crate::runs::{merge_files, read_run_ids};
+use hd_model::OutTable;
 use std::collections::HashSet;
 use std::path::{Path, PathBuf};
 
@@ -19,26 +20,19 @@ use std::path::{Path, PathBuf};
 pub struct RunStore {
     dir: PathBuf,
     tag: String,
-    swept: Vec<&'static str>,
-    metrics: Vec<&'static str>,
     next_seq: usize,
 }
 
 impl RunStore {
     /// Open `dir` for the shard `shard = Some((k, n))` or the whole study.
-    pub fn open(
-        dir: &Path,
-        shard: Option<(usize, usize)>,
-        swept: Vec<&'static str>,
-        metrics: Vec<&'static str>,
-    ) -> Result<Self, IoError> {
+    pub fn open(dir: &Path, shard: Option<(usize, usize)>) -> Result<Self, IoError> {
         let parts = dir.join("parts");
         std::fs::create_dir_all(&parts).map_err(|e| IoError::fs(&parts, e))?;
         let tag = match shard {
             Some((k, n)) => format!("shard-{k}-of-{n}"),
             None => "all".to_string(),
         };
-        let mut store = RunStore { dir: dir.to_path_buf(), tag, swept, metrics, next_seq: 0 };
+        let mut store = RunStore { dir: dir.to_path_buf(), tag, next_seq: 0 };
         store.next_seq = store.part_files("runs")?.len();
         Ok(store)
     }
@@ -111,10 +105,10 @@ impl RunStore {
         runs_part.with_file_name(name.replacen("runs-", "traces-", 1))
     }
 
-    /// Commit a batch of rows as one part (traces first, then the runs part that makes the
-    /// batch count as done).
-    pub fn commit(&mut self, rows: &[RunRow]) -> Result<(), IoError> {
-        if rows.is_empty() {
+    /// Commit a batch of runs as one part: its traces table (if any rows kept one) first,
+    /// then the runs table that makes the batch count as done.
+    pub fn commit(&mut self, runs: &OutTable, traces: Option<&OutTable>) -> Result<(), IoError> {
+        if runs.height() == 0 {
             return Ok(());
         }
         // Sequence numbers are zero-padded so that name order is commit order; skip any
@@ -128,13 +122,10 @@ impl RunStore {
                 break;
             }
         }
-        if rows.iter().any(|r| r.trace.is_some()) {
-            let mut tf = traces_frame(rows).map_err(|e| IoError::format(&path, e.to_string()))?;
-            write_frame(&self.traces_twin(&path), &mut tf)?;
+        if let Some(t) = traces.filter(|t| t.height() > 0) {
+            write_out_table(&self.traces_twin(&path), t)?;
         }
-        let mut df = runs_frame(rows, &self.swept, &self.metrics)
-            .map_err(|e| IoError::format(&path, e.to_string()))?;
-        write_frame(&path, &mut df)
+        write_out_table(&path, runs)
     }
 
     /// Merge the final table (if any) and all parts into the final files, then remove the

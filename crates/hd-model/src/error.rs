@@ -42,7 +42,4 @@ pub enum SolverError {
     /// The state or its derivative became NaN or infinite.
     #[error("state became non-finite at t = {time} s")]
     NonFinite { time: f64 },
-    /// The iteration matrix was singular.
-    #[error("singular iteration matrix at t = {time} s")]
-    Singular { time: f64 },
 }

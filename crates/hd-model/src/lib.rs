@@ -14,11 +14,14 @@
 //! per step.
 
 pub mod error;
+pub mod interp;
 pub mod laws;
 pub mod metrics;
+pub mod out_table;
 pub mod params;
 pub mod params_file;
 pub mod registry;
+pub mod schema;
 pub mod signals;
 pub mod simulate;
 pub mod solver;
@@ -29,10 +32,11 @@ pub mod variant;
 
 pub use error::{ConfigError, ParamError, SolverError};
 pub use laws::input::{Input, Profile};
-pub use metrics::{MetricSettings, Metrics};
+pub use metrics::{METRICS, MetricSettings, Metrics};
+pub use out_table::{Cells, OutColumn, OutTable};
 pub use params::Params;
 pub use simulate::{SimConfig, SimError, SimOutput, simulate};
 pub use solver::{Method, SolverOptions, SolverStats};
 pub use system::{DriveSystem, FrictionVelocity};
-pub use trace::{TRACE_COLUMNS, Trace};
+pub use trace::{TRACE_COLUMNS, Trace, TraceColumn};
 pub use variant::Variant;

@@ -17,12 +17,12 @@ pub struct Params {
     /// Linear stiffness coefficient `c` [N·m/rad]; default 52 000.
     #[serde(rename = "c")]
     pub c: f64,
-    /// Memory intensity `A` [N·m/rad] (kernel `A·e^{−B·age}` acting on the deflection
-    /// rate); default 40 000.
-    #[serde(rename = "A")]
+    /// Memory intensity `mem_A` (the seed's `A`) [N·m/rad] (kernel `A·e^{−B·age}` acting
+    /// on the deflection rate); default 40 000.
+    #[serde(rename = "mem_A", alias = "A")]
     pub mem_a: f64,
-    /// Memory decay rate `B` [1/s]; default 300.
-    #[serde(rename = "B")]
+    /// Memory decay rate `mem_B` (the seed's `B`) [1/s]; default 300.
+    #[serde(rename = "mem_B", alias = "B")]
     pub mem_b: f64,
     /// LuGre bristle stiffness σ0 [N·m/rad]; default 1.2e5.
     pub sigma0: f64,

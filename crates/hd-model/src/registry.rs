@@ -7,8 +7,12 @@ use crate::params::Params;
 /// Description of one registry parameter.
 #[derive(Clone, Copy, Debug)]
 pub struct ParamInfo {
-    /// Registry name, e.g. `"sigma0"`.
+    /// Canonical name, e.g. `"sigma0"`: unique among all parameters, metrics and run-table
+    /// columns even when case is folded (SQL engines fold case), so `mem_A`, not `A`.
     pub name: &'static str,
+    /// Other names a person may type for it (the seed paper's letters, e.g. `A`); accepted
+    /// wherever a name is read, never written.
+    pub aliases: &'static [&'static str],
     /// SI unit, e.g. `"N·m/rad"`.
     pub unit: &'static str,
     /// One-line description.
@@ -68,8 +72,12 @@ impl ParamInfo {
 
 macro_rules! p {
     ($name:literal, $field:ident, $unit:literal, $min:expr, $incl:expr, $max:expr, $doc:literal) => {
+        p!($name, [], $field, $unit, $min, $incl, $max, $doc)
+    };
+    ($name:literal, [$($alias:literal),*], $field:ident, $unit:literal, $min:expr, $incl:expr, $max:expr, $doc:literal) => {
         ParamInfo {
             name: $name,
+            aliases: &[$($alias),*],
             unit: $unit,
             doc: $doc,
             min: $min,
@@ -88,8 +96,8 @@ pub static REGISTRY: &[ParamInfo] = &[
     p!("a", a, "N·m/rad³", -INF, false, INF, "cubic stiffness coefficient"),
     p!("b", b, "N·m/rad²", -INF, false, INF, "quadratic stiffness coefficient"),
     p!("c", c, "N·m/rad", 0.0, false, INF, "linear stiffness coefficient"),
-    p!("A", mem_a, "N·m/rad", 0.0, true, INF, "memory intensity"),
-    p!("B", mem_b, "1/s", 0.0, true, INF, "memory decay rate"),
+    p!("mem_A", ["A"], mem_a, "N·m/rad", 0.0, true, INF, "memory intensity (seed: A)"),
+    p!("mem_B", ["B"], mem_b, "1/s", 0.0, true, INF, "memory decay rate (seed: B)"),
     p!("sigma0", sigma0, "N·m/rad", 0.0, false, INF, "LuGre bristle stiffness"),
     p!("sigma1", sigma1, "N·m·s/rad", 0.0, true, INF, "LuGre bristle damping"),
     p!("sigma2", sigma2, "N·m·s/rad", 0.0, true, INF, "LuGre viscous friction"),
@@ -99,6 +107,7 @@ pub static REGISTRY: &[ParamInfo] = &[
     // The negative-side levels follow Tc and Ts until they are set.
     ParamInfo {
         name: "Tc_neg",
+        aliases: &[],
         unit: "N·m",
         doc: "Coulomb friction torque for negative speeds (default: Tc)",
         min: 0.0,
@@ -109,6 +118,7 @@ pub static REGISTRY: &[ParamInfo] = &[
     },
     ParamInfo {
         name: "Ts_neg",
+        aliases: &[],
         unit: "N·m",
         doc: "static friction torque for negative speeds (default: Ts)",
         min: 0.0,
@@ -130,9 +140,11 @@ pub static REGISTRY: &[ParamInfo] = &[
     p!("C0bar", c0bar, "N·m·s/rad", 0.0, true, INF, "nominal viscous friction (damped)"),
 ];
 
-/// Look a parameter up by its registry name; the error suggests the nearest valid name.
+/// Look a parameter up by its canonical name or an alias (`A` finds `mem_A`); the error
+/// suggests the nearest valid name.
 pub fn lookup(name: &str) -> Result<&'static ParamInfo, ParamError> {
-    REGISTRY.iter().find(|p| p.name == name).ok_or_else(|| ParamError::Unknown {
+    let found = REGISTRY.iter().find(|p| p.name == name || p.aliases.contains(&name));
+    found.ok_or_else(|| ParamError::Unknown {
         name: name.to_string(),
         suggestion: nearest_name(name).map(str::to_string),
     })
@@ -141,6 +153,11 @@ pub fn lookup(name: &str) -> Result<&'static ParamInfo, ParamError> {
 /// The registry name closest to `name` (edit distance, case-insensitive), if any is close.
 pub fn nearest_name(name: &str) -> Option<&'static str> {
     nearest_of(name, REGISTRY.iter().map(|p| p.name))
+}
+
+/// The canonical name of a parameter typed as `name` (itself when it is not an alias).
+pub fn canonical(name: &str) -> &str {
+    lookup(name).map_or(name, |p| p.name)
 }
 
 /// The candidate closest to `name` by case-insensitive edit distance, when it is within
@@ -171,6 +188,21 @@ pub fn edit_distance(a: &str, b: &str) -> usize {
     row[b.len()]
 }
 
+/// Parse one `NAME=VALUE` assignment (`--set`, `--fix`): the parameter (by canonical name
+/// or alias) and the number. The range is not checked here.
+pub fn parse_assignment(text: &str) -> Result<(&'static ParamInfo, f64), ParamError> {
+    let (name, value) = text.split_once('=').ok_or_else(|| ParamError::Syntax {
+        text: text.to_string(),
+        expected: "NAME=VALUE, e.g. sigma0=2e5".to_string(),
+    })?;
+    let info = lookup(name.trim())?;
+    let value: f64 = value.trim().parse().map_err(|_| ParamError::Syntax {
+        text: text.to_string(),
+        expected: format!("a number after '{}='", name.trim()),
+    })?;
+    Ok((info, value))
+}
+
 impl Params {
     /// Set a parameter by registry name, checking name and range.
     pub fn set(&mut self, name: &str, value: f64) -> Result<(), ParamError> {
@@ -195,17 +227,10 @@ impl Params {
 
     /// Parse `NAME=VALUE` (as given to `--set`) and apply it.
     pub fn apply_assignment(&mut self, text: &str) -> Result<(), ParamError> {
-        let (name, value) = text.split_once('=').ok_or_else(|| ParamError::Syntax {
-            text: text.to_string(),
-            expected: "NAME=VALUE, e.g. sigma0=2e5".to_string(),
-        })?;
-        let name = name.trim();
-        lookup(name)?;
-        let value: f64 = value.trim().parse().map_err(|_| ParamError::Syntax {
-            text: text.to_string(),
-            expected: format!("a number after '{name}='"),
-        })?;
-        self.set(name, value)
+        let (info, value) = parse_assignment(text)?;
+        info.check(value)?;
+        info.set_unchecked(self, value);
+        Ok(())
     }
 
     /// All parameters as `(name, value)` pairs in registry order.

@@ -2,22 +2,59 @@
 
 use serde::{Deserialize, Serialize};
 
-/// Names of the trace columns, in output order, with their units.
-pub const TRACE_COLUMNS: [(&str, &str); 14] = [
-    ("t", "s"),
-    ("u", "V"),
-    ("i", "A"),
-    ("theta_j", "rad"),
-    ("omega_j", "rad/s"),
-    ("theta_z", "rad"),
-    ("omega_z", "rad/s"),
-    ("theta", "rad"),
-    ("z", "N·m"),
-    ("s", "rad"),
-    ("Tb", "N·m"),
-    ("Tf", "N·m"),
-    ("K", "N·m/rad"),
-    ("C0", "N·m·s/rad"),
+/// One trace column: name, unit, description and the vector of [`Trace`] it reads.
+#[derive(Clone, Copy, Debug)]
+pub struct TraceColumn {
+    /// Column name.
+    pub name: &'static str,
+    /// SI unit.
+    pub unit: &'static str,
+    /// One-line description.
+    pub doc: &'static str,
+    col: fn(&Trace) -> &Vec<f64>,
+    col_mut: fn(&mut Trace) -> &mut Vec<f64>,
+}
+
+impl TraceColumn {
+    /// This column's samples in `t`.
+    pub fn of<'a>(&self, t: &'a Trace) -> &'a [f64] {
+        (self.col)(t)
+    }
+
+    /// This column's samples in `t`, to fill.
+    pub fn of_mut<'a>(&self, t: &'a mut Trace) -> &'a mut Vec<f64> {
+        (self.col_mut)(t)
+    }
+}
+
+macro_rules! c {
+    ($name:literal, $field:ident, $unit:literal, $doc:literal) => {
+        TraceColumn {
+            name: $name,
+            unit: $unit,
+            doc: $doc,
+            col: |t| &t.$field,
+            col_mut: |t| &mut t.$field,
+        }
+    };
+}
+
+/// The one table of trace columns (`trace.parquet`, `traces.parquet`), in output order.
+pub static TRACE_COLUMNS: &[TraceColumn] = &[
+    c!("t", t, "s", "time"),
+    c!("u", u, "V", "armature voltage"),
+    c!("i", i, "A", "armature current"),
+    c!("theta_j", theta_j, "rad", "motor angle"),
+    c!("omega_j", omega_j, "rad/s", "motor speed"),
+    c!("theta_z", theta_z, "rad", "load angle"),
+    c!("omega_z", omega_z, "rad/s", "load speed"),
+    c!("theta", theta, "rad", "gear deflection θj/N − θz"),
+    c!("z", z, "N·m", "hysteresis memory torque"),
+    c!("s", s, "rad", "LuGre mean bristle deflection"),
+    c!("Tb", tb, "N·m", "transmitted torque"),
+    c!("Tf", tf, "N·m", "friction torque"),
+    c!("K", k, "N·m/rad", "stiffness dTb/dθ; null where undefined"),
+    c!("C0", c0, "N·m·s/rad", "friction damping dTf/dv; null where undefined"),
 ];
 
 /// Signals sampled on the output grid. All columns have the same length.
@@ -65,23 +102,17 @@ impl Trace {
     }
 
     /// The columns in [`TRACE_COLUMNS`] order.
-    pub fn columns(&self) -> [&[f64]; 14] {
-        [
-            &self.t,
-            &self.u,
-            &self.i,
-            &self.theta_j,
-            &self.omega_j,
-            &self.theta_z,
-            &self.omega_z,
-            &self.theta,
-            &self.z,
-            &self.s,
-            &self.tb,
-            &self.tf,
-            &self.k,
-            &self.c0,
-        ]
+    pub fn columns(&self) -> impl Iterator<Item = &[f64]> {
+        TRACE_COLUMNS.iter().map(move |c| c.of(self))
+    }
+
+    /// The trace as plain columns for writing (`trace.parquet`).
+    pub fn to_table(&self) -> crate::OutTable {
+        let mut t = crate::OutTable::default();
+        for c in TRACE_COLUMNS {
+            t.push(c.name, crate::Cells::F64(c.of(self).to_vec()));
+        }
+        t
     }
 
     /// Keep every `k`-th sample (k ≥ 1), always keeping the last.
@@ -89,22 +120,29 @@ impl Trace {
         let k = k.max(1);
         let n = self.len();
         let keep: Vec<usize> = (0..n).filter(|&j| j % k == 0 || j + 1 == n).collect();
-        let pick = |c: &Vec<f64>| keep.iter().map(|&j| c[j]).collect::<Vec<f64>>();
-        Trace {
-            t: pick(&self.t),
-            u: pick(&self.u),
-            i: pick(&self.i),
-            theta_j: pick(&self.theta_j),
-            omega_j: pick(&self.omega_j),
-            theta_z: pick(&self.theta_z),
-            omega_z: pick(&self.omega_z),
-            theta: pick(&self.theta),
-            z: pick(&self.z),
-            s: pick(&self.s),
-            tb: pick(&self.tb),
-            tf: pick(&self.tf),
-            k: pick(&self.k),
-            c0: pick(&self.c0),
+        let mut out = Trace::default();
+        for c in TRACE_COLUMNS {
+            let src = c.of(self);
+            *c.of_mut(&mut out) = keep.iter().map(|&j| src[j]).collect();
         }
+        out
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Every field of `Trace` has exactly one column, and each column reads its own field.
+    #[test]
+    fn columns_cover_every_field_once() {
+        let mut t = Trace::default();
+        for (k, c) in TRACE_COLUMNS.iter().enumerate() {
+            c.of_mut(&mut t).push(k as f64);
+        }
+        for (k, c) in TRACE_COLUMNS.iter().enumerate() {
+            assert_eq!(c.of(&t), &[k as f64], "{}", c.name);
+        }
+        assert_eq!(format!("{t:?}").matches(": [").count(), TRACE_COLUMNS.len());
     }
 }

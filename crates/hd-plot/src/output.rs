@@ -2,8 +2,7 @@
 //! PNG), the parent folder is created, and the file is drawn under a temporary name in the
 //! same folder and renamed into place, so a reader never sees half a plot.
 
-use std::path::{Path, PathBuf};
-use std::sync::atomic::{AtomicU64, Ordering};
+use std::path::Path;
 
 use plotters::coord::Shift;
 use plotters::prelude::*;
@@ -52,41 +51,38 @@ pub(crate) fn check_path(path: &Path) -> Result<(), PlotError> {
     format_of(path).map(|_| ())
 }
 
-/// A sibling of `path` to draw into; it keeps the extension because the PNG encoder
-/// picks its format from it.
-fn temp_sibling(path: &Path) -> PathBuf {
-    static COUNTER: AtomicU64 = AtomicU64::new(0);
-    let n = COUNTER.fetch_add(1, Ordering::Relaxed);
-    let stem = path.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
-    let ext = path.extension().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
-    path.with_file_name(format!(".{stem}.tmp-{}-{n}.{ext}", std::process::id()))
-}
-
 /// Draw `figure` into the file at `path`.
 pub(crate) fn render<F: Figure>(path: &Path, figure: &F) -> Result<(), PlotError> {
     let format = format_of(path)?;
     font::ensure_registered()
         .map_err(|message| PlotError::Font { path: path.to_path_buf(), message })?;
-    if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
-        std::fs::create_dir_all(dir)
-            .map_err(|source| PlotError::CreateDir { path: path.to_path_buf(), source })?;
-    }
-    let tmp = temp_sibling(path);
+    let dir = match path.parent().filter(|d| !d.as_os_str().is_empty()) {
+        Some(dir) => dir,
+        None => Path::new("."),
+    };
+    std::fs::create_dir_all(dir)
+        .map_err(|source| PlotError::CreateDir { path: path.to_path_buf(), source })?;
+    // Drawn into a hidden temporary file beside the target, then moved over it (tempfile's
+    // persist), so a reader never sees half a plot. It keeps the extension because the PNG
+    // encoder picks its format from it; it is removed if drawing fails.
+    let ext = path.extension().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
+    let tmp = tempfile::Builder::new()
+        .prefix(".plot.tmp-")
+        .suffix(&format!(".{ext}"))
+        .tempfile_in(dir)
+        .map_err(|source| PlotError::Write { path: path.to_path_buf(), source })?;
     let size = figure.size();
     let drawn = match format {
-        Format::Svg => draw_on(&SVGBackend::new(&tmp, size).into_drawing_area(), figure),
-        Format::Png => draw_on(&BitMapBackend::new(&tmp, size).into_drawing_area(), figure),
+        Format::Svg => draw_on(&SVGBackend::new(tmp.path(), size).into_drawing_area(), figure),
+        Format::Png => draw_on(&BitMapBackend::new(tmp.path(), size).into_drawing_area(), figure),
     };
-    let finished = match drawn {
-        Ok(()) => std::fs::rename(&tmp, path)
-            .map_err(|source| PlotError::Write { path: path.to_path_buf(), source }),
+    match drawn {
+        Ok(()) => tmp
+            .persist(path)
+            .map(|_| ())
+            .map_err(|e| PlotError::Write { path: path.to_path_buf(), source: e.error }),
         Err(DrawError(message)) => Err(PlotError::Draw { path: path.to_path_buf(), message }),
-    };
-    if finished.is_err() {
-        // The temporary file may or may not exist at this point; either is fine.
-        let _ = std::fs::remove_file(&tmp);
     }
-    finished
 }
 
 /// Fill white, draw, and flush to the file.
@@ -110,12 +106,5 @@ mod tests {
         assert_eq!(format_of(Path::new("b.PNG")).unwrap(), Format::Png);
         assert!(format_of(Path::new("b.pdf")).is_err());
         assert!(format_of(Path::new("b")).is_err());
-    }
-
-    #[test]
-    fn temp_sibling_keeps_folder_and_extension() {
-        let t = temp_sibling(Path::new("out/plot.png"));
-        assert_eq!(t.parent(), Some(Path::new("out")));
-        assert_eq!(t.extension().unwrap(), "png");
     }
 }

@@ -1,14 +1,16 @@
-//! Writes one figure of each kind into the folder named by `HD_PLOT_GALLERY` (if set), to
-//! look at by eye: `HD_PLOT_GALLERY=/tmp/gallery cargo test -p hd-plot --test gallery`.
-use std::path::PathBuf;
+//! Draws one figure of each kind and checks every file: a PNG of the figure's size, an SVG
+//! carrying its title, nothing else left in the folder. To look at them by eye, keep them:
+//! `HD_PLOT_GALLERY=/tmp/gallery cargo test -p hd-plot --test gallery`.
+use std::path::{Path, PathBuf};
 
 use hd_plot::*;
 
 #[test]
 fn write_figures_for_viewing() {
-    let Some(dir) = std::env::var_os("HD_PLOT_GALLERY").map(PathBuf::from) else {
-        return;
-    };
+    let scratch = tempfile::tempdir().unwrap();
+    let dir = std::env::var_os("HD_PLOT_GALLERY")
+        .map_or_else(|| scratch.path().to_path_buf(), PathBuf::from);
+    let _ = std::fs::create_dir_all(&dir);
     let t: Vec<f64> = (0..2000).map(|i| i as f64 * 1e-3).collect();
     let mut trace = hd_model::Trace::default();
     trace.t = t.clone();
@@ -94,4 +96,45 @@ fn write_figures_for_viewing() {
     let flat = Series::new("constant", vec![0.0, 1.0, 2.0], vec![2e-4, 2e-4, 2e-4]);
     line_plot(&dir.join("flat.png"), "A constant signal", "t [s]", "θ [rad]", &[flat], false)
         .unwrap();
+    let expected = [
+        "response.png",
+        "response.svg",
+        "lines.png",
+        "heatmap.png",
+        "bars.png",
+        "fit.png",
+        "residuals.png",
+        "flat.png",
+    ];
+    for name in expected {
+        check_figure(&dir.join(name));
+    }
+    let svg = std::fs::read_to_string(dir.join("response.svg")).unwrap();
+    assert!(svg.contains("Seed case: step response"), "the SVG lacks its title");
+    let left: Vec<String> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .filter(|n| !expected.contains(&n.as_str()))
+        .collect();
+    assert!(
+        std::env::var_os("HD_PLOT_GALLERY").is_some() || left.is_empty(),
+        "temporary files left: {left:?}"
+    );
+}
+
+/// A PNG with the signature and a plausible size, or a well-formed SVG document.
+fn check_figure(path: &Path) {
+    let bytes = std::fs::read(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    if path.extension().unwrap() == "png" {
+        assert_eq!(&bytes[..8], b"\x89PNG\r\n\x1a\n", "{}", path.display());
+        let w = u32::from_be_bytes(bytes[16..20].try_into().unwrap());
+        let h = u32::from_be_bytes(bytes[20..24].try_into().unwrap());
+        assert!((400..=4000).contains(&w) && (300..=4000).contains(&h), "{w}×{h}");
+        // A blank image compresses to almost nothing; a drawn figure does not.
+        assert!(bytes.len() > 5_000, "{} is only {} bytes", path.display(), bytes.len());
+    } else {
+        let text = String::from_utf8(bytes).unwrap();
+        assert!(text.starts_with("<svg") && text.trim_end().ends_with("</svg>"));
+        assert!(text.matches("<path").count() + text.matches("<polyline").count() > 3);
+    }
 }

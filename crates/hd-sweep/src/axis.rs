@@ -3,7 +3,7 @@
 
 use hd_model::registry::{ParamInfo, REGISTRY, lookup, nearest_of};
 use hd_model::{Input, SimConfig, Variant};
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 /// Names that are not registry parameters but can be swept.
 pub const SPECIAL: [&str; 4] = ["voltage", "freq", "variant", "friction_scale"];
@@ -24,7 +24,7 @@ pub enum Knob {
 }
 
 /// One value on an axis.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(untagged)]
 pub enum Value {
     /// A number.

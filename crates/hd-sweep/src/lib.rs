@@ -6,15 +6,18 @@
 pub mod axis;
 pub mod design;
 pub mod error;
+pub mod manifest;
 pub mod parse;
 pub mod row;
 pub mod runner;
 pub mod sensitivity;
 pub mod spec;
 pub mod study;
+pub mod tables;
 
 pub use error::StudyError;
+pub use manifest::StudyManifest;
 pub use parse::{load_study, parse_study};
-pub use row::RunRow;
+pub use row::{RunRow, RunStatus};
 pub use runner::run_batch;
 pub use study::{RunSpec, Study, shard};

@@ -2,9 +2,29 @@
 
 use crate::axis::Value;
 use crate::study::{RunDesign, RunSpec};
-use hd_model::{Metrics, Params, SimError, SimOutput, SolverStats, Trace};
+use hd_model::{Metrics, Params, SimError, SimOutput, SolverStats, Trace, Variant};
 use serde::Serialize;
 use std::sync::Arc;
+
+/// Whether a run finished.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum RunStatus {
+    /// The run finished and its metrics are defined where they apply.
+    Ok,
+    /// The run failed; `error` says why and every metric is null.
+    Failed,
+}
+
+impl RunStatus {
+    /// The text written to `runs.parquet`.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            RunStatus::Ok => "ok",
+            RunStatus::Failed => "failed",
+        }
+    }
+}
 
 /// Outcome of one run.
 #[derive(Clone, Debug, Serialize)]
@@ -16,7 +36,7 @@ pub struct RunRow {
     /// Part name.
     pub part: String,
     /// Variant simulated.
-    pub variant: String,
+    pub variant: Variant,
     /// Swept names and values.
     pub swept: Vec<(String, Value)>,
     /// Every parameter used.
@@ -27,8 +47,8 @@ pub struct RunRow {
     pub freq: f64,
     /// Metrics (all NaN for a failed run).
     pub metrics: Metrics,
-    /// `ok` or `failed`.
-    pub status: &'static str,
+    /// Whether the run finished.
+    pub status: RunStatus,
     /// The error of a failed run.
     pub error: Option<String>,
     /// Solver work (zeros for a failed run).
@@ -61,13 +81,13 @@ impl RunRow {
             run_id: spec.run_id.clone(),
             run_index: spec.index,
             part: spec.part.clone(),
-            variant: cfg.variant.name().to_string(),
+            variant: cfg.variant,
             swept: spec.swept.clone(),
             params: cfg.params.clone(),
             voltage,
             freq,
             metrics: Metrics::undefined(),
-            status: "ok",
+            status: RunStatus::Ok,
             error: None,
             stats: SolverStats::default(),
             wall_time: 0.0,
@@ -83,14 +103,14 @@ impl RunRow {
                 trace: out.trace.map(|t| if decimate > 1 { t.decimate(decimate) } else { t }),
                 ..base
             },
-            Err(e) => RunRow { status: "failed", error: Some(e.to_string()), ..base },
+            Err(e) => RunRow { status: RunStatus::Failed, error: Some(e.to_string()), ..base },
         }
     }
 
     /// A failed row for a run that panicked.
     pub fn panicked(spec: &RunSpec, message: String) -> RunRow {
         let mut row = RunRow::new(spec, Err(SimError::Panic(message)), 1);
-        row.status = "failed";
+        row.status = RunStatus::Failed;
         row
     }
 }

@@ -5,7 +5,7 @@ use crate::design::{Axis, Point, Sample, grid_points, sample_points};
 use crate::sensitivity::PointTag;
 use crate::spec::CompareSpec;
 use hd_model::SimConfig;
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 use std::path::PathBuf;
 use std::sync::Arc;
 
@@ -29,7 +29,7 @@ pub struct Study {
 }
 
 /// Trace keeping.
-#[derive(Clone, Copy, Debug, Default, Serialize)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct TraceSettings {
     /// Keep traces.
     pub keep: bool,

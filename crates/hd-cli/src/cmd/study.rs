@@ -6,9 +6,10 @@ use crate::report;
 use anyhow::{Context, Result, bail};
 use clap::Args;
 use hd_io::store::RunStore;
+use hd_sweep::StudyManifest;
+use hd_sweep::tables::{runs_table, traces_table};
 use hd_sweep::{RunRow, RunSpec, Study, load_study, run_batch, shard};
 use indicatif::{ProgressBar, ProgressStyle};
-use serde_json::json;
 use std::collections::HashSet;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicUsize, Ordering};
@@ -81,8 +82,8 @@ pub fn run(args: StudyArgs) -> Result<()> {
         Some((k, n)) => shard(all_runs.clone(), k, n),
         None => all_runs.clone(),
     };
-    let mut store =
-        RunStore::open(&dir, shard_kn, study.swept_names(), study.keep_metrics.clone())?;
+    let mut store = RunStore::open(&dir, shard_kn)?;
+    let swept = study.swept_names();
     if store.has_results()? && !args.resume {
         bail!(
             "{} already holds results of this study: pass --resume to continue it, or choose another --out",
@@ -112,7 +113,7 @@ pub fn run(args: StudyArgs) -> Result<()> {
     let bar = progress_bar(todo.len() as u64);
     let failures = AtomicUsize::new(0);
     let progress = |row: &RunRow| {
-        if row.status != "ok" {
+        if row.status != hd_sweep::RunStatus::Ok {
             let n = failures.fetch_add(1, Ordering::Relaxed) + 1;
             bar.set_message(format!("{n} failed"));
         }
@@ -122,7 +123,8 @@ pub fn run(args: StudyArgs) -> Result<()> {
     let batch = (todo.len() / 20).clamp(threads * 4, 512);
     for chunk in todo.chunks(batch.max(1)) {
         let rows = pool.install(|| run_batch(chunk, study.traces.decimate, &progress));
-        store.commit(&rows)?;
+        let traces = rows.iter().any(|r| r.trace.is_some()).then(|| traces_table(&rows));
+        store.commit(&runs_table(&rows, &swept, &study.keep_metrics), traces.as_ref())?;
     }
     bar.finish();
     let elapsed = start.elapsed().as_secs_f64();
@@ -165,38 +167,6 @@ fn write_study_json(
     runs: &[RunSpec],
     shard: Option<(usize, usize)>,
 ) -> Result<()> {
-    let defaults: Vec<serde_json::Value> = hd_model::registry::REGISTRY
-        .iter()
-        .map(|p| json!({ "name": p.name, "unit": p.unit, "default": p.default_value(), "range": p.range_text(), "doc": p.doc }))
-        .collect();
-    let parts: Vec<serde_json::Value> = study
-        .parts
-        .iter()
-        .map(|p| {
-            json!({
-                "name": p.name,
-                "base": p.base,
-                "swept": p.swept_names(),
-                "axes": p.axes.iter().map(|a| json!({ "name": a.knob.name(), "values": a.values, "zip": a.zip })).collect::<Vec<_>>(),
-            })
-        })
-        .collect();
-    let run_list: Vec<serde_json::Value> = runs
-        .iter()
-        .map(|r| json!({ "run_id": r.run_id, "run_index": r.index, "part": r.part, "swept": r.swept }))
-        .collect();
-    let doc = json!({
-        "name": study.name,
-        "description": study.description,
-        "file": study.file.display().to_string(),
-        "tool": { "name": "hdw", "version": env!("CARGO_PKG_VERSION") },
-        "shard": shard.map(|(k, n)| json!({ "k": k, "n": n })),
-        "swept": study.swept_names(),
-        "metrics": study.keep_metrics,
-        "traces": study.traces,
-        "parameter_defaults": defaults,
-        "parts": parts,
-        "runs": run_list,
-    });
-    write_json(&dir.join("study.json"), &doc)
+    let manifest = StudyManifest::new(study, runs, shard, env!("CARGO_PKG_VERSION"));
+    write_json(&dir.join("study.json"), &serde_json::to_value(manifest)?)
 }

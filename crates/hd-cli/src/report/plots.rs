@@ -174,20 +174,7 @@ fn index_of(grid: &[f64], x: f64) -> Option<usize> {
     grid.iter().position(|g| (g - x).abs() <= 1e-9 * g.abs().max(1e-300))
 }
 
-/// Axis label with its unit from the registry or the metric table.
+/// Axis label with its unit from the schema (`name [unit]`).
 pub fn label(name: &str) -> String {
-    if let Ok(p) = hd_model::registry::lookup(name) {
-        return format!("{name} [{}]", p.unit);
-    }
-    let unit =
-        hd_model::Metrics::UNITS.iter().find(|(n, _)| *n == name).map(|(_, u)| *u).or(match name {
-            "voltage" => Some("V"),
-            "freq" => Some("Hz"),
-            "friction_scale" => Some("-"),
-            _ => None,
-        });
-    match unit {
-        Some(u) => format!("{name} [{u}]"),
-        None => name.to_string(),
-    }
+    hd_io::explore::label(name)
 }

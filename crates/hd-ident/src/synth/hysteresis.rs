@@ -102,7 +102,7 @@ pub fn synth_hysteresis(
     let freqs: Vec<String> = exc.frequencies.iter().map(|f| format!("{f}")).collect();
     let description = format!(
         "hysteresis: theta(t) = sum of {} equal sines at {} Hz, peak bound {:e} rad, {} samples over {} s; \
-         a={:e}, b={:e}, c={:e}, A={:e}, B={:e}; Gaussian noise {} x RMS torque = {:.4e} N·m (seed {})",
+         a={:e}, b={:e}, c={:e}, mem_A={:e}, mem_B={:e}; Gaussian noise {} x RMS torque = {:.4e} N·m (seed {})",
         exc.frequencies.len(),
         freqs.join(", "),
         exc.amplitude,

@@ -4,7 +4,7 @@
 
 use hd_io::explore::write_table;
 use hd_io::{ColumnData, Table};
-use hd_model::Metrics;
+use hd_model::METRICS;
 use hd_model::registry::REGISTRY;
 use std::path::Path;
 
@@ -63,7 +63,7 @@ pub fn runs_table(lo: usize, hi: usize) -> Table {
     }
     num_cols.push(("voltage".into(), (0..n).map(|_| rng.pick(&volts)).collect()));
     num_cols.push(("freq".into(), (0..n).map(|_| rng.pick(&freqs)).collect()));
-    for (m, _) in Metrics::UNITS {
+    for m in METRICS.iter().map(|m| m.name) {
         let v = (0..n).map(|i| if failed[i] { f64::NAN } else { rng.next() * 1e-3 }).collect();
         num_cols.push((m.into(), v));
     }

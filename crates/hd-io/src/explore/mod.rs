@@ -35,4 +35,4 @@ pub use save::write_table;
 pub use schema::ColumnInfo;
 pub use source::{Kind, Source, resolve};
 pub use token::Op;
-pub use units::{OTHER_COLUMNS, SENSITIVITY_COLUMNS, is_metric, label, unit_of};
+pub use units::{is_metric, label, unit_of};

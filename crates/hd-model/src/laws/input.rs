@@ -42,23 +42,13 @@ impl Profile {
         Ok(Self { t, u })
     }
 
-    fn segment(&self, t: f64) -> usize {
-        // Index k with t[k] <= t < t[k+1], clamped to the valid segments.
-        let k = self.t.partition_point(|&tk| tk <= t);
-        k.saturating_sub(1).min(self.t.len() - 2)
-    }
-
     fn value_and_rate(&self, t: f64) -> (f64, f64) {
         let n = self.t.len();
-        if t <= self.t[0] {
-            return (self.u[0], 0.0);
+        // Held constant outside the recording (no rate at its ends either).
+        if t <= self.t[0] || t >= self.t[n - 1] {
+            return (if t <= self.t[0] { self.u[0] } else { self.u[n - 1] }, 0.0);
         }
-        if t >= self.t[n - 1] {
-            return (self.u[n - 1], 0.0);
-        }
-        let k = self.segment(t);
-        let slope = (self.u[k + 1] - self.u[k]) / (self.t[k + 1] - self.t[k]);
-        (self.u[k] + slope * (t - self.t[k]), slope)
+        crate::interp::linear_at(&self.t, &self.u, t)
     }
 }
 

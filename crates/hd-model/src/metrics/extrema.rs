@@ -9,12 +9,8 @@ pub fn cubic_extrema(p0: f64, p1: f64, m0: f64, m1: f64, h: f64) -> (f64, f64) {
     let qb = -6.0 * p0 - 4.0 * a0 + 6.0 * p1 - 2.0 * a1;
     let qc = a0;
     let eval = |s: f64| {
-        let s2 = s * s;
-        let s3 = s2 * s;
-        (2.0 * s3 - 3.0 * s2 + 1.0) * p0
-            + (s3 - 2.0 * s2 + s) * a0
-            + (-2.0 * s3 + 3.0 * s2) * p1
-            + (s3 - s2) * a1
+        let [w0, w1, w2, w3] = crate::interp::hermite_basis(s);
+        w0 * p0 + w1 * a0 + w2 * p1 + w3 * a1
     };
     let mut lo = p0.min(p1);
     let mut hi = p0.max(p1);

@@ -5,11 +5,13 @@ mod collector;
 mod extrema;
 mod limit_cycle;
 mod periodic;
+mod schema;
 mod step;
 
 pub use collector::Collector;
 pub use extrema::cubic_extrema;
 pub use periodic::fit_fundamental;
+pub use schema::{METRICS, MetricColumn};
 
 use serde::{Deserialize, Serialize};
 
@@ -43,8 +45,9 @@ impl Default for MetricSettings {
     }
 }
 
-/// The metrics of one run. Field names are the column names of `runs.parquet`.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+/// The metrics of one run. Names, units, descriptions and serialisation come from
+/// [`METRICS`], the one table of metric columns.
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Metrics {
     /// Half peak-to-peak of θz over the window [rad] (periodic runs).
     pub thz_amp: f64,
@@ -117,53 +120,8 @@ impl Metrics {
         }
     }
 
-    /// Metric names and values in a fixed order (the column order of outputs).
+    /// Metric names and values in [`METRICS`] order (the column order of outputs).
     pub fn to_pairs(&self) -> Vec<(&'static str, f64)> {
-        vec![
-            ("thz_amp", self.thz_amp),
-            ("thz_mean", self.thz_mean),
-            ("thz_ripple", self.thz_ripple),
-            ("hyst_loss_per_cycle", self.hyst_loss_per_cycle),
-            ("friction_loss_per_cycle", self.friction_loss_per_cycle),
-            ("efficiency", self.efficiency),
-            ("cycles_used", self.cycles_used),
-            ("rise_time", self.rise_time),
-            ("overshoot", self.overshoot),
-            ("settling_time", self.settling_time),
-            ("damping_ratio", self.damping_ratio),
-            ("final_speed", self.final_speed),
-            ("limit_cycle", self.limit_cycle),
-            ("lc_amplitude", self.lc_amplitude),
-            ("lc_period", self.lc_period),
-            ("thz_peak", self.thz_peak),
-            ("tb_peak", self.tb_peak),
-            ("tf_peak", self.tf_peak),
-            ("s_peak", self.s_peak),
-            ("energy_residual", self.energy_residual),
-        ]
+        METRICS.iter().map(|m| (m.name, m.get(self))).collect()
     }
-
-    /// Metric names with units, in [`Metrics::to_pairs`] order.
-    pub const UNITS: [(&'static str, &'static str); 20] = [
-        ("thz_amp", "rad"),
-        ("thz_mean", "rad"),
-        ("thz_ripple", "rad"),
-        ("hyst_loss_per_cycle", "J"),
-        ("friction_loss_per_cycle", "J"),
-        ("efficiency", "-"),
-        ("cycles_used", "-"),
-        ("rise_time", "s"),
-        ("overshoot", "-"),
-        ("settling_time", "s"),
-        ("damping_ratio", "-"),
-        ("final_speed", "rad/s"),
-        ("limit_cycle", "-"),
-        ("lc_amplitude", "rad/s"),
-        ("lc_period", "s"),
-        ("thz_peak", "rad"),
-        ("tb_peak", "N·m"),
-        ("tf_peak", "N·m"),
-        ("s_peak", "rad"),
-        ("energy_residual", "-"),
-    ];
 }

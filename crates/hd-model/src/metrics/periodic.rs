@@ -1,5 +1,6 @@
 //! Periodic-run metrics: the least-squares fundamental fit behind `thz_ripple`.
 
+use nalgebra::{Matrix3, Vector3};
 use std::f64::consts::TAU;
 
 /// Least-squares fit of `m + a·sin(2πft) + b·cos(2πft)` to samples `(t, x)`; returns
@@ -12,19 +13,15 @@ pub fn fit_fundamental(t: &[f64], x: &[f64], freq: f64) -> (f64, f64, f64, f64) 
     }
     // Normal equations in a 3×3 system, centred on the mean of x for conditioning.
     let xm = x.iter().sum::<f64>() / n as f64;
-    let mut g = [[0.0; 3]; 3];
-    let mut r = [0.0; 3];
+    let mut g = Matrix3::<f64>::zeros();
+    let mut r = Vector3::<f64>::zeros();
     for (&tk, &xk) in t.iter().zip(x) {
         let (s, c) = (TAU * freq * tk).sin_cos();
-        let phi = [1.0, s, c];
-        for i in 0..3 {
-            for j in 0..3 {
-                g[i][j] += phi[i] * phi[j];
-            }
-            r[i] += phi[i] * (xk - xm);
-        }
+        let phi = Vector3::new(1.0, s, c);
+        g += phi * phi.transpose();
+        r += phi * (xk - xm);
     }
-    let Some(sol) = solve3(g, r) else {
+    let Some(sol) = g.lu().solve(&r) else {
         return nan;
     };
     let (m, a, b) = (sol[0] + xm, sol[1], sol[2]);
@@ -35,32 +32,6 @@ pub fn fit_fundamental(t: &[f64], x: &[f64], freq: f64) -> (f64, f64, f64, f64) 
         ss += e * e;
     }
     (m, a, b, (ss / n as f64).sqrt())
-}
-
-/// Solve a 3×3 system by Gaussian elimination with partial pivoting.
-fn solve3(mut g: [[f64; 3]; 3], mut r: [f64; 3]) -> Option<[f64; 3]> {
-    for k in 0..3 {
-        let p = (k..3).max_by(|&i, &j| g[i][k].abs().total_cmp(&g[j][k].abs()))?;
-        if g[p][k].abs() < 1e-300 {
-            return None;
-        }
-        g.swap(k, p);
-        r.swap(k, p);
-        let pivot_row = g[k];
-        for i in k + 1..3 {
-            let l = g[i][k] / pivot_row[k];
-            for (gij, gkj) in g[i].iter_mut().zip(pivot_row).skip(k) {
-                *gij -= l * gkj;
-            }
-            r[i] -= l * r[k];
-        }
-    }
-    let mut x = [0.0; 3];
-    for i in (0..3).rev() {
-        let s: f64 = (i + 1..3).map(|j| g[i][j] * x[j]).sum();
-        x[i] = (r[i] - s) / g[i][i];
-    }
-    Some(x)
 }
 
 #[cfg(test)]

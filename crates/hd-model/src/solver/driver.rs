@@ -2,7 +2,7 @@
 //! observer callback and solver statistics.
 
 use super::switching::Switcher;
-use super::{Method, OdeSystem, SolverOptions, SolverStats, dopri5, error_norm, rodas4};
+use super::{Method, OdeSystem, SolverOptions, SolverStats, control, dopri5, error_norm, rodas4};
 use crate::error::SolverError;
 use nalgebra::SVector;
 
@@ -30,13 +30,7 @@ impl<const D: usize> Step<'_, D> {
         if h <= 0.0 {
             return *self.y1;
         }
-        let s = (t - self.t0) / h;
-        let s2 = s * s;
-        let s3 = s2 * s;
-        let h00 = 2.0 * s3 - 3.0 * s2 + 1.0;
-        let h10 = s3 - 2.0 * s2 + s;
-        let h01 = -2.0 * s3 + 3.0 * s2;
-        let h11 = s3 - s2;
+        let [h00, h10, h01, h11] = crate::interp::hermite_basis((t - self.t0) / h);
         h00 * self.y0 + (h10 * h) * self.f0 + h01 * self.y1 + (h11 * h) * self.f1
     }
 }
@@ -81,7 +75,7 @@ pub fn solve<const D: usize, S: OdeSystem<D>>(
         }
         let mut jac_cache = None;
         let mut last_rejected = false;
-        let mut err_prev: f64 = 1e-4;
+        let mut err_prev: f64 = control::ERROR_FLOOR;
         while t < seg_end {
             if stats.steps + stats.rejected >= opts.max_steps {
                 return Err(SolverError::TooManySteps { time: t, steps: opts.max_steps });
@@ -89,11 +83,11 @@ pub fn solve<const D: usize, S: OdeSystem<D>>(
             let remaining = seg_end - t;
             let mut h = h_next.min(opts.h_max);
             // Land exactly on the segment end; avoid a sliver step just before it.
-            let last = h >= remaining || remaining - h < 1e-3 * h;
+            let last = h >= remaining || remaining - h < control::SLIVER * h;
             if last {
                 h = remaining;
             }
-            if h <= 16.0 * f64::EPSILON * t.abs().max(1e-300) {
+            if h <= control::MIN_STEP_EPS * f64::EPSILON * t.abs().max(1e-300) {
                 return Err(SolverError::StepSizeTooSmall { time: t, step: h });
             }
             let mut stiffness = None;
@@ -126,10 +120,16 @@ pub fn solve<const D: usize, S: OdeSystem<D>>(
                     }
                 }
             };
-            let order_exp = if method == Method::Rodas4 { 0.25 } else { 0.2 };
-            // Dopri5 uses a PI controller (Hairer's β = 0.04), which damps the step-size
-            // oscillation of a stability-bound explicit method and cuts rejections.
-            let (alpha, beta) = if method == Method::Rodas4 { (0.25, 0.0) } else { (0.17, 0.04) };
+            let order_exp = if method == Method::Rodas4 {
+                control::RODAS4_EXPONENT
+            } else {
+                control::DOPRI5_REJECT_EXPONENT
+            };
+            let (alpha, beta) = if method == Method::Rodas4 {
+                (control::RODAS4_EXPONENT, 0.0)
+            } else {
+                control::DOPRI5_PI
+            };
             if err_norm <= 1.0 && y1.iter().all(|v| v.is_finite()) {
                 let t1 = if last { seg_end } else { t + h };
                 let f1 = match f1 {
@@ -150,13 +150,13 @@ pub fn solve<const D: usize, S: OdeSystem<D>>(
                 f = f1;
                 jac_cache = None;
                 let fac = if err_norm == 0.0 {
-                    6.0
+                    control::GROW_MAX
                 } else {
-                    0.9 * err_norm.powf(-alpha) * err_prev.powf(beta)
+                    control::SAFETY * err_norm.powf(-alpha) * err_prev.powf(beta)
                 };
-                err_prev = err_norm.max(1e-4);
+                err_prev = err_norm.max(control::ERROR_FLOOR);
                 let fac = if last_rejected { fac.min(1.0) } else { fac };
-                h_next = h * fac.clamp(0.2, 6.0);
+                h_next = h * fac.clamp(control::SHRINK_ACCEPTED_MIN, control::GROW_MAX);
                 last_rejected = false;
                 if auto {
                     let next = switcher.accepted(h, stiffness, stats.steps);
@@ -167,8 +167,13 @@ pub fn solve<const D: usize, S: OdeSystem<D>>(
                 }
             } else {
                 stats.rejected += 1;
-                let fac = if err_norm.is_finite() { 0.9 * err_norm.powf(-order_exp) } else { 0.1 };
-                h_next = h * fac.clamp(0.1, 0.9);
+                let fac = if err_norm.is_finite() {
+                    control::SAFETY * err_norm.powf(-order_exp)
+                } else {
+                    control::SHRINK_FAILED
+                };
+                let (lo, hi) = control::SHRINK_REJECTED;
+                h_next = h * fac.clamp(lo, hi);
                 last_rejected = true;
             }
         }

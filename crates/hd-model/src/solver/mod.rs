@@ -12,6 +12,7 @@
 //!
 //! Everything is stack-allocated (`SVector<f64, D>`), so a solve allocates nothing.
 
+pub mod control;
 mod dopri5;
 mod driver;
 mod lu;
@@ -54,6 +55,17 @@ pub enum Method {
     Rodas4,
 }
 
+impl Method {
+    /// The name used in study files, on the command line and in run tables.
+    pub fn name(self) -> &'static str {
+        match self {
+            Method::Auto => "auto",
+            Method::Dopri5 => "dopri5",
+            Method::Rodas4 => "rodas4",
+        }
+    }
+}
+
 /// Solver settings.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
@@ -64,7 +76,8 @@ pub struct SolverOptions {
     pub rtol: f64,
     /// Absolute tolerance [state units, scaled by `abs_scale`]; default 1e-9.
     pub atol: f64,
-    /// Largest step [s]; default unbounded.
+    /// Largest step [s]; default unbounded (written as null in JSON, which has no infinity).
+    #[serde(with = "unbounded_as_null")]
     pub h_max: f64,
     /// First step [s]; 0 chooses it automatically.
     pub h_init: f64,
@@ -126,3 +139,17 @@ pub(crate) fn error_norm<const D: usize>(
 
 #[cfg(test)]
 mod tests;
+
+/// An unbounded (infinite) value written as null and read back from null, so settings
+/// survive a round trip through JSON.
+mod unbounded_as_null {
+    use serde::{Deserialize, Deserializer, Serializer};
+
+    pub fn serialize<S: Serializer>(v: &f64, s: S) -> Result<S::Ok, S::Error> {
+        if v.is_finite() { s.serialize_some(v) } else { s.serialize_none() }
+    }
+
+    pub fn deserialize<'de, D: Deserializer<'de>>(d: D) -> Result<f64, D::Error> {
+        Ok(Option::<f64>::deserialize(d)?.unwrap_or(f64::INFINITY))
+    }
+}

@@ -13,9 +13,16 @@ use super::Method;
 
 /// Cost of a Rodas4 step over a Dopri5 step on the drive system (measured).
 pub const COST_RATIO: f64 = 3.5;
+/// Dopri5's stiffness indicator h·ρ above which a step counts as held by stability [–];
+/// Dopri5's stability boundary on the negative real axis is about 3.3 (range 3–3.3).
+pub const STIFF_INDICATOR: f64 = 3.25;
+/// Accepted steps in a row above [`STIFF_INDICATOR`] before Rodas4 is tried [–].
 const STIFF_RUN: u32 = 15;
+/// Rodas4 steps in a trial before its mean step is compared with Dopri5's [–].
 const TRIAL_STEPS: u32 = 30;
+/// Accepted steps after a trial that kept Dopri5 before stiffness is looked at again [–].
 const RECHECK_AFTER_DOPRI: u64 = 2_000;
+/// Accepted Rodas4 steps before Dopri5 is tried again (the stiffness may have gone) [–].
 const RECHECK_AFTER_RODAS: u64 = 5_000;
 
 /// The switching state of an `auto` solve.
@@ -55,7 +62,7 @@ impl Switcher {
                     if self.recent_h == 0.0 { h } else { 0.8 * self.recent_h + 0.2 * h };
                 // Hairer's counting: 15 stiff-looking steps make a stiff run; it is only
                 // broken by 6 calm steps in a row.
-                if stiffness.is_some_and(|s| s > 3.25) {
+                if stiffness.is_some_and(|s| s > STIFF_INDICATOR) {
                     self.stiff_run += 1;
                     self.calm_run = 0;
                 } else {

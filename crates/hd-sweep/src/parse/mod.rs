@@ -15,7 +15,7 @@ use crate::spec::*;
 use crate::study::{Part, Study, TraceSettings};
 use hd_model::params_file::apply_params_toml;
 use hd_model::registry::nearest_of;
-use hd_model::{FrictionVelocity, Input, Metrics, Profile, SimConfig, Variant};
+use hd_model::{FrictionVelocity, Input, Profile, SimConfig, Variant};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use toml::Spanned;
@@ -221,7 +221,7 @@ impl Checker<'_> {
         v.get_ref().parse().map_err(|e: String| self.err(v.span().start, "variant", e))
     }
     fn keep_metrics(&self, m: &MetricsSpec) -> Result<Vec<&'static str>, StudyError> {
-        let all: Vec<&'static str> = Metrics::UNITS.iter().map(|(n, _)| *n).collect();
+        let all: Vec<&'static str> = hd_model::METRICS.iter().map(|m| m.name).collect();
         let Some(keep) = &m.keep else { return Ok(all) };
         let mut out = Vec::new();
         for k in keep {

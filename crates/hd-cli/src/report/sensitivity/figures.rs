@@ -68,10 +68,10 @@ fn chart(
             ],
         ),
         SensitivityMethod::Morris => {
-            let unit = hd_model::Metrics::UNITS
+            let unit = hd_model::metrics::METRICS
                 .iter()
-                .find(|(n, _)| *n == metric)
-                .map_or("metric unit", |(_, u)| u);
+                .find(|m| m.name == metric)
+                .map_or("metric unit", |m| m.unit);
             (
                 format!("{metric}: Morris screening ({used} of {} trajectories)", p.groups),
                 format!("effect [{unit} per range]"),

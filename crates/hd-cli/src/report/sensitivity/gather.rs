@@ -10,6 +10,7 @@
 
 use anyhow::{Context, Result, bail};
 use hd_io::Table;
+use hd_sweep::StudyManifest;
 use hd_sweep::sensitivity::{DesignPoint, PointTag, SensitivityMethod};
 use std::collections::HashMap;
 
@@ -39,16 +40,11 @@ pub struct DesignData {
 /// Collect every design part of the study. `metrics`: the metrics to analyse (`None`:
 /// every kept metric with a finite value in the part, except bookkeeping ones).
 pub fn design_parts(
-    study: &serde_json::Value,
+    study: &StudyManifest,
     table: &Table,
     metrics: Option<&[String]>,
 ) -> Result<Vec<DesignData>> {
-    let kept: Vec<String> = study["metrics"]
-        .as_array()
-        .context("study.json has no 'metrics' list")?
-        .iter()
-        .filter_map(|m| m.as_str().map(str::to_string))
-        .collect();
+    let kept: &[String] = &study.metrics;
     if let Some(asked) = metrics
         && let Some(bad) = asked.iter().find(|m| !kept.contains(m))
     {
@@ -61,24 +57,19 @@ pub fn design_parts(
         .enumerate()
         .filter_map(|(i, id)| id.as_deref().map(|id| (id, i)))
         .collect();
-    let runs = study["runs"].as_array().context("study.json has no 'runs' list")?;
     let mut out = Vec::new();
-    for part in study["parts"].as_array().context("study.json has no 'parts' list")? {
-        let name = part["name"].as_str().context("study.json: a part without a name")?;
-        let mut ids: Vec<(u64, &str)> = runs
+    for part in &study.parts {
+        let name = part.name.as_str();
+        let mut ids: Vec<(usize, &str)> = study
+            .runs
             .iter()
-            .filter(|r| r["part"].as_str() == Some(name))
-            .filter_map(|r| Some((r["run_index"].as_u64()?, r["run_id"].as_str()?)))
+            .filter(|r| r.part == name)
+            .map(|r| (r.run_index, r.run_id.as_str()))
             .collect();
         ids.sort_unstable();
         let rows: Vec<Option<usize>> = ids.iter().map(|(_, id)| row_of.get(id).copied()).collect();
         let Some(method) = part_method(table, &rows)? else { continue };
-        let parameters: Vec<String> = part["swept"]
-            .as_array()
-            .context("study.json: a part without its 'swept' list")?
-            .iter()
-            .filter_map(|s| s.as_str().map(str::to_string))
-            .collect();
+        let parameters: Vec<String> = part.swept.clone();
         let wanted: Vec<String> = match metrics {
             Some(m) => m.to_vec(),
             None => kept

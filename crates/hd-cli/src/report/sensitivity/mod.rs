@@ -97,8 +97,9 @@ pub fn analyse_dir(dir: &Path, options: &Options) -> Result<Analysis> {
     let text = std::fs::read_to_string(&json_path).with_context(|| {
         format!("cannot read {} (is DIR a study's output folder?)", json_path.display())
     })?;
-    let study: serde_json::Value = serde_json::from_str(&text)
-        .with_context(|| format!("{}: not valid JSON", json_path.display()))?;
+    let study: hd_sweep::StudyManifest = serde_json::from_str(&text).with_context(|| {
+        format!("{}: not the study.json of a study written by hdw", json_path.display())
+    })?;
     let table = hd_io::sensitivity::read_study_runs(dir)?;
     let data = gather::design_parts(&study, &table, options.metrics.as_deref())?;
     if data.is_empty() {
@@ -112,9 +113,12 @@ pub fn analyse_dir(dir: &Path, options: &Options) -> Result<Analysis> {
     let flat: Vec<(String, SensitivityRow)> =
         parts.iter().flat_map(|p| p.rows.iter().map(|r| (p.part.clone(), r.clone()))).collect();
     let table_path = dir.join("sensitivity.parquet");
-    hd_io::sensitivity::write_sensitivity(&table_path, &flat)?;
+    hd_io::sensitivity::write_sensitivity(
+        &table_path,
+        &hd_sweep::tables::sensitivity_table(&flat),
+    )?;
     let (plots, skipped_plots) = figures::draw(dir, &parts)?;
-    let name = study["name"].as_str().unwrap_or("study").to_string();
+    let name = study.name.clone();
     let markdown = markdown::write(dir, &name, &parts, &options.sobol, &plots)?;
     Ok(Analysis { study: name, parts, table: table_path, markdown, plots, skipped_plots })
 }

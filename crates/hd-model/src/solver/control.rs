@@ -1,0 +1,44 @@
+//! The step-size controller's settings. They are fixed for every solve (not user options):
+//! the values are the usual ones for these methods (Hairer & Wanner), and each range says
+//! where the controller stays stable and sensible.
+
+/// Safety factor on the optimal step [–]; range (0.7, 0.95): smaller means fewer
+/// rejections and more steps.
+pub const SAFETY: f64 = 0.9;
+
+/// Largest growth of the step after an accepted step [–]; range 2–10.
+pub const GROW_MAX: f64 = 6.0;
+
+/// Largest shrink after an accepted step (the step may be cut to this fraction) [–];
+/// range 0.1–0.5.
+pub const SHRINK_ACCEPTED_MIN: f64 = 0.2;
+
+/// Shrink limits after a rejected step [–]: the new step lies in `[min, max]` of the old;
+/// min 0.05–0.2, max 0.5–0.9 (a rejection always shrinks the step).
+pub const SHRINK_REJECTED: (f64, f64) = (0.1, 0.9);
+
+/// Shrink after a step whose error could not be computed (singular matrix, overflow) [–].
+pub const SHRINK_FAILED: f64 = 0.1;
+
+/// Dopri5's PI controller: exponent on the current error (≈ 0.7/5) and on the previous one
+/// (Hairer's β = 0.04, 0–0.08), which damps the step-size oscillation of an explicit
+/// method held by stability.
+pub const DOPRI5_PI: (f64, f64) = (0.17, 0.04);
+
+/// Rodas4's controller: exponent 1/4 on the error (order 3 embedded, 4 main), no memory.
+pub const RODAS4_EXPONENT: f64 = 0.25;
+
+/// Dopri5's exponent after a rejection: 1/(order of the error estimate + 1) = 1/5.
+pub const DOPRI5_REJECT_EXPONENT: f64 = 0.2;
+
+/// Floor of the remembered error norm in the PI controller [–] (keeps a tiny error from
+/// allowing an unbounded growth at the next step).
+pub const ERROR_FLOOR: f64 = 1e-4;
+
+/// A step that would stop within this fraction of a step before a segment end is
+/// stretched to land on it instead of leaving a sliver [–]; range 1e-4–1e-2.
+pub const SLIVER: f64 = 1e-3;
+
+/// Smallest step relative to the time, in units of machine epsilon, before the solve
+/// gives up with `StepSizeTooSmall` [–].
+pub const MIN_STEP_EPS: f64 = 16.0;

@@ -1,0 +1,13 @@
+#!/usr/bin/env bash
+# The Python suite: Parquet outputs read by DuckDB, polars and pyarrow. Installs what it
+# needs into a virtual environment under target/ (pip only), then runs pytest against the
+# hdw binary built by `cargo test --workspace` (or $HDW).
+set -euo pipefail
+cd "$(dirname "$0")/../.."
+venv=target/py-tests
+if [ ! -x "$venv/bin/python" ]; then
+    python3 -m venv "$venv"
+fi
+"$venv/bin/python" -m pip install -q --disable-pip-version-check -r tests/python/requirements.txt
+[ -x "${HDW:-target/debug/hdw}" ] || cargo build -p hd-cli
+HDW="${HDW:-$PWD/target/debug/hdw}" "$venv/bin/python" -m pytest -q tests/python
