@@ -1,14 +1,14 @@
 //! `hdw study`: expand a study file into runs, run them in parallel with a progress bar,
 //! commit results in parts (resumable, shardable), then write the report.
 
-use super::common::{ensure_dir, write_json};
+use super::common::ensure_dir;
+use super::study_json::write_study_json;
 use crate::report;
 use anyhow::{Context, Result, bail};
 use clap::Args;
 use hd_io::store::RunStore;
-use hd_sweep::{RunRow, RunSpec, Study, load_study, run_batch, shard};
+use hd_sweep::{RunRow, RunSpec, load_study, run_batch, shard};
 use indicatif::{ProgressBar, ProgressStyle};
-use serde_json::json;
 use std::collections::HashSet;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicUsize, Ordering};
@@ -138,11 +138,7 @@ pub fn run(args: StudyArgs) -> Result<()> {
         store.runs_path().display()
     );
     if !args.no_report && shard_kn.is_none() {
-        let path = report::write_report(&dir, &study, &store.runs_path(), &store.traces_path())?;
-        eprintln!("report: {}", path.display());
-        if study.has_sensitivity_design() {
-            report::sensitivity::after_study(&dir)?;
-        }
+        report::write_study_outputs(&dir, &study, &store.runs_path(), &store.traces_path(), None)?;
     }
     Ok(())
 }
@@ -157,46 +153,4 @@ fn progress_bar(len: u64) -> ProgressBar {
     bar.set_style(style);
     bar.set_message("0 failed");
     bar
-}
-
-fn write_study_json(
-    dir: &Path,
-    study: &Study,
-    runs: &[RunSpec],
-    shard: Option<(usize, usize)>,
-) -> Result<()> {
-    let defaults: Vec<serde_json::Value> = hd_model::registry::REGISTRY
-        .iter()
-        .map(|p| json!({ "name": p.name, "unit": p.unit, "default": p.default_value(), "range": p.range_text(), "doc": p.doc }))
-        .collect();
-    let parts: Vec<serde_json::Value> = study
-        .parts
-        .iter()
-        .map(|p| {
-            json!({
-                "name": p.name,
-                "base": p.base,
-                "swept": p.swept_names(),
-                "axes": p.axes.iter().map(|a| json!({ "name": a.knob.name(), "values": a.values, "zip": a.zip })).collect::<Vec<_>>(),
-            })
-        })
-        .collect();
-    let run_list: Vec<serde_json::Value> = runs
-        .iter()
-        .map(|r| json!({ "run_id": r.run_id, "run_index": r.index, "part": r.part, "swept": r.swept }))
-        .collect();
-    let doc = json!({
-        "name": study.name,
-        "description": study.description,
-        "file": study.file.display().to_string(),
-        "tool": { "name": "hdw", "version": env!("CARGO_PKG_VERSION") },
-        "shard": shard.map(|(k, n)| json!({ "k": k, "n": n })),
-        "swept": study.swept_names(),
-        "metrics": study.keep_metrics,
-        "traces": study.traces,
-        "parameter_defaults": defaults,
-        "parts": parts,
-        "runs": run_list,
-    });
-    write_json(&dir.join("study.json"), &doc)
 }
