@@ -66,6 +66,16 @@ fn merged_shards_give_the_report_of_one_machine() {
         let y = std::fs::read(out.join(name)).unwrap();
         assert!(x == y, "{name} differs between one machine and merged shards");
     }
+    // The merged shard tables move to shards/: the folder holds each run once.
+    let tables: Vec<String> = std::fs::read_dir(&out)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .filter(|n| n.starts_with("runs"))
+        .collect();
+    assert_eq!(tables, ["runs.parquet"]);
+    assert!(out.join("shards/runs-shard-3-of-3.parquet").exists());
+    let counted = ok(&hdw(&["explore", s(&out), "--group-by", "part", "--format", "csv"]));
+    assert_eq!(counted.lines().nth(1), Some("nine,9,0"), "{counted}");
     // Running it again reads the shards, not its own merged table: nothing counts twice.
     let again = hdw_ok(&["report", s(&out)]);
     assert!(stderr(&again).contains("9 rows, 0 duplicate rows"), "{}", stderr(&again));
@@ -181,4 +191,48 @@ fn a_folder_without_a_plan_or_with_a_changed_study_file_is_refused() {
     let kept = dir.join("kept.toml");
     std::fs::write(&kept, NINE).unwrap();
     hdw_ok(&["report", s(&out), "--study", s(&kept)]);
+}
+
+#[test]
+fn a_design_study_gets_its_sensitivity_analysis_from_the_shards() {
+    let dir = scratch("report-morris");
+    let text = r#"
+name = "tiny-morris"
+[base]
+variant = "full"
+t_end = 0.04
+[input]
+kind = "sine"
+voltage = 24.0
+freq = 50.0
+[metrics]
+keep = ["thz_amp", "efficiency"]
+cycles = 1
+[sample]
+method = "morris"
+trajectories = 8
+seed = 4
+[[sample.param]]
+name = "Km"
+lo = 0.4
+hi = 0.65
+[[sample.param]]
+name = "Jz"
+lo = 1e-4
+hi = 0.05
+log = true
+"#;
+    let (file, out) = sharded(&dir, text, 3);
+    let single = dir.join("single");
+    hdw_ok(&["study", s(&file), "--out", s(&single)]);
+    let done = hdw_ok(&["report", s(&out)]);
+    assert!(stderr(&done).contains("sensitivity (morris, thz_amp)"), "{}", stderr(&done));
+    assert!(out.join("sensitivity.parquet").exists());
+    for name in ["report.md", "sensitivity.md"] {
+        let x = std::fs::read_to_string(single.join(name)).unwrap();
+        let y = std::fs::read_to_string(out.join(name)).unwrap();
+        assert_eq!(x, y, "{name} differs between one machine and merged shards");
+    }
+    let md = std::fs::read_to_string(out.join("report.md")).unwrap();
+    assert!(md.contains("## Global sensitivity"), "{md}");
 }

@@ -4,7 +4,7 @@
 //! one machine.
 
 use super::report_check::{Check, check, list_runs, missing_note, shards_of};
-use super::report_inputs::{Sources, find_sources, shard_count};
+use super::report_inputs::{Sources, find_sources, move_merged_shards, shard_count};
 use super::study_json::{StudyPlan, read_study_plan, write_study_json};
 use crate::report;
 use anyhow::{Result, bail};
@@ -16,7 +16,7 @@ use std::path::{Path, PathBuf};
 /// Merge the shards of a study into one runs.parquet and write its report.
 #[derive(Args, Debug)]
 #[command(
-    after_help = "DIR is the --out folder shared by the shards of one study (`hdw study FILE --out DIR --shard K/N`).\nReads DIR/study.json (the planned runs) and every runs table: runs-shard-K-of-N.parquet of finished\nshards and DIR/parts/runs-*.parquet committed by shards that stopped early (a folder without shards:\nits runs.parquet and parts). Rows repeating a run_id are dropped (the first is kept, finished shards\nbefore parts) and counted on stderr. Then it writes, as `hdw study` does on one machine:\n  runs.parquet    every run once, sorted by run_index\n  traces.parquet  the shards' kept traces, when the study keeps traces\n  study.json      the plan of the whole study (no shard)\n  report.md       tables and plots (*.svg); sensitivity.* for sobol/morris designs\nPlanned runs without a row are an error that lists them (index, id, part) and the shards that hold\nthem; with --allow-missing the report covers the runs present and lists the missing ones at its top.\nRows of runs that are not in study.json (another study, or a changed study file) are always an\nerror. Failed runs are reported, not an error.\n\nExample:\n  hdw study studies/table4.toml --out out/t4 --shard 1/2   # on one node\n  hdw study studies/table4.toml --out out/t4 --shard 2/2   # on another, same shared folder\n  hdw report out/t4                                        # out/t4/report.md, out/t4/runs.parquet\n  hdw report out/t4 --allow-missing                        # while a shard is still missing"
+    after_help = "DIR is the --out folder shared by the shards of one study (`hdw study FILE --out DIR --shard K/N`).\nReads DIR/study.json (the planned runs) and every runs table: runs-shard-K-of-N.parquet of finished\nshards (in DIR, or in DIR/shards/ where an earlier `hdw report` moved them) and DIR/parts/runs-*.parquet\ncommitted by shards that stopped early (a folder without shards: its runs.parquet and parts). Rows\nrepeating a run_id are dropped (the first is kept, finished shards before parts) and counted on stderr.\nThen it writes, as `hdw study` does on one machine:\n  runs.parquet    every run once, sorted by run_index\n  traces.parquet  the shards' kept traces, when the study keeps traces\n  study.json      the plan of the whole study (no shard)\n  report.md       tables and plots (*.svg); sensitivity.* for sobol/morris designs\nand moves the merged shard tables to DIR/shards/, so that DIR holds each run once (for `hdw explore\nDIR` and runs*.parquet globs). Parts of unfinished shards stay in DIR/parts/ for `--resume`.\nPlanned runs without a row are an error that lists them (index, id, part) and the shards that hold\nthem; with --allow-missing the report covers the runs present and lists the missing ones at its top.\nRows of runs that are not in study.json (another study, or a changed study file) are always an\nerror. Failed runs are reported, not an error.\n\nExample:\n  hdw study studies/table4.toml --out out/t4 --shard 1/2   # on one node\n  hdw study studies/table4.toml --out out/t4 --shard 2/2   # on another, same shared folder\n  hdw report out/t4                                        # out/t4/report.md, out/t4/runs.parquet\n  hdw report out/t4 --allow-missing                        # while a shard is still missing"
 )]
 pub struct ReportArgs {
     /// The study's output folder, shared by all its shards.
@@ -76,6 +76,10 @@ pub fn run(args: ReportArgs) -> Result<()> {
     let traces_path = dir.join("traces.parquet");
     if !traces.shards.is_empty() || !traces.parts.is_empty() {
         hd_io::runs::merge_files(&traces.all(), &traces_path, false, None)?;
+    }
+    let moved = move_merged_shards(dir, &sources)? + move_merged_shards(dir, &traces)?;
+    if moved > 0 {
+        eprintln!("{moved} merged shard tables moved to {}", dir.join("shards").display());
     }
     write_study_json(dir, &study, &expanded, None)?;
     report::write_study_outputs(dir, &study, &runs_path, &traces_path, note.as_deref())?;

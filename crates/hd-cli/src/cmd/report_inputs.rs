@@ -1,17 +1,23 @@
-//! Which files of a study folder `hdw report` merges.
+//! Which files of a study folder `hdw report` merges, and where the shard tables go after.
 //!
 //! A sharded study leaves `runs-shard-K-of-N.parquet` (and `traces-shard-K-of-N.parquet`)
 //! for every finished shard, and `parts/runs-shard-K-of-N-SEQ.parquet` for the batches an
 //! unfinished shard had committed before it stopped. When any of those exist, they are the
-//! sources and `runs.parquet` / `traces.parquet` are outputs, rebuilt from them. A folder
-//! without shards (one machine, perhaps interrupted) has `runs.parquet` and its own parts
-//! as sources.
+//! sources and `runs.parquet` / `traces.parquet` are outputs, rebuilt from them. Once
+//! merged, the shard tables move to `shards/`, so that the folder holds each run once for
+//! `hdw explore DIR` and for `runs*.parquet` globs in polars or DuckDB; a later `hdw report`
+//! reads them there. A folder without shards (one machine, perhaps interrupted) has
+//! `runs.parquet` and its own parts as sources.
 
 use anyhow::{Context, Result};
 use std::path::{Path, PathBuf};
 
-/// The source files of one kind (`runs` or `traces`), in merge order: finished shards,
-/// then committed parts, then (one-machine folders only) the existing final table.
+/// Sub-folder of the shard tables already merged by `hdw report`.
+pub const MERGED_SHARDS: &str = "shards";
+
+/// The source files of one kind (`runs` or `traces`), in merge order: finished shards (new
+/// ones in DIR, then those merged before in `shards/`), then committed parts, then
+/// (one-machine folders only) the existing final table.
 #[derive(Debug, Default)]
 pub struct Sources {
     /// Final tables of finished shards.
@@ -35,7 +41,12 @@ impl Sources {
 /// Find the sources of `kind` (`runs` or `traces`) in `dir`.
 pub fn find_sources(dir: &Path, kind: &str) -> Result<Sources> {
     let shard_prefix = format!("{kind}-shard-");
-    let shards = list(dir, |n| n.starts_with(&shard_prefix) && n.ends_with(".parquet"))?;
+    let is_shard = |n: &str| n.starts_with(&shard_prefix) && n.ends_with(".parquet");
+    let mut shards = list(dir, is_shard)?;
+    let merged = dir.join(MERGED_SHARDS);
+    if merged.is_dir() {
+        shards.extend(list(&merged, is_shard)?);
+    }
     let part_prefix = format!("{kind}-");
     let parts_dir = dir.join("parts");
     let parts = if parts_dir.is_dir() {
@@ -60,6 +71,22 @@ pub fn shard_count(sources: &Sources) -> Option<usize> {
     });
     let first = counts.next()?;
     counts.all(|n| n == first).then_some(first)
+}
+
+/// Move the shard tables of `sources` that are still in `dir` to `dir/shards/` (replacing
+/// an older copy there); returns how many moved.
+pub fn move_merged_shards(dir: &Path, sources: &Sources) -> Result<usize> {
+    let target = dir.join(MERGED_SHARDS);
+    let mut moved = 0;
+    for f in sources.shards.iter().filter(|f| f.parent() == Some(dir)) {
+        std::fs::create_dir_all(&target)
+            .with_context(|| format!("cannot create {}", target.display()))?;
+        let to = target.join(name_of(f));
+        std::fs::rename(f, &to)
+            .with_context(|| format!("cannot move {} to {}", f.display(), to.display()))?;
+        moved += 1;
+    }
+    Ok(moved)
 }
 
 fn name_of(p: &Path) -> &str {
@@ -108,6 +135,12 @@ mod tests {
             ]
         );
         assert_eq!(shard_count(&s), Some(3));
+        assert_eq!(move_merged_shards(&dir, &s).unwrap(), 2);
+        assert!(dir.join("shards/runs-shard-2-of-3.parquet").exists());
+        assert!(!dir.join("runs-shard-2-of-3.parquet").exists());
+        let again = find_sources(&dir, "runs").unwrap();
+        assert_eq!(again.shards.len(), 2, "merged shards are still sources");
+        assert_eq!(again.whole, None);
         touch(&dir, "runs-shard-1-of-2.parquet");
         assert_eq!(shard_count(&find_sources(&dir, "runs").unwrap()), None, "mixed counts");
         std::fs::remove_dir_all(&dir).unwrap();
