@@ -236,3 +236,30 @@ log = true
     let md = std::fs::read_to_string(out.join("report.md")).unwrap();
     assert!(md.contains("## Global sensitivity"), "{md}");
 }
+
+#[test]
+fn kept_traces_of_the_shards_are_merged_too() {
+    let dir = scratch("report-traces");
+    let text = NINE.replace("[metrics]", "[traces]\nkeep = true\ndecimate = 10\n[metrics]");
+    let (file, out) = sharded(&dir, &text, 2);
+    let single = dir.join("single");
+    hdw_ok(&["study", s(&file), "--out", s(&single)]);
+    hdw_ok(&["report", s(&out)]);
+    let count = |d: &Path| {
+        ok(&hdw(&[
+            "explore",
+            s(d),
+            "--traces",
+            "--group-by",
+            "run_id",
+            "--agg",
+            "t:count",
+            "--format",
+            "csv",
+        ]))
+    };
+    assert_eq!(count(&single), count(&out), "same samples of the same runs");
+    assert!(out.join("shards/traces-shard-2-of-2.parquet").exists());
+    let plot = "nine-nine-theta_z-traces.svg";
+    assert_eq!(std::fs::read(single.join(plot)).unwrap(), std::fs::read(out.join(plot)).unwrap());
+}
