@@ -25,3 +25,8 @@ fmt:
 studies:
     cargo build --release -p hd-cli
     for f in studies/*.toml; do n=$(basename "$f" .toml); rm -rf "out/studies/$n"; ./target/release/hdw study "$f" --out "out/studies/$n" || exit 1; done
+
+# End-to-end test of deploy/slurm on a one-node Slurm cluster (root; installs slurm-wlm and
+# munge if missing). HDW=path/to/hdw skips the release build: `HDW=target/debug/hdw just slurm-test`
+slurm-test:
+    tests/slurm/run.sh

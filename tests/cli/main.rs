@@ -6,6 +6,7 @@ mod fit_bad_data;
 mod fit_cli;
 mod fit_rig_files;
 mod fit_shipped_data;
+mod report_cli;
 mod sensitivity_cli;
 mod shipped_studies;
 mod simulate_cli;

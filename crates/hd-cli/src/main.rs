@@ -32,6 +32,8 @@ enum Command {
     Synth(cmd::synth::SynthArgs),
     /// Run a study file: many runs in parallel → runs.parquet, study.json, report.md.
     Study(cmd::study::StudyArgs),
+    /// Merge a study's shards (runs-shard-*.parquet) into runs.parquet and write its report.
+    Report(cmd::report::ReportArgs),
     /// Global sensitivity (Sobol' indices, Morris screening); `--check ishigami` self-check.
     Sensitivity(cmd::sensitivity::SensitivityArgs),
     /// Summaries, filters, group-by tables and pivots of result tables (Parquet).
@@ -47,6 +49,7 @@ fn main() -> ExitCode {
         Command::Fit(args) => cmd::fit::run(args),
         Command::Synth(args) => cmd::synth::run(args),
         Command::Study(args) => cmd::study::run(args),
+        Command::Report(args) => cmd::report::run(args),
         Command::Sensitivity(args) => cmd::sensitivity::run(args),
         Command::Explore(args) => cmd::explore::run(args),
         Command::Plot(args) => cmd::plot::run(args),

@@ -1,14 +1,14 @@
 //! `hdw study`: expand a study file into runs, run them in parallel with a progress bar,
 //! commit results in parts (resumable, shardable), then write the report.
 
-use super::common::{ensure_dir, write_json};
+use super::common::ensure_dir;
+use super::study_json::write_study_json;
 use crate::report;
 use anyhow::{Context, Result, bail};
 use clap::Args;
 use hd_io::store::RunStore;
-use hd_sweep::StudyManifest;
 use hd_sweep::tables::{runs_table, traces_table};
-use hd_sweep::{RunRow, RunSpec, Study, load_study, run_batch, shard};
+use hd_sweep::{RunRow, RunSpec, load_study, run_batch, shard};
 use indicatif::{ProgressBar, ProgressStyle};
 use std::collections::HashSet;
 use std::path::{Path, PathBuf};
@@ -18,7 +18,7 @@ use std::time::Instant;
 /// Run a sensitivity study defined in a study file (see studies/README.md).
 #[derive(Args, Debug)]
 #[command(
-    after_help = "Outputs (in --out DIR, default out/<study name>):\n  runs.parquet    one row per run: run_id, run_index, part, variant, status, error, every parameter,\n                  voltage, freq, swept settings, the kept metrics, solver statistics\n  traces.parquet  kept traces in long format (run_id, t, signals), when the study keeps traces\n  study.json      the expanded study, tool version and parameter defaults\n  report.md       tables and plots (*.svg) of the results\nWith --shard K/N the tables are runs-shard-K-of-N.parquet etc.; read DIR/runs*.parquet as one dataset.\n\nExample:\n  hdw study studies/table4.toml --out out/table4\n  hdw study studies/table4.toml --out out/table4 --resume      # after an interruption\n  hdw study studies/table4.toml --out out/t4 --shard 2/8       # one of 8 array jobs\n  hdw study studies/table4.toml --part damped-sine --threads 1  # one part, one thread"
+    after_help = "Outputs (in --out DIR, default out/<study name>):\n  runs.parquet    one row per run: run_id, run_index, part, variant, status, error, every parameter,\n                  voltage, freq, swept settings, the kept metrics, solver statistics\n  traces.parquet  kept traces in long format (run_id, t, signals), when the study keeps traces\n  study.json      the expanded study, tool version and parameter defaults\n  report.md       tables and plots (*.svg) of the results\nWith --shard K/N the tables are runs-shard-K-of-N.parquet etc. and there is no report: once every shard\nhas finished, `hdw report DIR` merges them into runs.parquet and writes the report.\n\nExample:\n  hdw study studies/table4.toml --out out/table4\n  hdw study studies/table4.toml --out out/table4 --resume      # after an interruption\n  hdw study studies/table4.toml --out out/t4 --shard 2/8       # one of 8 array jobs (then: hdw report out/t4)\n  hdw study studies/table4.toml --part damped-sine --threads 1  # one part, one thread"
 )]
 pub struct StudyArgs {
     /// The study file (TOML).
@@ -140,11 +140,7 @@ pub fn run(args: StudyArgs) -> Result<()> {
         store.runs_path().display()
     );
     if !args.no_report && shard_kn.is_none() {
-        let path = report::write_report(&dir, &study, &store.runs_path(), &store.traces_path())?;
-        eprintln!("report: {}", path.display());
-        if study.has_sensitivity_design() {
-            report::sensitivity::after_study(&dir)?;
-        }
+        report::write_study_outputs(&dir, &study, &store.runs_path(), &store.traces_path(), None)?;
     }
     Ok(())
 }
@@ -159,14 +155,4 @@ fn progress_bar(len: u64) -> ProgressBar {
     bar.set_style(style);
     bar.set_message("0 failed");
     bar
-}
-
-fn write_study_json(
-    dir: &Path,
-    study: &Study,
-    runs: &[RunSpec],
-    shard: Option<(usize, usize)>,
-) -> Result<()> {
-    let manifest = StudyManifest::new(study, runs, shard, env!("CARGO_PKG_VERSION"));
-    write_json(&dir.join("study.json"), &serde_json::to_value(manifest)?)
 }

@@ -14,8 +14,34 @@ use part_data::PartData;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
+/// Everything a study writes once its runs are in one table: `report.md` with its plots
+/// and, when a part has a sobol or morris design, the sensitivity analysis. `hdw study`
+/// (one machine) and `hdw report` (merged shards) both end here, so their reports agree.
+/// `note` (markdown, e.g. the list of missing runs) is placed under the run counts.
+/// Returns the report's path.
+pub fn write_study_outputs(
+    dir: &Path,
+    study: &Study,
+    runs: &Path,
+    traces: &Path,
+    note: Option<&str>,
+) -> Result<PathBuf> {
+    let path = write_report(dir, study, runs, traces, note)?;
+    eprintln!("report: {}", path.display());
+    if study.has_sensitivity_design() {
+        sensitivity::after_study(dir)?;
+    }
+    Ok(path)
+}
+
 /// Write `DIR/report.md` and its plots; returns the report's path.
-pub fn write_report(dir: &Path, study: &Study, runs: &Path, traces: &Path) -> Result<PathBuf> {
+fn write_report(
+    dir: &Path,
+    study: &Study,
+    runs: &Path,
+    traces: &Path,
+    note: Option<&str>,
+) -> Result<PathBuf> {
     let table = hd_io::read_table(runs)?;
     let trace_table = if traces.exists() { Some(hd_io::read_table(traces)?) } else { None };
     let mut md = String::new();
@@ -31,6 +57,9 @@ pub fn write_report(dir: &Path, study: &Study, runs: &Path, traces: &Path) -> Re
         "{total} runs, {failed} failed. Study file: `{}`. Full results: `runs.parquet`.\n",
         study.file.display()
     )?;
+    if let Some(note) = note {
+        writeln!(md, "{}\n", note.trim_end())?;
+    }
     if !study.compare.is_empty() {
         writeln!(md, "## The seed paper's claims against the model\n")?;
         md.push_str(&compare::section(study, &table));
