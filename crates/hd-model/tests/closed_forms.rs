@@ -60,7 +60,8 @@ fn memory_term_matches_the_closed_form_under_imposed_sine() {
         };
         solve(&sys, 0.0, Vector2::zeros(), 0.1, &[], &opts, &mut obs).unwrap();
         eprintln!("memory term, {method:?}: max relative error {worst:.2e}");
-        assert!(worst < 1e-6, "{method:?}: max relative error {worst:e}");
+        // Measured 1.7e-12 (Dopri5) and 7e-13 (Rodas4); the bound is ten times that.
+        assert!(worst < 2e-11, "{method:?}: max relative error {worst:e}");
     }
 }
 
@@ -82,7 +83,8 @@ fn steady_loop_energy_matches_the_closed_form() {
         "loop energy: {de:.7} J against {exact:.7} J, error {:.2e}",
         (de - exact).abs() / exact
     );
-    assert!((de - exact).abs() / exact < 5e-3, "ΔE = {de}, exact {exact}");
+    // Measured 3.7e-12.
+    assert!((de - exact).abs() / exact < 5e-11, "ΔE = {de}, exact {exact}");
 }
 
 /// LuGre state under imposed sliding speed v(t): y = [w] (bristle torque).
@@ -128,7 +130,7 @@ fn lugre_steady_state_follows_the_stribeck_curve() {
             let expected = stribeck(v);
             worst = worst.max((tf - expected).abs() / expected.abs());
             assert!(
-                (tf - expected).abs() / expected.abs() < 5e-3,
+                (tf - expected).abs() / expected.abs() < 2e-14, // measured 1.9e-15
                 "v = {v}: Tf = {tf}, Stribeck {expected}"
             );
             checked += 1;
@@ -169,5 +171,6 @@ fn pre_sliding_slope_is_the_bristle_stiffness() {
         "pre-sliding slope {slope:.1} against σ0 = 1.2e5 ({:.2e} off)",
         (slope - 1.2e5).abs() / 1.2e5
     );
-    assert!((slope - 1.2e5).abs() / 1.2e5 < 0.02, "slope {slope:e}");
+    // Measured 1.4e-3 off: the slope is taken over a finite deflection.
+    assert!((slope - 1.2e5).abs() / 1.2e5 < 0.015, "slope {slope:e}");
 }

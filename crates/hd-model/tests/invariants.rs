@@ -44,7 +44,7 @@ fn linear_variant_free_oscillation_has_the_two_inertia_frequency() {
         "free oscillation {measured:.4} rad/s against ω_n = {wn:.4} ({:.1e} off)",
         (measured - wn).abs() / wn
     );
-    assert!((measured - wn).abs() / wn < 5e-3, "ω = {measured}, two-inertia ω_n = {wn}");
+    assert!((measured - wn).abs() / wn < 1e-11, "ω = {measured}, two-inertia ω_n = {wn}");
 }
 
 #[test]
@@ -63,11 +63,13 @@ fn energy_balance_closes_over_the_seed_case() {
         let accounted = sys.stored_energy(&y) + y[Q_DISS] + y[Q_FRIC];
         let rel = (e_in - accounted).abs() / e_in.abs();
         eprintln!("energy balance, {fv:?}: {e_in:.6} J in, residual {rel:.2e}");
+        // Measured 6e-15 and 9e-15.
         assert!(
-            e_in > 0.0 && rel < 1e-6,
+            e_in > 0.0 && rel < 1e-13,
             "{fv:?}: in {e_in} J, accounted {accounted} J, rel {rel:e}"
         );
-        assert!(out.metrics.energy_residual < 1e-6);
+        eprintln!("energy_residual metric: {:.2e}", out.metrics.energy_residual);
+        assert!(out.metrics.energy_residual < 1e-13, "{}", out.metrics.energy_residual);
     }
 }
 
@@ -77,7 +79,9 @@ fn energy_balance_holds_with_armature_inductance() {
     cfg.params.l = 2e-3;
     cfg.solver = SolverOptions { rtol: 1e-9, atol: 1e-12, ..Default::default() };
     let out = simulate(&cfg).unwrap();
-    assert!(out.metrics.energy_residual < 1e-6, "{}", out.metrics.energy_residual);
+    // Measured 6.5e-12.
+    eprintln!("energy_residual with L = 2 mH: {:.2e}", out.metrics.energy_residual);
+    assert!(out.metrics.energy_residual < 7e-11, "{}", out.metrics.energy_residual);
 }
 
 #[test]
@@ -96,7 +100,8 @@ fn tight_and_default_tolerances_agree_on_the_load_angle() {
     let amp = tight.metrics.thz_amp;
     let worst = a.theta_z.iter().zip(&b.theta_z).map(|(x, y)| (x - y).abs()).fold(0.0, f64::max);
     eprintln!("rtol 1e-10 against 1e-6: max |Δθz| = {:.2e} of the amplitude", worst / amp);
-    assert!(amp > 0.0 && worst < 1e-3 * amp, "max |Δθz| = {worst:e}, amplitude {amp:e}");
+    // Measured 2.4e-7 of the amplitude.
+    assert!(amp > 0.0 && worst < 3e-6 * amp, "max |Δθz| = {worst:e}, amplitude {amp:e}");
 }
 
 #[test]
@@ -106,7 +111,9 @@ fn a_very_stiff_bristle_still_finishes() {
     cfg.params.ws = 1e-4;
     let out = simulate(&cfg).unwrap();
     assert!(out.metrics.thz_amp.is_finite() && out.metrics.thz_amp > 0.0);
-    assert!(out.metrics.energy_residual < 1e-4, "{}", out.metrics.energy_residual);
+    eprintln!("energy_residual at σ0 = 1e8: {:.2e}", out.metrics.energy_residual);
+    // Measured 2.1e-10.
+    assert!(out.metrics.energy_residual < 2e-9, "{}", out.metrics.energy_residual);
     // The automatic choice moved to the implicit method: the explicit one would need
     // hundreds of thousands of steps here (h·ρ bound at σ0 = 1e8).
     eprintln!("σ0 = 1e8, ωs = 1e-4: {:?}", out.stats);
