@@ -51,7 +51,7 @@ fn file_kind(path: &Path) -> Result<FileKind, IoError> {
 pub fn read_frame(path: &Path) -> Result<DataFrame, IoError> {
     match file_kind(path)? {
         FileKind::Parquet => File::open(path).map_err(|e| IoError::fs(path, e)).and_then(|f| {
-            ParquetReader::new(f).finish().map_err(|e| IoError::format(path, e.to_string()))
+            ParquetReader::new(f).finish().map_err(IoError::polars(path, "cannot read Parquet"))
         }),
         FileKind::Text => {
             let sep = sniff_file_separator(path)?;
@@ -64,7 +64,7 @@ pub fn read_frame(path: &Path) -> Result<DataFrame, IoError> {
                 })
                 .try_into_reader_with_file_path(Some(path.to_path_buf()))
                 .and_then(|r| r.finish())
-                .map_err(|e| IoError::format(path, format!("cannot read delimited text: {e}")))
+                .map_err(IoError::polars(path, "cannot read delimited text"))
         }
     }
 }
@@ -296,8 +296,7 @@ fn read_text_columns(path: &Path, names: &[&str]) -> Result<Vec<Vec<f64>>, IoErr
 fn read_parquet_columns(path: &Path, names: &[&str]) -> Result<Vec<Vec<f64>>, IoError> {
     let file = File::open(path).map_err(|e| IoError::fs(path, e))?;
     let mut reader = ParquetReader::new(file);
-    let schema =
-        reader.schema().map_err(|e| IoError::format(path, format!("cannot read Parquet: {e}")))?;
+    let schema = reader.schema().map_err(IoError::polars(path, "cannot read Parquet"))?;
     let present: Vec<String> = schema.iter_names().map(|s| s.to_string()).collect();
     let mut projection = Vec::with_capacity(names.len());
     for &name in names {
@@ -312,14 +311,14 @@ fn read_parquet_columns(path: &Path, names: &[&str]) -> Result<Vec<Vec<f64>>, Io
     let df = reader
         .with_projection(Some(projection))
         .finish()
-        .map_err(|e| IoError::format(path, format!("cannot read Parquet: {e}")))?;
+        .map_err(IoError::polars(path, "cannot read Parquet"))?;
     names
         .iter()
         .map(|&name| {
             let col = df.column(name).map_err(|_| missing_column(path, name, &present))?;
             let dtype = col.dtype().clone();
             if dtype == DataType::String {
-                let ca = col.str().map_err(|e| IoError::format(path, e.to_string()))?;
+                let ca = col.str().map_err(IoError::polars(path, "a text column"))?;
                 return ca
                     .iter()
                     .enumerate()
@@ -339,7 +338,7 @@ fn read_parquet_columns(path: &Path, names: &[&str]) -> Result<Vec<Vec<f64>>, Io
             let cast = col.cast(&DataType::Float64).map_err(|_| {
                 IoError::format(path, format!("column '{name}': expected numbers, found {dtype}"))
             })?;
-            let ca = cast.f64().map_err(|e| IoError::format(path, e.to_string()))?;
+            let ca = cast.f64().map_err(IoError::polars(path, "a numeric column"))?;
             let mut out = Vec::with_capacity(ca.len());
             for (r, v) in ca.iter().enumerate() {
                 match v {

@@ -53,21 +53,21 @@ pub fn frame_to_table(df: &DataFrame, path: &Path) -> Result<Table, IoError> {
         let name = col.name().to_string();
         let data = match col.dtype() {
             DataType::String => {
-                let ca = col.str().map_err(|e| IoError::format(path, e.to_string()))?;
+                let ca = col.str().map_err(IoError::polars(path, "a text column"))?;
                 ColumnData::Text(ca.iter().map(|s| s.map(str::to_string)).collect())
             }
             dt if dt.is_primitive_numeric() || dt.is_bool() => {
                 let cast = col
                     .cast(&DataType::Float64)
-                    .map_err(|e| IoError::format(path, e.to_string()))?;
-                let ca = cast.f64().map_err(|e| IoError::format(path, e.to_string()))?;
+                    .map_err(IoError::polars(path, format!("column '{name}' as numbers")))?;
+                let ca = cast.f64().map_err(IoError::polars(path, "a numeric column"))?;
                 ColumnData::Num(ca.iter().map(|v| v.unwrap_or(f64::NAN)).collect())
             }
             _ => {
                 let cast = col
                     .cast(&DataType::String)
-                    .map_err(|e| IoError::format(path, e.to_string()))?;
-                let ca = cast.str().map_err(|e| IoError::format(path, e.to_string()))?;
+                    .map_err(IoError::polars(path, format!("column '{name}' as text")))?;
+                let ca = cast.str().map_err(IoError::polars(path, "a text column"))?;
                 ColumnData::Text(ca.iter().map(|s| s.map(str::to_string)).collect())
             }
         };

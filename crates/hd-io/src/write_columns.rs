@@ -29,20 +29,20 @@ pub fn write_columns(path: &Path, names: &[&str], cols: &[Vec<f64>]) -> Result<(
     let ext = path.extension().and_then(|e| e.to_str()).unwrap_or("").to_ascii_lowercase();
     let columns: Vec<Column> =
         names.iter().zip(cols).map(|(n, c)| Column::new((*n).into(), c.as_slice())).collect();
-    let mut df =
-        DataFrame::new_infer_height(columns).map_err(|e| IoError::format(path, e.to_string()))?;
+    let mut df = DataFrame::new_infer_height(columns)
+        .map_err(IoError::polars(path, "cannot build the table"))?;
     match ext.as_str() {
         "csv" => write_atomically(path, |file| {
             CsvWriter::new(file)
                 .include_header(true)
                 .finish(&mut df)
-                .map_err(|e| IoError::format(path, format!("cannot write CSV: {e}")))
+                .map_err(IoError::polars(path, "cannot write CSV"))
         }),
         "parquet" | "pq" => write_atomically(path, |file| {
             ParquetWriter::new(file)
                 .finish(&mut df)
                 .map(|_| ())
-                .map_err(|e| IoError::format(path, format!("cannot write Parquet: {e}")))
+                .map_err(IoError::polars(path, "cannot write Parquet"))
         }),
         _ => Err(IoError::format(
             path,
