@@ -150,7 +150,8 @@ impl DriveSystem {
     /// Evaluate the laws at (t, y).
     #[inline]
     pub fn parts(&self, t: f64, y: &State) -> Parts {
-        let ctl = self.ctl.as_ref().map(|c| c.eval(t, &self.measured(y), &ctl_states(y), &self.hold));
+        let ctl =
+            self.ctl.as_ref().map(|c| c.eval(t, &self.measured(y), &ctl_states(y), &self.hold));
         let u = ctl.map_or_else(|| self.input.value(t), |c| c.u);
         let i = if self.motor.has_inductance() {
             y[CURRENT]
@@ -252,8 +253,7 @@ impl OdeSystem<DIM> for DriveSystem {
         let g_v = va * unit(OMEGA_J) + vb * unit(OMEGA_Z);
         let g_tb = p.st.d_theta * unit(THETA) + p.st.d_z * unit(Z);
         let g_tf = p.fr.d_v * g_v + p.fr.d_w * unit(W);
-        let g_i =
-            if inductive { unit(CURRENT) } else { (g_u - m.ke * unit(OMEGA_J)) / m.r };
+        let g_i = if inductive { unit(CURRENT) } else { (g_u - m.ke * unit(OMEGA_J)) / m.r };
         let g_out = if self.friction_on_load() { g_tb + g_tf } else { g_tb };
         let g_ta = (g_tb + g_tf) / self.n;
         // ∂(u-dependent terms)/∂t: only the current depends on u directly.

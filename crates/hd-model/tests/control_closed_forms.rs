@@ -104,10 +104,8 @@ fn analytic_step(p: &Params, kp: f64, ki: f64, kd: f64, tau: f64) -> impl Fn(f64
     let d_den = derivative(&den);
     let steady = num.last().unwrap() / den.last().unwrap();
     move |t: f64| {
-        let sum: Complex<f64> = poles
-            .iter()
-            .map(|&q| eval(&num, q) / (q * eval(&d_den, q)) * (q * t).exp())
-            .sum();
+        let sum: Complex<f64> =
+            poles.iter().map(|&q| eval(&num, q) / (q * eval(&d_den, q)) * (q * t).exp()).sum();
         steady + sum.re
     }
 }
@@ -120,13 +118,15 @@ fn pd_and_pid_step_responses_match_the_characteristic_polynomial() {
         let ctl = controller(kp, ki, kd, Reference::Step { amplitude: step, t0: 0.0 });
         let tr = run(p.clone(), ctl, LoadTorque::default(), 0.4);
         let y = analytic_step(&p, kp, ki, kd, 2e-3);
-        let worst = tr
-            .t
-            .iter()
-            .zip(&tr.theta_z)
-            .map(|(&t, &th)| (th - step * y(t)).abs())
-            .fold(0.0, f64::max);
-        eprintln!("kp {kp} ki {ki} kd {kd}: max |θz − closed form| = {:.2e} of the step", worst / step);
+        let worst =
+            tr.t.iter()
+                .zip(&tr.theta_z)
+                .map(|(&t, &th)| (th - step * y(t)).abs())
+                .fold(0.0, f64::max);
+        eprintln!(
+            "kp {kp} ki {ki} kd {kd}: max |θz − closed form| = {:.2e} of the step",
+            worst / step
+        );
         assert!(worst < 1e-4 * step, "kp {kp} ki {ki} kd {kd}: {:.3e} of the step", worst / step);
     }
 }
@@ -137,7 +137,8 @@ fn type_one_loop_tracks_a_ramp_with_the_analytic_steady_error() {
     let (_, c, b) = rigid(&p);
     let (kp, v) = (2000.0, 2e-3);
     let ramp = Profile::new(vec![0.0, 10.0], vec![0.0, 10.0 * v], "ramp").unwrap();
-    let tr = run(p, controller(kp, 0.0, 0.0, Reference::Recorded(ramp)), LoadTorque::default(), 1.0);
+    let tr =
+        run(p, controller(kp, 0.0, 0.0, Reference::Recorded(ramp)), LoadTorque::default(), 1.0);
     let expected = v * c / (b * kp);
     let measured = *tr.error.last().unwrap();
     eprintln!("ramp error {measured:.6e} rad against c·v/(b·kp) = {expected:.6e}");

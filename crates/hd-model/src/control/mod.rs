@@ -128,6 +128,10 @@ pub struct ControllerConfig {
     /// Controller-model parameters that differ from the plant's, by registry name
     /// (e.g. `Tc = 0.2`); the others equal the plant's.
     pub model: BTreeMap<String, f64>,
+    /// Factor on the controller model's friction (Tc, Ts, their negative-side levels, σ0,
+    /// σ1) and stiffness (c, mem_A, Kbar) parameters, applied after `model` [–]; default 1.
+    /// 0.7 and 1.3 are the ±30 % mismatch of the control study.
+    pub model_scale: f64,
 }
 
 impl Default for ControllerConfig {
@@ -144,6 +148,7 @@ impl Default for ControllerConfig {
             compensation: Compensation::None,
             reference: Reference::default(),
             model: BTreeMap::new(),
+            model_scale: 1.0,
         }
     }
 }
@@ -158,6 +163,14 @@ impl ControllerConfig {
                 value: v.to_string(),
                 expected: e.to_string(),
             })?;
+        }
+        let k = self.model_scale;
+        for v in [&mut p.tc, &mut p.ts, &mut p.sigma0, &mut p.sigma1, &mut p.c, &mut p.mem_a] {
+            *v *= k;
+        }
+        p.kbar *= k;
+        for side in [&mut p.tc_neg, &mut p.ts_neg].into_iter().flatten() {
+            *side *= k;
         }
         Ok(p)
     }
@@ -195,6 +208,9 @@ impl ControllerConfig {
         }
         if self.enc_res > 0.0 && self.period == 0.0 {
             return bad("enc_res", self.enc_res, "0 unless a sampling period is set (period > 0)");
+        }
+        if !(self.model_scale.is_finite() && self.model_scale > 0.0) {
+            return bad("model_scale", self.model_scale, "a finite factor > 0");
         }
         self.reference.validate()?;
         self.model_params(plant)?.validate().map_err(|e| ConfigError::Invalid {

@@ -62,7 +62,9 @@ impl Reference {
     /// θz_ref [rad], its speed [rad/s] and its acceleration [rad/s²] at time t [s].
     pub fn eval(&self, t: f64) -> [f64; 3] {
         match self {
-            Reference::Step { amplitude, t0 } => [if t >= *t0 { *amplitude } else { 0.0 }, 0.0, 0.0],
+            Reference::Step { amplitude, t0 } => {
+                [if t >= *t0 { *amplitude } else { 0.0 }, 0.0, 0.0]
+            }
             Reference::Sine { amplitude, freq } => {
                 let w = TAU * freq;
                 let (s, c) = (w * t).sin_cos();

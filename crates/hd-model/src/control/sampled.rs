@@ -47,7 +47,8 @@ impl Controller {
         let theta_z = quantise(m.theta_z, c.enc_res);
         let theta_j = quantise(m.theta_j, c.enc_res);
         let v = if first { 0.0 } else { (theta_j - prev.enc_j) / (period * self.n) };
-        let w_hat = if first { prev.w_hat } else { self.friction.step_at_speed(v, prev.w_hat, period) };
+        let w_hat =
+            if first { prev.w_hat } else { self.friction.step_at_speed(v, prev.w_hat, period) };
         let tf_hat = self.friction.eval(v, w_hat).torque;
         let (r_fb, _, _) = self.feedback_reference(t, q);
         let e = r_fb - self.feedback_angle(theta_z, theta_j);

@@ -4,9 +4,9 @@
 
 use super::tracking::{TrackingSamples, Windows, tracking_metrics};
 use super::{MetricSettings, Metrics, extrema::cubic_extrema, limit_cycle, periodic, step};
-use crate::solver::OdeSystem;
 use crate::laws::friction::FrictionLaw;
 use crate::laws::input::Input;
+use crate::solver::OdeSystem;
 use crate::solver::Step;
 use crate::state::*;
 use crate::system::DriveSystem;

@@ -176,7 +176,12 @@ pub static METRICS: &[MetricColumn] = &[
         "rad",
         "closed-loop regulation: half peak-to-peak of the tracking error over the final window"
     ),
-    m!("hunt_period", hunt_period, "s", "closed-loop regulation: period of the hunting oscillation"),
+    m!(
+        "hunt_period",
+        hunt_period,
+        "s",
+        "closed-loop regulation: period of the hunting oscillation"
+    ),
 ];
 
 /// Looks a metric up by name.

@@ -44,14 +44,22 @@ pub fn tracking_metrics(s: &TrackingSamples, w: &Windows) -> [f64; 11] {
     let nan = f64::NAN;
     let k0 = s.t.partition_point(|&t| t < w.settled_from);
     let rms = |x: &[f64]| {
-        if x.is_empty() { nan } else { (x.iter().map(|v| v * v).sum::<f64>() / x.len() as f64).sqrt() }
+        if x.is_empty() {
+            nan
+        } else {
+            (x.iter().map(|v| v * v).sum::<f64>() / x.len() as f64).sqrt()
+        }
     };
-    let max_abs = |x: &[f64]| x.iter().fold(nan, |m: f64, v| if m.is_nan() { v.abs() } else { m.max(v.abs()) });
+    let max_abs = |x: &[f64]| {
+        x.iter().fold(nan, |m: f64, v| if m.is_nan() { v.abs() } else { m.max(v.abs()) })
+    };
     let e = &s.error[k0..];
     let mut reversal_peak = nan;
     for k in (k0.max(1))..s.t.len() {
         let (a, b) = (s.ref_speed[k - 1], s.ref_speed[k]);
-        if a * b < 0.0 || (a != 0.0 && b == 0.0 && s.ref_speed.get(k + 1).is_some_and(|c| c * a < 0.0)) {
+        if a * b < 0.0
+            || (a != 0.0 && b == 0.0 && s.ref_speed.get(k + 1).is_some_and(|c| c * a < 0.0))
+        {
             let end = s.t[k] + w.reversal_window;
             let k1 = s.t.partition_point(|&t| t <= end);
             let peak = max_abs(&s.error[k..k1]);
@@ -59,8 +67,11 @@ pub fn tracking_metrics(s: &TrackingSamples, w: &Windows) -> [f64; 11] {
         }
     }
     let sat = &s.saturated[k0..];
-    let saturation_fraction =
-        if sat.is_empty() { nan } else { sat.iter().filter(|&&b| b).count() as f64 / sat.len() as f64 };
+    let saturation_fraction = if sat.is_empty() {
+        nan
+    } else {
+        sat.iter().filter(|&&b| b).count() as f64 / sat.len() as f64
+    };
     let mut out = [
         rms(e),
         max_abs(e),
@@ -111,7 +122,8 @@ mod tests {
             error,
             t,
         };
-        let w = Windows { settled_from: 1.0, reversal_window: 0.1, final_from: 8.0, regulation: false };
+        let w =
+            Windows { settled_from: 1.0, reversal_window: 0.1, final_from: 8.0, regulation: false };
         let m = tracking_metrics(&s, &w);
         assert!((m[0] - 1e-4 / 2f64.sqrt()).abs() < 2e-6, "{}", m[0]);
         assert_eq!(m[1], 5e-4);

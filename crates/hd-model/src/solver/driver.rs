@@ -113,7 +113,8 @@ pub fn solve<const D: usize, S: OdeSystem<D>>(
                     stats.rhs_evals += 5;
                     match rodas4::step(sys, t, &y, &f, &jac, &dfdt, h) {
                         Ok(trial) => {
-                            let e = error_norm(&trial.err, &y, &trial.y1, &scale, opts, sys.coupled());
+                            let e =
+                                error_norm(&trial.err, &y, &trial.y1, &scale, opts, sys.coupled());
                             (trial.y1, None, e)
                         }
                         Err(rodas4::Singular) => (y, None, f64::INFINITY),
