@@ -197,7 +197,7 @@ impl ControllerConfig {
         if !(self.tau_d.is_finite() && self.tau_d > 0.0) {
             return bad("tau_d", self.tau_d, "a finite time constant > 0 [s]");
         }
-        if !(self.u_max > 0.0) {
+        if self.u_max.is_nan() || self.u_max <= 0.0 {
             return bad("u_max", self.u_max, "a voltage limit > 0 [V]");
         }
         if !(self.period.is_finite() && self.period >= 0.0) {
