@@ -22,6 +22,8 @@ fn every_shipped_study_parses_and_expands_to_its_documented_size() {
         ("hysteresis-energy", 100),
         ("global-sensitivity", 3840),
         ("morris-screening", 560),
+        ("control", 162),
+        ("hunting", 48),
     ];
     let loader = |p: &Path| hd_io::read_profile(p).map_err(|e| e.to_string());
     let mut files: Vec<PathBuf> = std::fs::read_dir(studies_dir())

@@ -13,6 +13,8 @@
 //! No I/O happens here; everything is `Send + Sync` and the integration allocates nothing
 //! per step.
 
+pub mod closed_loop;
+pub mod control;
 pub mod error;
 pub mod interp;
 pub mod laws;
@@ -30,6 +32,7 @@ pub mod system;
 pub mod trace;
 pub mod variant;
 
+pub use control::{Compensation, ControllerConfig, Feedback, Reference};
 pub use error::{ConfigError, ParamError, SolverError};
 pub use laws::input::{Input, Profile};
 pub use metrics::{METRICS, MetricSettings, Metrics};

@@ -14,6 +14,27 @@ use crate::registry::lookup;
 use std::collections::BTreeMap;
 use toml::Spanned;
 
+/// The key of the controller table in a params file.
+pub const CONTROLLER_KEY: &str = "controller";
+
+/// The `[controller]` table of a params file's text, if it has one (docs/model.md §6).
+/// `file` names the source in error messages.
+pub fn controller_from_toml(
+    text: &str,
+    file: &str,
+) -> Result<Option<crate::control::ControllerConfig>, ParamError> {
+    #[derive(serde::Deserialize)]
+    struct WithController {
+        controller: Option<crate::control::ControllerConfig>,
+    }
+    let parsed: WithController = toml::from_str(text).map_err(|e| ParamError::File {
+        file: file.to_string(),
+        line: e.span().map_or(1, |s| line_of(text, s.start)),
+        message: format!("[controller]: {}", e.message()),
+    })?;
+    Ok(parsed.controller)
+}
+
 /// 1-based line number of byte offset `pos` in `text`.
 pub fn line_of(text: &str, pos: usize) -> usize {
     text[..pos.min(text.len())].bytes().filter(|&b| b == b'\n').count() + 1
@@ -29,6 +50,9 @@ pub fn apply_params_toml(base: &mut Params, text: &str, file: &str) -> Result<()
             message: format!("malformed TOML: {}", e.message()),
         })?;
     for (key, value) in &table {
+        if key.get_ref() == CONTROLLER_KEY {
+            continue;
+        }
         let at = |message: String| ParamError::File {
             file: file.to_string(),
             line: line_of(text, key.span().start),

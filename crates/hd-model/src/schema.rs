@@ -45,6 +45,21 @@ pub static RUN_INPUT_COLUMNS: &[ColumnDoc] = &[
     col("friction_scale", "-", "factor on the friction torques Tc and Ts, when swept"),
 ];
 
+/// Columns of `runs.parquet` of studies with a `[controller]`, after the input columns.
+pub static RUN_CONTROL_COLUMNS: &[ColumnDoc] = &[
+    col("compensation", "", "closed loop: none, friction or friction+compliance"),
+    col("feedback", "", "closed loop: fed-back angle, load or motor"),
+    col("ctl_kp", "V/rad", "closed loop: proportional gain"),
+    col("ctl_ki", "V/(rad·s)", "closed loop: integral gain"),
+    col("ctl_kd", "V·s/rad", "closed loop: derivative gain"),
+    col("ctl_period", "s", "closed loop: sampling period (0: continuous)"),
+    col(
+        "ctl_model_scale",
+        "-",
+        "closed loop: factor on the controller model's friction and stiffness parameters",
+    ),
+];
+
 /// Columns of `runs.parquet` after the metrics: solver work.
 pub static RUN_SOLVER_COLUMNS: &[ColumnDoc] = &[
     col("method", "", "integration method: auto, dopri5 or rodas4"),
@@ -114,6 +129,7 @@ pub fn columns(kind: FileKind) -> Vec<ColumnDoc> {
             .copied()
             .chain(REGISTRY.iter().map(|p| col(p.name, p.unit, p.doc)))
             .chain(RUN_INPUT_COLUMNS.iter().copied())
+            .chain(RUN_CONTROL_COLUMNS.iter().copied())
             .chain(METRICS.iter().map(|m| col(m.name, m.unit, m.doc)))
             .chain(RUN_SOLVER_COLUMNS.iter().copied())
             .chain(RUN_DESIGN_COLUMNS.iter().copied())
@@ -167,6 +183,7 @@ pub fn doc_sections() -> Vec<(&'static str, String)> {
         ("run-identity", markdown_table(RUN_ID_COLUMNS)),
         ("parameters", param_table),
         ("run-input", markdown_table(RUN_INPUT_COLUMNS)),
+        ("run-control", markdown_table(RUN_CONTROL_COLUMNS)),
         ("metrics", markdown_table(&metrics)),
         ("run-solver", markdown_table(RUN_SOLVER_COLUMNS)),
         ("run-design", markdown_table(RUN_DESIGN_COLUMNS)),

@@ -38,6 +38,16 @@ pub struct Sample {
     pub k: f64,
     /// dTf/dv [N·m·s/rad].
     pub c0: f64,
+    /// Load-angle reference [rad] (NaN open loop).
+    pub reference: f64,
+    /// Tracking error [rad] (NaN open loop).
+    pub error: f64,
+    /// Friction feedforward [V] (NaN open loop).
+    pub u_ff: f64,
+    /// Friction estimate [N·m] (NaN open loop).
+    pub tf_hat: f64,
+    /// Transmitted-torque estimate [N·m] (NaN open loop).
+    pub tb_hat: f64,
 }
 
 /// Thresholds below which the ratio signals are reported as NaN.
@@ -84,6 +94,15 @@ impl DriveSystem {
         } else {
             p.fr.d_v
         };
+        let nan = f64::NAN;
+        let (reference, error, u_ff, tf_hat, tb_hat) = match (p.ctl, self.ctl.as_ref()) {
+            (Some(c), Some(ctl)) => {
+                let wj_dot = self.rhs(t, y)[OMEGA_J];
+                let tb_hat = ctl.torque_estimate(p.i, y[OMEGA_J], wj_dot, c.tf_hat);
+                (c.reference, c.error, c.u_ff, c.tf_hat, tb_hat)
+            }
+            _ => (nan, nan, nan, nan, nan),
+        };
         Sample {
             t,
             u: p.u,
@@ -99,6 +118,11 @@ impl DriveSystem {
             tf: p.fr.torque,
             k,
             c0,
+            reference,
+            error,
+            u_ff,
+            tf_hat,
+            tb_hat,
         }
     }
 }
@@ -120,5 +144,10 @@ impl crate::trace::Trace {
         self.tf.push(s.tf);
         self.k.push(s.k);
         self.c0.push(s.c0);
+        self.reference.push(s.reference);
+        self.error.push(s.error);
+        self.u_ff.push(s.u_ff);
+        self.tf_hat.push(s.tf_hat);
+        self.tb_hat.push(s.tb_hat);
     }
 }

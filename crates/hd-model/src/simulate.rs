@@ -1,13 +1,15 @@
 //! One simulation run: check the configuration, assemble the system, integrate, and
 //! return the trace (optional), the metrics and the solver statistics.
 
+use crate::control::{Controller, ControllerConfig, Hold};
 use crate::error::{ConfigError, SolverError};
 use crate::laws::input::Input;
+use crate::laws::load::LoadTorque;
 use crate::metrics::{Collector, MetricSettings, Metrics};
 use crate::params::Params;
 use crate::signals::Thresholds;
 use crate::solver::{Method, SolverOptions, SolverStats, Step, solve};
-use crate::state::{DIM, State};
+use crate::state::{CMP_Q, DIM, State};
 use crate::system::{DriveSystem, FrictionVelocity};
 use crate::trace::Trace;
 use crate::variant::Variant;
@@ -38,6 +40,11 @@ pub struct SimConfig {
     pub metrics: MetricSettings,
     /// Whether to keep the sampled trace.
     pub record_trace: bool,
+    /// External load torque on the load side; default none.
+    pub load_torque: LoadTorque,
+    /// Closed-loop controller (the `[controller]` table); default none, an open-loop run
+    /// driven by `input`.
+    pub controller: Option<ControllerConfig>,
 }
 
 impl Default for SimConfig {
@@ -52,6 +59,8 @@ impl Default for SimConfig {
             friction_velocity: FrictionVelocity::Motor,
             metrics: MetricSettings::default(),
             record_trace: true,
+            load_torque: LoadTorque::default(),
+            controller: None,
         }
     }
 }
@@ -90,6 +99,10 @@ impl SimConfig {
     pub fn validate(&self) -> Result<(), ConfigError> {
         self.params.validate()?;
         self.input.validate()?;
+        self.load_torque.validate()?;
+        if let Some(c) = &self.controller {
+            c.validate(&self.params)?;
+        }
         let bad = |field: &str, value: f64, expected: &str| {
             Err(ConfigError::Invalid {
                 field: field.to_string(),
@@ -127,15 +140,30 @@ impl SimConfig {
     }
 
     /// Assemble the system this configuration describes.
-    pub fn system(&self) -> DriveSystem {
+    pub fn system(&self) -> Result<DriveSystem, ConfigError> {
         let (stiffness, friction) = self.variant.kinds();
-        DriveSystem::new(
+        let mut sys = DriveSystem::new(
             &self.params,
             stiffness,
             friction,
             self.input.clone(),
             self.friction_velocity,
-        )
+        );
+        sys.load = self.load_torque.clone();
+        if let Some(c) = &self.controller {
+            sys.ctl = Some(Controller::new(c, &self.params, stiffness, friction)?);
+        }
+        Ok(sys)
+    }
+
+    /// Times where a signal of the run jumps (input or reference, and load torque).
+    pub fn breakpoints(&self) -> Vec<f64> {
+        let mut b = match &self.controller {
+            Some(c) => c.reference.breakpoints(),
+            None => self.input.breakpoints(),
+        };
+        b.extend(self.load_torque.breakpoints());
+        b
     }
 
     /// The trace sampling interval actually used [s].
@@ -143,7 +171,11 @@ impl SimConfig {
         if self.dt_out > 0.0 {
             return self.dt_out;
         }
-        match self.input.drive_frequency() {
+        let freq = match &self.controller {
+            Some(c) => c.reference.period().map(|p| 1.0 / p),
+            None => self.input.drive_frequency(),
+        };
+        match freq {
             Some(f) => (1.0 / (200.0 * f)).min(self.t_end / 100.0),
             None => self.t_end / 10_000.0,
         }
@@ -153,7 +185,7 @@ impl SimConfig {
 /// Run one simulation from rest.
 pub fn simulate(cfg: &SimConfig) -> Result<SimOutput, SimError> {
     cfg.validate()?;
-    let sys = cfg.system();
+    let mut sys = cfg.system()?;
     let mut opts = cfg.solver;
     if opts.method == Method::Auto {
         // Non-stiff variants need no implicit method; stiff ones switch by cost.
@@ -162,6 +194,11 @@ pub fn simulate(cfg: &SimConfig) -> Result<SimOutput, SimError> {
         }
     }
     let y0 = sys.rest_state();
+    // A sampled controller computes its first command at t = 0, before anything moves.
+    let period = sys.ctl.as_ref().filter(|c| c.is_sampled()).map(|c| c.cfg.period);
+    if let (Some(_), Some(c)) = (period, sys.ctl.as_ref()) {
+        sys.hold = c.sample(0.0, &sys.measured(&y0), y0[CMP_Q], &Hold::default(), true);
+    }
     let dt = cfg.output_interval();
     let eps = Thresholds::default();
     let mut trace = cfg.record_trace.then(Trace::default);
@@ -170,26 +207,50 @@ pub fn simulate(cfg: &SimConfig) -> Result<SimOutput, SimError> {
     }
     let mut collector = Collector::new(&sys, cfg.metrics, y0, cfg.t_end);
     let mut next_k: u64 = 1;
-    let mut observer = |s: &Step<DIM>| {
-        collector.on_step(s);
-        if let Some(tr) = trace.as_mut() {
-            loop {
-                let tk = (next_k as f64 * dt).min(cfg.t_end);
-                if tk > s.t1 || (tk <= *tr.t.last().unwrap_or(&-1.0)) {
-                    break;
-                }
-                let y = if tk == s.t1 { *s.y1 } else { s.interpolate(tk) };
-                tr.push(&sys.sample(tk, &y, &eps));
-                next_k += 1;
-            }
-        }
-    };
+    let breakpoints = cfg.breakpoints();
     let start = Instant::now();
-    let breakpoints = cfg.input.breakpoints();
-    let (y_end, stats) = solve(&sys, 0.0, y0, cfg.t_end, &breakpoints, &opts, &mut observer)?;
+    // Open loop and continuous control: one solve. Sampled control: one solve per
+    // sampling period, the controller updating its held command in between.
+    let stops: Vec<f64> = match period {
+        Some(p) => {
+            let n = (cfg.t_end / p).ceil() as usize;
+            (1..=n).map(|k| (k as f64 * p).min(cfg.t_end)).collect()
+        }
+        None => vec![cfg.t_end],
+    };
+    let (mut t, mut y) = (0.0, y0);
+    let mut stats = SolverStats { method: opts.method, ..Default::default() };
+    for &t1 in &stops {
+        if t1 <= t {
+            continue;
+        }
+        if t > 0.0
+            && let Some(c) = sys.ctl.as_ref()
+        {
+            sys.hold = c.sample(t, &sys.measured(&y), y[CMP_Q], &sys.hold, false);
+        }
+        let sys_ref = &sys;
+        let mut observer = |s: &Step<DIM>| {
+            collector.on_step(sys_ref, s);
+            if let Some(tr) = trace.as_mut() {
+                loop {
+                    let tk = (next_k as f64 * dt).min(cfg.t_end);
+                    if tk > s.t1 || (tk <= *tr.t.last().unwrap_or(&-1.0)) {
+                        break;
+                    }
+                    let y = if tk == s.t1 { *s.y1 } else { s.interpolate(tk) };
+                    tr.push(&sys_ref.sample(tk, &y, &eps));
+                    next_k += 1;
+                }
+            }
+        };
+        let (y1, st) = solve(&sys, t, y, t1, &breakpoints, &opts, &mut observer)?;
+        stats.accumulate(&st);
+        (t, y) = (t1, y1);
+    }
     let wall_time = start.elapsed().as_secs_f64();
-    let metrics = collector.finish(&y_end);
-    Ok(SimOutput { trace, metrics, stats, wall_time, final_state: y_end })
+    let metrics = collector.finish(&sys, &y);
+    Ok(SimOutput { trace, metrics, stats, wall_time, final_state: y })
 }
 
 /// A run's configuration as `Input` for a constant, step or sine voltage — a helper for

@@ -5,7 +5,8 @@
 //! state is carried in torque units (`σ0·s`). The reported signals use the coordinates of
 //! docs/model.md §1 (`θz = θj/N − θ`, `s = w/σ0`).
 //!
-//! The trailing states are running integrals (quadratures) used by the metrics and the
+//! After the plant's seven states come four controller states (zero and inactive in an
+//! open-loop run, when the solver treats them like quadratures). The trailing states are running integrals (quadratures) used by the metrics and the
 //! energy audit; nothing feeds back from them.
 
 use nalgebra::SVector;
@@ -24,23 +25,35 @@ pub const Z: usize = 4;
 pub const W: usize = 5;
 /// Armature current i [A] (a state only when L > 0).
 pub const CURRENT: usize = 6;
+/// Controller integrator ∫e dt [rad·s] (closed loop, continuous time; 0 otherwise).
+pub const CTL_I: usize = 7;
+/// Controller derivative-filter state: the error low-passed with time constant τd [rad].
+pub const CTL_D: usize = 8;
+/// Friction observer's bristle torque ŵ = σ0·ŝ of the controller model [N·m].
+pub const OBS_W: usize = 9;
+/// Compliance pre-filter state q = ẑ − A·θ̂ of the controller model's memory [N·m].
+pub const CMP_Q: usize = 10;
 /// ∫ z·θ̇ dt: work done on the memory element [J].
-pub const Q_HYST: usize = 7;
+pub const Q_HYST: usize = 11;
 /// ∫ Tf·v dt: friction dissipation [J].
-pub const Q_FRIC: usize = 8;
+pub const Q_FRIC: usize = 12;
 /// ∫ max(T_out·ωz, 0) dt: positive output work [J].
-pub const Q_OUT: usize = 9;
+pub const Q_OUT: usize = 13;
 /// ∫ max(Ta·ωj, 0) dt: positive input work at the wave generator [J].
-pub const Q_IN: usize = 10;
+pub const Q_IN: usize = 14;
 /// ∫ u·i dt: electrical energy in [J].
-pub const Q_ELEC: usize = 11;
+pub const Q_ELEC: usize = 15;
 /// ∫ (R·i² + Cj·ωj² + Cz·ωz² + B·z²/A) dt: other dissipation [J].
-pub const Q_DISS: usize = 12;
+pub const Q_DISS: usize = 16;
+/// ∫ T_L·ωz dt: work the load does against the external load torque [J].
+pub const Q_LOAD: usize = 17;
 
-/// Number of coupled (dynamic) states.
-pub const COUPLED: usize = 7;
+/// Number of coupled states of the plant alone (an open-loop run).
+pub const PLANT: usize = 7;
+/// Number of coupled (dynamic) states, controller states included.
+pub const COUPLED: usize = 11;
 /// Total state dimension.
-pub const DIM: usize = 13;
+pub const DIM: usize = 18;
 
 /// The integrated state.
 pub type State = SVector<f64, DIM>;

@@ -1,8 +1,10 @@
 //! The assembled drive: motor, gear (stiffness + friction) and load, as an ODE system
 //! with its analytic Jacobian (docs/model.md §2.6).
 
+use crate::control::{Controller, CtlEval, Hold};
 use crate::laws::friction::{Friction, FrictionEval, FrictionLaw};
 use crate::laws::input::Input;
+use crate::laws::load::LoadTorque;
 use crate::laws::motor::DcMotor;
 use crate::laws::stiffness::{Stiffness, StiffnessEval, StiffnessLaw};
 use crate::params::Params;
@@ -33,8 +35,14 @@ pub struct DriveSystem {
     pub friction: Friction,
     /// The DC motor.
     pub motor: DcMotor,
-    /// Armature voltage.
+    /// Armature voltage of an open-loop run (ignored when a controller is set).
     pub input: Input,
+    /// External load torque on the load side.
+    pub load: LoadTorque,
+    /// Closed-loop controller; `None` drives the motor open loop with `input`.
+    pub ctl: Option<Controller>,
+    /// Values a sampled controller holds over the current sampling period.
+    pub hold: Hold,
     /// Speed seen by the friction law.
     pub friction_velocity: FrictionVelocity,
     /// Gear ratio N [–].
@@ -47,6 +55,11 @@ pub struct DriveSystem {
     pub cj: f64,
     /// Load damping Cz [N·m·s/rad].
     pub cz: f64,
+}
+
+/// The controller's states in `y`: integrator, derivative filter, observer, pre-filter.
+pub fn ctl_states(y: &State) -> [f64; 4] {
+    [y[CTL_I], y[CTL_D], y[OBS_W], y[CMP_Q]]
 }
 
 /// Everything the right-hand side computes at one instant, shared by the RHS, the
@@ -69,6 +82,10 @@ pub struct Parts {
     pub t_out: f64,
     /// Torque on the wave generator `Ta = (Tb + Tf)/N` [N·m].
     pub ta: f64,
+    /// External load torque T_L [N·m].
+    pub tl: f64,
+    /// The controller's outputs (closed loop only).
+    pub ctl: Option<CtlEval>,
 }
 
 impl DriveSystem {
@@ -85,6 +102,9 @@ impl DriveSystem {
             friction: friction_law(friction, p),
             motor: DcMotor { r: p.r, km: p.km, ke: p.ke, l: p.l },
             input,
+            load: LoadTorque::default(),
+            ctl: None,
+            hold: Hold::default(),
             friction_velocity,
             n: p.n,
             jj: p.jj,
@@ -96,7 +116,22 @@ impl DriveSystem {
 
     /// Whether the system has a stiff part that calls for the implicit method.
     pub fn is_stiff(&self) -> bool {
-        matches!(self.friction, Friction::LuGre(_)) || self.motor.has_inductance()
+        let observer = self.ctl.as_ref().is_some_and(|c| c.friction.has_state());
+        matches!(self.friction, Friction::LuGre(_)) || self.motor.has_inductance() || observer
+    }
+
+    /// The frequency of the periodic drive [Hz]: the reference's in closed loop, the
+    /// input's open loop.
+    pub fn drive_frequency(&self) -> Option<f64> {
+        match &self.ctl {
+            Some(c) => c.reference().period().map(|p| 1.0 / p),
+            None => self.input.drive_frequency(),
+        }
+    }
+
+    /// Load angle θz = θj/N − θ [rad].
+    pub fn theta_z(&self, y: &State) -> f64 {
+        y[THETA_J] / self.n - y[THETA]
     }
 
     /// `(∂v/∂ωj, ∂v/∂ωz)`.
@@ -115,7 +150,9 @@ impl DriveSystem {
     /// Evaluate the laws at (t, y).
     #[inline]
     pub fn parts(&self, t: f64, y: &State) -> Parts {
-        let u = self.input.value(t);
+        let ctl =
+            self.ctl.as_ref().map(|c| c.eval(t, &self.measured(y), &ctl_states(y), &self.hold));
+        let u = ctl.map_or_else(|| self.input.value(t), |c| c.u);
         let i = if self.motor.has_inductance() {
             y[CURRENT]
         } else {
@@ -128,12 +165,21 @@ impl DriveSystem {
         let fr = self.friction.eval(v, y[W]);
         let t_out = st.torque + if self.friction_on_load() { fr.torque } else { 0.0 };
         let ta = (st.torque + fr.torque) / self.n;
-        Parts { u, i, theta_dot, v, st, fr, t_out, ta }
+        Parts { u, i, theta_dot, v, st, fr, t_out, ta, tl: self.load.value(t), ctl }
     }
 
     /// The state at rest with zero current and no stored memory or bristle torque.
     pub fn rest_state(&self) -> State {
         State::zeros()
+    }
+
+    /// What the controller's sensors see in `y` (ideal; a sampled controller quantises).
+    pub fn measured(&self, y: &State) -> crate::control::Measured {
+        crate::control::Measured {
+            theta_z: self.theta_z(y),
+            theta_j: y[THETA_J],
+            omega_j: y[OMEGA_J],
+        }
     }
 
     /// Total stored energy: kinetic, spring, memory and magnetic [J].
@@ -148,6 +194,10 @@ impl DriveSystem {
 impl OdeSystem<DIM> for DriveSystem {
     const COUPLED: usize = COUPLED;
 
+    fn coupled(&self) -> usize {
+        if self.ctl.is_some() { COUPLED } else { PLANT }
+    }
+
     #[inline]
     fn rhs(&self, t: f64, y: &State) -> State {
         let p = self.parts(t, y);
@@ -157,12 +207,19 @@ impl OdeSystem<DIM> for DriveSystem {
         d[THETA_J] = wj;
         d[OMEGA_J] = (m.torque(p.i) - self.cj * wj - p.ta) / self.jj;
         d[THETA] = p.theta_dot;
-        d[OMEGA_Z] = (p.t_out - self.cz * wz) / self.jz;
+        d[OMEGA_Z] = (p.t_out - self.cz * wz - p.tl) / self.jz;
         d[Z] = p.st.z_rate;
         d[W] = p.fr.w_rate;
         if m.has_inductance() {
             d[CURRENT] = m.current_rate(p.u, p.i, wj);
         }
+        if let Some(c) = p.ctl {
+            d[CTL_I] = c.rates[0];
+            d[CTL_D] = c.rates[1];
+            d[OBS_W] = c.rates[2];
+            d[CMP_Q] = c.rates[3];
+        }
+        d[Q_LOAD] = p.tl * wz;
         d[Q_HYST] = y[Z] * p.theta_dot;
         d[Q_FRIC] = p.fr.torque * p.v;
         d[Q_OUT] = (p.t_out * wz).max(0.0);
@@ -179,7 +236,13 @@ impl OdeSystem<DIM> for DriveSystem {
         type G = SVector<f64, COUPLED>;
         let unit = |k: usize| G::ith(k, 1.0);
         let p = self.parts(t, y);
-        let du = self.input.value_and_rate(t).1;
+        // The command's gradient over the coupled states and its explicit time rate: zero
+        // gradient and the input's slope open loop; the controller's otherwise.
+        let cj = self.ctl.as_ref().map(|_| self.controller_jacobian(t, y));
+        let (g_u, du) = match &cj {
+            Some(c) => (c.g_u, c.du_dt),
+            None => (G::zeros(), self.input.value_and_rate(t).1),
+        };
         let m = &self.motor;
         let (wj, wz, z) = (y[OMEGA_J], y[OMEGA_Z], y[Z]);
         let (va, vb) = self.v_coeffs();
@@ -190,7 +253,7 @@ impl OdeSystem<DIM> for DriveSystem {
         let g_v = va * unit(OMEGA_J) + vb * unit(OMEGA_Z);
         let g_tb = p.st.d_theta * unit(THETA) + p.st.d_z * unit(Z);
         let g_tf = p.fr.d_v * g_v + p.fr.d_w * unit(W);
-        let g_i = if inductive { unit(CURRENT) } else { -(m.ke / m.r) * unit(OMEGA_J) };
+        let g_i = if inductive { unit(CURRENT) } else { (g_u - m.ke * unit(OMEGA_J)) / m.r };
         let g_out = if self.friction_on_load() { g_tb + g_tf } else { g_tb };
         let g_ta = (g_tb + g_tf) / self.n;
         // ∂(u-dependent terms)/∂t: only the current depends on u directly.
@@ -203,10 +266,11 @@ impl OdeSystem<DIM> for DriveSystem {
         dfdt[OMEGA_J] = m.km * di_dt / self.jj;
         rows[THETA] = g_thd;
         rows[OMEGA_Z] = (g_out - self.cz * unit(OMEGA_Z)) / self.jz;
+        dfdt[OMEGA_Z] = -self.load.rate(t) / self.jz;
         rows[Z] = p.st.z_rate_d_thetadot * g_thd + p.st.z_rate_d_z * unit(Z);
         rows[W] = p.fr.w_rate_d_v * g_v + p.fr.w_rate_d_w * unit(W);
         if inductive {
-            rows[CURRENT] = (-m.r * unit(CURRENT) - m.ke * unit(OMEGA_J)) / m.l;
+            rows[CURRENT] = (g_u - m.r * unit(CURRENT) - m.ke * unit(OMEGA_J)) / m.l;
             dfdt[CURRENT] = du / m.l;
         }
         rows[Q_HYST] = z * g_thd + p.theta_dot * unit(Z);
@@ -217,7 +281,15 @@ impl OdeSystem<DIM> for DriveSystem {
         if p.ta * wj > 0.0 {
             rows[Q_IN] = wj * g_ta + p.ta * unit(OMEGA_J);
         }
-        rows[Q_ELEC] = p.u * g_i;
+        if let Some(c) = &cj {
+            for (k, idx) in [CTL_I, CTL_D, OBS_W, CMP_Q].into_iter().enumerate() {
+                rows[idx] = c.rows[k];
+                dfdt[idx] = c.drates_dt[k];
+            }
+        }
+        rows[Q_LOAD] = p.tl * unit(OMEGA_Z);
+        dfdt[Q_LOAD] = self.load.rate(t) * wz;
+        rows[Q_ELEC] = p.u * g_i + p.i * g_u;
         dfdt[Q_ELEC] = du * p.i + p.u * di_dt;
         let mem_slope = {
             let h = self.stiffness.memory_dissipation(1.0);

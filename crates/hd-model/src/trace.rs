@@ -55,6 +55,21 @@ pub static TRACE_COLUMNS: &[TraceColumn] = &[
     c!("Tf", tf, "N·m", "friction torque"),
     c!("K", k, "N·m/rad", "stiffness dTb/dθ; null where undefined"),
     c!("C0", c0, "N·m·s/rad", "friction damping dTf/dv; null where undefined"),
+    c!("ref", reference, "rad", "closed loop: load-angle reference θz_ref; null open loop"),
+    c!("error", error, "rad", "closed loop: tracking error θz_ref − θz; null open loop"),
+    c!("u_ff", u_ff, "V", "closed loop: friction-compensation feedforward voltage; null open loop"),
+    c!(
+        "tf_hat",
+        tf_hat,
+        "N·m",
+        "closed loop: friction torque estimated by the controller's LuGre observer; null open loop"
+    ),
+    c!(
+        "tb_hat",
+        tb_hat,
+        "N·m",
+        "closed loop: transmitted torque estimated from current, motor speed and acceleration and the friction estimate; null open loop"
+    ),
 ];
 
 /// Signals sampled on the output grid. All columns have the same length.
@@ -88,6 +103,16 @@ pub struct Trace {
     pub k: Vec<f64>,
     /// Friction damping dTf/dv [N·m·s/rad]; NaN where undefined.
     pub c0: Vec<f64>,
+    /// Load-angle reference [rad]; NaN open loop.
+    pub reference: Vec<f64>,
+    /// Tracking error θz_ref − θz [rad]; NaN open loop.
+    pub error: Vec<f64>,
+    /// Friction feedforward voltage [V]; NaN open loop.
+    pub u_ff: Vec<f64>,
+    /// Estimated friction torque [N·m]; NaN open loop.
+    pub tf_hat: Vec<f64>,
+    /// Estimated transmitted torque [N·m]; NaN open loop.
+    pub tb_hat: Vec<f64>,
 }
 
 impl Trace {

@@ -57,7 +57,7 @@ fn energy_balance_closes_over_the_seed_case() {
             ..SimConfig::default()
         };
         let out = simulate(&cfg).unwrap();
-        let sys = cfg.system();
+        let sys = cfg.system().unwrap();
         let y = out.final_state;
         let e_in = y[Q_ELEC];
         let accounted = sys.stored_energy(&y) + y[Q_DISS] + y[Q_FRIC];

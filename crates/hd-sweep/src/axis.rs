@@ -2,11 +2,23 @@
 //! value is applied to a run's configuration.
 
 use hd_model::registry::{ParamInfo, REGISTRY, lookup, nearest_of};
-use hd_model::{Input, SimConfig, Variant};
+use hd_model::{Compensation, Feedback, Input, SimConfig, Variant};
 use serde::{Deserialize, Serialize};
 
 /// Names that are not registry parameters but can be swept.
-pub const SPECIAL: [&str; 4] = ["voltage", "freq", "variant", "friction_scale"];
+pub const SPECIAL: [&str; 11] = [
+    "voltage",
+    "freq",
+    "variant",
+    "friction_scale",
+    "ctl_kp",
+    "ctl_ki",
+    "ctl_kd",
+    "ctl_period",
+    "ctl_model_scale",
+    "compensation",
+    "feedback",
+];
 
 /// The quantity an axis or sampled dimension sets.
 #[derive(Clone, Copy, Debug)]
@@ -21,6 +33,20 @@ pub enum Knob {
     FrictionScale,
     /// Model variant.
     Variant,
+    /// Controller gains kp [V/rad], ki [V/(rad·s)], kd [V·s/rad].
+    CtlKp,
+    /// See [`Knob::CtlKp`].
+    CtlKi,
+    /// See [`Knob::CtlKp`].
+    CtlKd,
+    /// Controller sampling period [s].
+    CtlPeriod,
+    /// Factor on the controller model's friction and stiffness parameters [–].
+    CtlModelScale,
+    /// Compensation setting (names).
+    Compensation,
+    /// Fed-back angle (names).
+    Feedback,
 }
 
 /// One value on an axis.
@@ -31,6 +57,10 @@ pub enum Value {
     Num(f64),
     /// A variant.
     Variant(Variant),
+    /// A compensation setting.
+    Compensation(Compensation),
+    /// A fed-back angle.
+    Feedback(Feedback),
 }
 
 impl Knob {
@@ -41,6 +71,13 @@ impl Knob {
             "freq" => Ok(Knob::Freq),
             "friction_scale" => Ok(Knob::FrictionScale),
             "variant" => Ok(Knob::Variant),
+            "ctl_kp" => Ok(Knob::CtlKp),
+            "ctl_ki" => Ok(Knob::CtlKi),
+            "ctl_kd" => Ok(Knob::CtlKd),
+            "ctl_period" => Ok(Knob::CtlPeriod),
+            "ctl_model_scale" => Ok(Knob::CtlModelScale),
+            "compensation" => Ok(Knob::Compensation),
+            "feedback" => Ok(Knob::Feedback),
             _ => lookup(name).map(Knob::Param).map_err(|_| {
                 let all = REGISTRY.iter().map(|p| p.name).chain(SPECIAL);
                 match nearest_of(name, all) {
@@ -63,6 +100,13 @@ impl Knob {
             Knob::Freq => "freq",
             Knob::FrictionScale => "friction_scale",
             Knob::Variant => "variant",
+            Knob::CtlKp => "ctl_kp",
+            Knob::CtlKi => "ctl_ki",
+            Knob::CtlKd => "ctl_kd",
+            Knob::CtlPeriod => "ctl_period",
+            Knob::CtlModelScale => "ctl_model_scale",
+            Knob::Compensation => "compensation",
+            Knob::Feedback => "feedback",
         }
     }
 
@@ -78,7 +122,35 @@ impl Knob {
                 Err(format!("friction_scale = {v}: expected a finite factor > 0"))
             }
             Knob::Variant => Err("variant takes names (linear, damped, full), not numbers".into()),
+            Knob::CtlKp | Knob::CtlKi | Knob::CtlKd | Knob::CtlPeriod
+                if v.is_finite() && v >= 0.0 =>
+            {
+                Ok(())
+            }
+            Knob::CtlModelScale if v.is_finite() && v > 0.0 => Ok(()),
+            Knob::CtlKp | Knob::CtlKi | Knob::CtlKd | Knob::CtlPeriod | Knob::CtlModelScale => {
+                Err(format!("{} = {v}: expected a finite number >= 0", self.name()))
+            }
+            Knob::Compensation => {
+                Err("compensation takes names (none, friction, friction+compliance), not numbers"
+                    .into())
+            }
+            Knob::Feedback => Err("feedback takes names (load, motor), not numbers".into()),
         }
+    }
+
+    /// Whether the knob sets a controller setting (and so needs a `[controller]` table).
+    pub fn is_controller(&self) -> bool {
+        matches!(
+            self,
+            Knob::CtlKp
+                | Knob::CtlKi
+                | Knob::CtlKd
+                | Knob::CtlPeriod
+                | Knob::CtlModelScale
+                | Knob::Compensation
+                | Knob::Feedback
+        )
     }
 
     /// Whether the knob can act on runs with this input.
@@ -128,6 +200,20 @@ impl Knob {
                 }
             }
             (Knob::Variant, Value::Variant(v)) => cfg.variant = v,
+            (k, v) if k.is_controller() => {
+                if let Some(c) = cfg.controller.as_mut() {
+                    match (k, v) {
+                        (Knob::CtlKp, Value::Num(x)) => c.kp = x,
+                        (Knob::CtlKi, Value::Num(x)) => c.ki = x,
+                        (Knob::CtlKd, Value::Num(x)) => c.kd = x,
+                        (Knob::CtlPeriod, Value::Num(x)) => c.period = x,
+                        (Knob::CtlModelScale, Value::Num(x)) => c.model_scale = x,
+                        (Knob::Compensation, Value::Compensation(x)) => c.compensation = x,
+                        (Knob::Feedback, Value::Feedback(x)) => c.feedback = x,
+                        _ => {}
+                    }
+                }
+            }
             _ => {}
         }
     }

@@ -45,6 +45,8 @@ pub struct RunRow {
     pub voltage: f64,
     /// Drive frequency [Hz] (NaN for non-periodic inputs).
     pub freq: f64,
+    /// The controller of a closed-loop run.
+    pub controller: Option<hd_model::ControllerConfig>,
     /// Metrics (all NaN for a failed run).
     pub metrics: Metrics,
     /// Whether the run finished.
@@ -86,6 +88,7 @@ impl RunRow {
             params: cfg.params.clone(),
             voltage,
             freq,
+            controller: cfg.controller.clone(),
             metrics: Metrics::undefined(),
             status: RunStatus::Ok,
             error: None,

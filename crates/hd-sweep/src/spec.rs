@@ -23,6 +23,9 @@ pub struct StudySpec {
     /// Integrator settings.
     #[serde(default)]
     pub solver: SolverOptions,
+    /// Closed-loop controller shared by every part (`[controller]`, with
+    /// `[controller.model]` for the controller model's parameters).
+    pub controller: Option<hd_model::ControllerConfig>,
     /// Metric settings and the metrics to keep.
     #[serde(default)]
     pub metrics: MetricsSpec,
@@ -111,6 +114,8 @@ pub struct MetricSettingsSpec {
     pub final_fraction: Option<f64>,
     /// Settling band fraction.
     pub settle_band: Option<f64>,
+    /// Window after each reversal of the reference speed for `reversal_peak` [s].
+    pub reversal_window: Option<f64>,
 }
 
 impl MetricSettingsSpec {
@@ -123,6 +128,7 @@ impl MetricSettingsSpec {
             run_samples: self.run_samples.unwrap_or(d.run_samples),
             final_fraction: self.final_fraction.unwrap_or(d.final_fraction),
             settle_band: self.settle_band.unwrap_or(d.settle_band),
+            reversal_window: self.reversal_window.unwrap_or(d.reversal_window),
         }
     }
 }

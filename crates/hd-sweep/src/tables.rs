@@ -11,8 +11,8 @@ use crate::RunRow;
 use crate::axis::Value;
 use crate::sensitivity::SensitivityRow;
 use hd_model::registry::{REGISTRY, lookup};
-use hd_model::schema::DESIGN_UNIT_PREFIX;
-use hd_model::{Cells, METRICS, OutTable, TRACE_COLUMNS};
+use hd_model::schema::{DESIGN_UNIT_PREFIX, RUN_CONTROL_COLUMNS};
+use hd_model::{Cells, ControllerConfig, METRICS, OutTable, TRACE_COLUMNS};
 
 /// The runs table of `rows`, given the study's swept names and kept metrics.
 pub fn runs_table(rows: &[RunRow], swept: &[&str], metrics: &[&str]) -> OutTable {
@@ -32,10 +32,26 @@ pub fn runs_table(rows: &[RunRow], swept: &[&str], metrics: &[&str]) -> OutTable
     t.push("voltage", num(&|r| r.voltage));
     t.push("freq", num(&|r| r.freq));
     // Swept settings that are not parameters or input columns (e.g. friction_scale).
-    for name in
-        swept.iter().filter(|n| lookup(n).is_err() && !["voltage", "freq", "variant"].contains(n))
-    {
+    let control: Vec<&str> = RUN_CONTROL_COLUMNS.iter().map(|c| c.name).collect();
+    for name in swept.iter().filter(|n| {
+        lookup(n).is_err() && !["voltage", "freq", "variant"].contains(n) && !control.contains(n)
+    }) {
         t.push(*name, num(&|r| swept_value(r, name)));
+    }
+    if rows.iter().any(|r| r.controller.is_some()) {
+        let ctl = |f: &dyn Fn(&ControllerConfig) -> f64| {
+            Cells::F64(rows.iter().map(|r| r.controller.as_ref().map_or(f64::NAN, f)).collect())
+        };
+        let name = |f: &dyn Fn(&ControllerConfig) -> String| {
+            Cells::OptText(rows.iter().map(|r| r.controller.as_ref().map(f)).collect())
+        };
+        t.push("compensation", name(&|c| c.compensation.name().to_string()));
+        t.push("feedback", name(&|c| format!("{:?}", c.feedback).to_lowercase()));
+        t.push("ctl_kp", ctl(&|c| c.kp));
+        t.push("ctl_ki", ctl(&|c| c.ki));
+        t.push("ctl_kd", ctl(&|c| c.kd));
+        t.push("ctl_period", ctl(&|c| c.period));
+        t.push("ctl_model_scale", ctl(&|c| c.model_scale));
     }
     for m in metrics {
         let col = METRICS.iter().find(|c| c.name == *m);
@@ -82,7 +98,7 @@ fn push_design_columns(t: &mut OutTable, rows: &[RunRow]) {
 fn swept_value(r: &RunRow, name: &str) -> f64 {
     r.swept.iter().find(|(n, _)| n == name).map_or(f64::NAN, |(_, v)| match v {
         Value::Num(x) => *x,
-        Value::Variant(_) => f64::NAN,
+        _ => f64::NAN,
     })
 }
 

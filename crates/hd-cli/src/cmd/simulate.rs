@@ -1,8 +1,10 @@
 //! `hdw simulate`: one run, written as trace.parquet, metrics.json and response.svg.
 
 use super::common::{ensure_dir, load_params, write_json};
+use super::control_args::ControlArgs;
 use anyhow::{Context, Result, bail};
 use clap::{Args, ValueEnum};
+use hd_model::params_file::controller_from_toml;
 use hd_model::simulate::input_from_kind;
 use hd_model::{
     FrictionVelocity, Input, Method, MetricSettings, SimConfig, SolverOptions, Variant, simulate,
@@ -13,7 +15,7 @@ use std::path::{Path, PathBuf};
 /// Simulate one run of the motor–harmonic-drive–load system.
 #[derive(Args, Debug)]
 #[command(
-    after_help = "Outputs (in --out DIR):\n  trace.parquet  t, u, i, theta_j, omega_j, theta_z, omega_z, theta, z, s, Tb, Tf, K, C0 (SI units)\n  metrics.json   every metric, the parameters used, solver statistics and wall time\n  response.svg   load angle over time and the Tb–θ loop\n\nExample:\n  hdw simulate --out out/demo\n  hdw simulate --variant damped --set Kbar=5e5 --input step --voltage 12 --t-end 0.1 --out out/step"
+    after_help = "Outputs (in --out DIR):\n  trace.parquet  t, u, i, theta_j, omega_j, theta_z, omega_z, theta, z, s, Tb, Tf, K, C0 (SI units)\n  metrics.json   every metric, the parameters used, solver statistics and wall time\n  response.svg   load angle over time and the Tb–θ loop\nClosed loop (--controller pid) adds the trace columns ref, error, u_ff, tf_hat, tb_hat and the\nmetrics track_rms, track_max, reversal_peak, u_rms, saturation_fraction, torque_est_rms, ….\n\nExample:\n  hdw simulate --out out/demo\n  hdw simulate --variant damped --set Kbar=5e5 --input step --voltage 12 --t-end 0.1 --out out/step\n  hdw simulate --controller pid --kp 2000 --ki 20000 --kd 0 --feedback load --reference sine \\\n      --ref-amplitude 1e-3 --ref-freq 0.2 --t-end 12 --set Tc=1.5 --set Ts=2.5 --compensation friction --out out/pid\n  hdw simulate --controller pid --reference step --ref-amplitude 1e-3 --load-torque 5 --t-end 2 --out out/reg"
 )]
 pub struct SimulateArgs {
     /// Parameter file (TOML, registry names as keys, e.g. `c = 6e4`).
@@ -56,6 +58,9 @@ pub struct SimulateArgs {
     /// Whole cycles at the end of the run used for the periodic metrics.
     #[arg(long, default_value_t = 5)]
     pub cycles: usize,
+    /// Closed-loop control and load torque.
+    #[command(flatten)]
+    pub control: ControlArgs,
     /// Output folder.
     #[arg(long, value_name = "DIR")]
     pub out: PathBuf,
@@ -127,6 +132,14 @@ pub fn parse_input(kind: &str, voltage: f64, freq: f64) -> Result<Input> {
 pub fn config(args: &SimulateArgs) -> Result<SimConfig> {
     let params = load_params(args.params.as_deref(), &args.set)?;
     let input = parse_input(&args.input, args.voltage, args.freq)?;
+    let from_file = match &args.params {
+        Some(path) => {
+            let text = std::fs::read_to_string(path)
+                .with_context(|| format!("cannot read params file {}", path.display()))?;
+            controller_from_toml(&text, &path.display().to_string())?
+        }
+        None => None,
+    };
     let cfg = SimConfig {
         params,
         variant: args.variant.into(),
@@ -145,6 +158,8 @@ pub fn config(args: &SimulateArgs) -> Result<SimConfig> {
         },
         metrics: MetricSettings { cycles: args.cycles, ..Default::default() },
         record_trace: true,
+        load_torque: args.control.load_torque(),
+        controller: args.control.controller(from_file)?,
     };
     cfg.validate()?;
     Ok(cfg)
@@ -170,6 +185,8 @@ pub fn run(args: SimulateArgs) -> Result<()> {
         "input": cfg.input,
         "t_end": cfg.t_end,
         "friction_velocity": cfg.friction_velocity,
+        "controller": cfg.controller,
+        "load_torque": cfg.load_torque,
         "metrics": metrics,
         "parameters": params,
         "solver": {
@@ -188,8 +205,23 @@ pub fn run(args: SimulateArgs) -> Result<()> {
         "tool": { "name": "hdw", "version": env!("CARGO_PKG_VERSION") },
     });
     write_json(&dir.join("metrics.json"), &doc)?;
-    let title = format!("{} variant, {}", cfg.variant, input_label(&cfg.input));
+    let title = match &cfg.controller {
+        Some(c) => format!("{} variant, PID, {} compensation", cfg.variant, c.compensation),
+        None => format!("{} variant, {}", cfg.variant, input_label(&cfg.input)),
+    };
     hd_plot::response_plot(&dir.join("response.svg"), trace, &title)?;
+    if cfg.controller.is_some() {
+        let m = &out.metrics;
+        eprintln!(
+            "closed loop: track_rms {:.4e} rad, track_max {:.4e} rad, reversal_peak {:.4e} rad, u_rms {:.4e} V, torque_est_rms {:.4e} N·m (without friction model {:.4e})",
+            m.track_rms,
+            m.track_max,
+            m.reversal_peak,
+            m.u_rms,
+            m.torque_est_rms,
+            m.torque_est_rms_nofric
+        );
+    }
     eprintln!(
         "{} variant, {} steps ({} rejected) in {:.1} ms; θz amplitude {:.4e} rad; wrote {}",
         cfg.variant,

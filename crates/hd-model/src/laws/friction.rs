@@ -35,6 +35,11 @@ pub trait FrictionLaw: Send + Sync {
     fn has_state(&self) -> bool {
         false
     }
+    /// The internal state [N·m] after `h` seconds at constant speed v [rad/s] from w [N·m]
+    /// (unchanged for laws without state).
+    fn step_at_speed(&self, _v: f64, w: f64, _h: f64) -> f64 {
+        w
+    }
 }
 
 /// No friction (the `linear` variant).
@@ -176,6 +181,16 @@ impl FrictionLaw for LuGre {
     fn has_state(&self) -> bool {
         true
     }
+    /// At constant v the bristle equation is linear in w: `ẇ = λ·(sign(v)·G(v) − w)` with
+    /// `λ = σ0·|v|/G(v)`, so `w(h) = w_ss + (w − w_ss)·e^{−λ·h}`, w_ss = sign(v)·G(v).
+    fn step_at_speed(&self, v: f64, w: f64, h: f64) -> f64 {
+        if v == 0.0 {
+            return w;
+        }
+        let (level, _) = self.stribeck(v);
+        let w_ss = v.signum() * level;
+        w_ss + (w - w_ss) * (-self.sigma0 * v.abs() / level * h).exp()
+    }
 }
 
 /// The friction laws the workbench offers, as one type.
@@ -214,5 +229,11 @@ impl FrictionLaw for Friction {
     }
     fn has_state(&self) -> bool {
         matches!(self, Friction::LuGre(_))
+    }
+    fn step_at_speed(&self, v: f64, w: f64, h: f64) -> f64 {
+        match self {
+            Friction::LuGre(l) => l.step_at_speed(v, w, h),
+            _ => w,
+        }
     }
 }

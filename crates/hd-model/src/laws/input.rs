@@ -164,9 +164,15 @@ impl Input {
 
     /// Check the input's settings.
     pub fn validate(&self) -> Result<(), ConfigError> {
+        self.validate_as("input")
+    }
+
+    /// Check the settings of this signal used under the name `prefix` (errors name
+    /// `prefix.field`), e.g. `load_torque` when it describes a load torque.
+    pub fn validate_as(&self, prefix: &str) -> Result<(), ConfigError> {
         let bad = |field: &str, value: f64, expected: &str| {
             Err(ConfigError::Invalid {
-                field: format!("input.{field}"),
+                field: format!("{prefix}.{field}"),
                 value: value.to_string(),
                 expected: expected.to_string(),
             })
@@ -204,7 +210,7 @@ impl Input {
                 }
                 freqs.iter().try_for_each(|f| positive("freqs", *f))
             }
-            Input::Recorded(p) => Profile::new(p.t.clone(), p.u.clone(), "input").map(|_| ()),
+            Input::Recorded(p) => Profile::new(p.t.clone(), p.u.clone(), prefix).map(|_| ()),
         }
     }
 }

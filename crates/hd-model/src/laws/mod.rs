@@ -4,5 +4,6 @@
 
 pub mod friction;
 pub mod input;
+pub mod load;
 pub mod motor;
 pub mod stiffness;

@@ -2,16 +2,17 @@
 //! kept: exact θz extrema per step, uniform samples on the metric grids, and the
 //! quadrature states at the start of the periodic window.
 
+use super::tracking::{TrackingSamples, Windows, tracking_metrics};
 use super::{MetricSettings, Metrics, extrema::cubic_extrema, limit_cycle, periodic, step};
 use crate::laws::friction::FrictionLaw;
 use crate::laws::input::Input;
+use crate::solver::OdeSystem;
 use crate::solver::Step;
 use crate::state::*;
 use crate::system::DriveSystem;
 
 /// Metric accumulator for one run; feed it every accepted step, then call `finish`.
-pub struct Collector<'a> {
-    sys: &'a DriveSystem,
+pub struct Collector {
     settings: MetricSettings,
     t_end: f64,
     /// Periodic window: drive frequency [Hz], window start [s] and whole cycles used.
@@ -30,19 +31,48 @@ pub struct Collector<'a> {
     tf_peak: f64,
     s_peak: f64,
     y_start: State,
+    /// Closed-loop samples and windows (closed loop only).
+    tracking: Option<(TrackingSamples, Windows)>,
+    ctl_dt: f64,
+    is_step: bool,
+    step_time: Option<f64>,
 }
 
-impl<'a> Collector<'a> {
+impl Collector {
     /// A collector for a run of `sys` from `y_start` at t = 0 to `t_end`.
-    pub fn new(sys: &'a DriveSystem, settings: MetricSettings, y_start: State, t_end: f64) -> Self {
-        let periodic = sys.input.drive_frequency().and_then(|f| {
+    pub fn new(sys: &DriveSystem, settings: MetricSettings, y_start: State, t_end: f64) -> Self {
+        let periodic = sys.drive_frequency().and_then(|f| {
             let whole = (t_end * f + 1e-9).floor() as usize;
             let cycles = settings.cycles.min(whole);
             (cycles > 0).then(|| (f, t_end - cycles as f64 / f, cycles))
         });
         let run_samples = if periodic.is_some() { 0 } else { settings.run_samples.max(2) };
+        let tracking = sys.ctl.as_ref().map(|c| {
+            let r = c.reference();
+            let window = if settings.reversal_window > 0.0 {
+                settings.reversal_window
+            } else {
+                r.period().map_or(0.1, |p| p / 10.0)
+            };
+            (
+                TrackingSamples::default(),
+                Windows {
+                    settled_from: r.settled_from(),
+                    reversal_window: window,
+                    final_from: t_end * (1.0 - settings.final_fraction),
+                    regulation: r.is_regulation(),
+                },
+            )
+        });
         Self {
-            sys,
+            tracking,
+            ctl_dt: t_end / (settings.run_samples.max(2) - 1) as f64,
+            is_step: matches!(sys.input, Input::Step { .. }) && sys.ctl.is_none(),
+            step_time: match sys.input {
+                Input::Step { t0, .. } if sys.ctl.is_none() => Some(t0),
+                Input::Constant { .. } if sys.ctl.is_none() => Some(0.0),
+                _ => None,
+            },
             settings,
             t_end,
             periodic,
@@ -63,20 +93,17 @@ impl<'a> Collector<'a> {
         }
     }
 
-    fn theta_z(&self, y: &State) -> f64 {
-        y[THETA_J] / self.sys.n - y[THETA]
-    }
-
-    /// Record one accepted step.
-    pub fn on_step(&mut self, s: &Step<DIM>) {
-        let (thz0, thz1) = (self.theta_z(s.y0), self.theta_z(s.y1));
+    /// Record one accepted step of `sys`.
+    pub fn on_step(&mut self, sys: &DriveSystem, s: &Step<DIM>) {
+        self.on_step_tracking(sys, s);
+        let (thz0, thz1) = (sys.theta_z(s.y0), sys.theta_z(s.y1));
         let h = s.t1 - s.t0;
         let (lo, hi) = cubic_extrema(thz0, thz1, s.y0[OMEGA_Z], s.y1[OMEGA_Z], h);
         self.thz_peak = self.thz_peak.max(lo.abs()).max(hi.abs());
-        let parts = self.sys.parts(s.t1, s.y1);
+        let parts = sys.parts(s.t1, s.y1);
         self.tb_peak = self.tb_peak.max(parts.st.torque.abs());
         self.tf_peak = self.tf_peak.max(parts.fr.torque.abs());
-        self.s_peak = self.s_peak.max(self.sys.friction.deflection(s.y1[W]).abs());
+        self.s_peak = self.s_peak.max(sys.friction.deflection(s.y1[W]).abs());
 
         if let Some((f, tw, cycles)) = self.periodic {
             if s.t1 >= tw {
@@ -86,7 +113,7 @@ impl<'a> Collector<'a> {
                 // Extrema over the part of the step inside the window.
                 let (lo, hi) = if s.t0 < tw {
                     let ya = s.interpolate(tw);
-                    cubic_extrema(self.theta_z(&ya), thz1, ya[OMEGA_Z], s.y1[OMEGA_Z], s.t1 - tw)
+                    cubic_extrema(sys.theta_z(&ya), thz1, ya[OMEGA_Z], s.y1[OMEGA_Z], s.t1 - tw)
                 } else {
                     (lo, hi)
                 };
@@ -102,7 +129,7 @@ impl<'a> Collector<'a> {
                     }
                     let y = s.interpolate(tk.max(s.t0));
                     self.window_t.push(tk);
-                    self.window_thz.push(self.theta_z(&y));
+                    self.window_thz.push(sys.theta_z(&y));
                 }
             }
         } else {
@@ -119,14 +146,58 @@ impl<'a> Collector<'a> {
         }
     }
 
-    /// Compute the metrics from what was collected and the final state.
-    pub fn finish(self, y_end: &State) -> Metrics {
+    /// Sample the closed-loop signals on the uniform grid inside step `s`.
+    fn on_step_tracking(&mut self, sys: &DriveSystem, s: &Step<DIM>) {
+        let (Some((samples, _)), Some(ctl)) = (self.tracking.as_mut(), sys.ctl.as_ref()) else {
+            return;
+        };
+        loop {
+            let tk = samples.t.len() as f64 * self.ctl_dt;
+            if samples.t.len() >= self.settings.run_samples.max(2) || tk > s.t1 {
+                break;
+            }
+            let y = if tk <= s.t0 { *s.y0 } else { s.interpolate(tk) };
+            let p = sys.parts(tk, &y);
+            let c = p.ctl.expect("closed loop");
+            let wj_dot = sys.rhs(tk, &y)[OMEGA_J];
+            let tb_hat = ctl.torque_estimate(p.i, y[OMEGA_J], wj_dot, 0.0);
+            samples.t.push(tk);
+            samples.error.push(c.error);
+            samples.ref_speed.push(c.ref_speed);
+            samples.u.push(c.u);
+            samples.saturated.push(c.u != c.u_raw);
+            samples.tb_err.push(tb_hat - c.tf_hat - p.st.torque);
+            samples.tb_err_nofric.push(tb_hat - p.st.torque);
+        }
+    }
+
+    /// Compute the metrics from what was collected and the final state of `sys`.
+    pub fn finish(self, sys: &DriveSystem, y_end: &State) -> Metrics {
         let mut m = Metrics::undefined();
+        if let Some((samples, windows)) = &self.tracking {
+            let v = tracking_metrics(samples, windows);
+            [
+                &mut m.track_rms,
+                &mut m.track_max,
+                &mut m.reversal_peak,
+                &mut m.u_rms,
+                &mut m.saturation_fraction,
+                &mut m.torque_est_rms,
+                &mut m.torque_est_rms_nofric,
+                &mut m.steady_error,
+                &mut m.hunting,
+                &mut m.hunt_amplitude,
+                &mut m.hunt_period,
+            ]
+            .into_iter()
+            .zip(v)
+            .for_each(|(slot, x)| *slot = x);
+        }
         m.thz_peak = self.thz_peak;
         m.tb_peak = self.tb_peak;
         m.tf_peak = self.tf_peak;
         m.s_peak = self.s_peak;
-        m.energy_residual = self.energy_residual(y_end);
+        m.energy_residual = self.energy_residual(sys, y_end);
         if let (Some((f, _tw, cycles)), Some(yw)) = (self.periodic, self.y_window) {
             let n = cycles as f64;
             m.cycles_used = n;
@@ -148,12 +219,7 @@ impl<'a> Collector<'a> {
             m.limit_cycle = flag;
             m.lc_amplitude = amp;
             m.lc_period = period;
-            let t_step = match self.sys.input {
-                Input::Step { t0, .. } => Some(t0),
-                Input::Constant { .. } => Some(0.0),
-                _ => None,
-            };
-            if let Some(t_step) = t_step {
+            if let Some(t_step) = self.step_time {
                 let [rise, over, settle, fin] = step::step_metrics(
                     &self.run_t,
                     &self.run_wz,
@@ -162,7 +228,7 @@ impl<'a> Collector<'a> {
                     self.settings.settle_band,
                 );
                 m.final_speed = fin;
-                if matches!(self.sys.input, Input::Step { .. }) {
+                if self.is_step {
                     m.rise_time = rise;
                     m.overshoot = over;
                     m.settling_time = settle;
@@ -178,12 +244,15 @@ impl<'a> Collector<'a> {
     }
 
     /// |electrical in − (Δstored + dissipated)| relative to the energy turned over.
-    fn energy_residual(&self, y: &State) -> f64 {
-        let stored = self.sys.stored_energy(y) - self.sys.stored_energy(&self.y_start);
+    fn energy_residual(&self, sys: &DriveSystem, y: &State) -> f64 {
+        let stored = sys.stored_energy(y) - sys.stored_energy(&self.y_start);
         let d_in = y[Q_ELEC] - self.y_start[Q_ELEC];
         let d_diss = y[Q_DISS] - self.y_start[Q_DISS];
         let d_fric = y[Q_FRIC] - self.y_start[Q_FRIC];
-        let turned_over = d_in.abs().max(stored.abs() + d_diss.abs() + d_fric.abs());
-        if turned_over > 0.0 { (d_in - stored - d_diss - d_fric).abs() / turned_over } else { 0.0 }
+        let d_load = y[Q_LOAD] - self.y_start[Q_LOAD];
+        let out = stored.abs() + d_diss.abs() + d_fric.abs() + d_load.abs();
+        let turned_over = d_in.abs().max(out);
+        let residual = d_in - stored - d_diss - d_fric - d_load;
+        if turned_over > 0.0 { residual.abs() / turned_over } else { 0.0 }
     }
 }

@@ -7,6 +7,7 @@ mod limit_cycle;
 mod periodic;
 mod schema;
 mod step;
+mod tracking;
 
 pub use collector::Collector;
 pub use extrema::cubic_extrema;
@@ -31,6 +32,10 @@ pub struct MetricSettings {
     pub final_fraction: f64,
     /// Settling band as a fraction of the final value; default 0.02.
     pub settle_band: f64,
+    /// Window after each reversal of the reference speed in which `reversal_peak` looks
+    /// [s]; 0 (the default) takes a tenth of the reference period (0.1 s for references
+    /// without a period).
+    pub reversal_window: f64,
 }
 
 impl Default for MetricSettings {
@@ -41,6 +46,7 @@ impl Default for MetricSettings {
             run_samples: 20_000,
             final_fraction: 0.2,
             settle_band: 0.02,
+            reversal_window: 0.0,
         }
     }
 }
@@ -90,6 +96,28 @@ pub struct Metrics {
     pub s_peak: f64,
     /// Energy-balance residual over the run, relative to the energy turned over [–].
     pub energy_residual: f64,
+    /// RMS of the tracking error θz_ref − θz after the first reference period [rad].
+    pub track_rms: f64,
+    /// Largest |θz_ref − θz| after the first reference period [rad].
+    pub track_max: f64,
+    /// Largest |error| within the window after each reversal of the reference speed [rad].
+    pub reversal_peak: f64,
+    /// RMS of the voltage command [V].
+    pub u_rms: f64,
+    /// Fraction of the time the command is clipped at ±u_max [–].
+    pub saturation_fraction: f64,
+    /// RMS error of the transmitted-torque estimate with the friction model [N·m].
+    pub torque_est_rms: f64,
+    /// RMS error of the transmitted-torque estimate without the friction model [N·m].
+    pub torque_est_rms_nofric: f64,
+    /// Mean tracking error over the final window of a regulation run [rad].
+    pub steady_error: f64,
+    /// 1 if the tracking error keeps oscillating in the final window (hunting), else 0 [–].
+    pub hunting: f64,
+    /// Half peak-to-peak of the error over the final window [rad].
+    pub hunt_amplitude: f64,
+    /// Period of the hunting oscillation [s].
+    pub hunt_period: f64,
 }
 
 impl Metrics {
@@ -117,6 +145,17 @@ impl Metrics {
             tf_peak: n,
             s_peak: n,
             energy_residual: n,
+            track_rms: n,
+            track_max: n,
+            reversal_peak: n,
+            u_rms: n,
+            saturation_fraction: n,
+            torque_est_rms: n,
+            torque_est_rms_nofric: n,
+            steady_error: n,
+            hunting: n,
+            hunt_amplitude: n,
+            hunt_period: n,
         }
     }
 

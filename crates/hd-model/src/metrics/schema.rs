@@ -126,6 +126,62 @@ pub static METRICS: &[MetricColumn] = &[
         "-",
         "energy-balance residual over the run, relative to the energy turned over"
     ),
+    m!(
+        "track_rms",
+        track_rms,
+        "rad",
+        "closed loop: RMS of the tracking error θz_ref − θz after the first reference period (after the move for point-to-point references)"
+    ),
+    m!("track_max", track_max, "rad", "closed loop: largest |θz_ref − θz| in the same window"),
+    m!(
+        "reversal_peak",
+        reversal_peak,
+        "rad",
+        "closed loop: largest |tracking error| within the reversal window after each reversal of the reference speed"
+    ),
+    m!("u_rms", u_rms, "V", "closed loop: RMS of the voltage command in the tracking window"),
+    m!(
+        "saturation_fraction",
+        saturation_fraction,
+        "-",
+        "closed loop: fraction of the tracking window with the command clipped at ±u_max"
+    ),
+    m!(
+        "torque_est_rms",
+        torque_est_rms,
+        "N·m",
+        "closed loop: RMS error of the transmitted-torque estimate (motor equation and friction observer) against Tb"
+    ),
+    m!(
+        "torque_est_rms_nofric",
+        torque_est_rms_nofric,
+        "N·m",
+        "closed loop: RMS error of the transmitted-torque estimate without the friction model against Tb"
+    ),
+    m!(
+        "steady_error",
+        steady_error,
+        "rad",
+        "closed-loop regulation: mean tracking error over the final window"
+    ),
+    m!(
+        "hunting",
+        hunting,
+        "-",
+        "closed-loop regulation: 1 if the tracking error keeps oscillating in the final window (limit cycle), else 0"
+    ),
+    m!(
+        "hunt_amplitude",
+        hunt_amplitude,
+        "rad",
+        "closed-loop regulation: half peak-to-peak of the tracking error over the final window"
+    ),
+    m!(
+        "hunt_period",
+        hunt_period,
+        "s",
+        "closed-loop regulation: period of the hunting oscillation"
+    ),
 ];
 
 /// Looks a metric up by name.

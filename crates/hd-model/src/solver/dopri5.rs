@@ -53,7 +53,7 @@ pub(crate) fn step<const D: usize, S: OdeSystem<D>>(
     let y1 = y + h * (B[0] * k1 + B[2] * k3 + B[3] * k4 + B[4] * k5 + B[5] * k6);
     let k7 = sys.rhs(t + h, &y1);
     let err = h * (E[0] * k1 + E[2] * k3 + E[3] * k4 + E[4] * k5 + E[5] * k6 + E[6] * k7);
-    let m = S::COUPLED;
+    let m = sys.coupled();
     let (mut num, mut den) = (0.0, 0.0);
     for i in 0..m {
         num += (k7[i] - k6[i]).powi(2);

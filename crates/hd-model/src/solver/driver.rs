@@ -96,7 +96,7 @@ pub fn solve<const D: usize, S: OdeSystem<D>>(
                     let trial = dopri5::step(sys, t, &y, &f, h);
                     stats.rhs_evals += 6;
                     stiffness = Some(trial.stiffness);
-                    let e = error_norm(&trial.err, &y, &trial.y1, &scale, opts, S::COUPLED);
+                    let e = error_norm(&trial.err, &y, &trial.y1, &scale, opts, sys.coupled());
                     (trial.y1, Some(trial.f1), e)
                 }
                 Method::Rodas4 => {
@@ -113,7 +113,8 @@ pub fn solve<const D: usize, S: OdeSystem<D>>(
                     stats.rhs_evals += 5;
                     match rodas4::step(sys, t, &y, &f, &jac, &dfdt, h) {
                         Ok(trial) => {
-                            let e = error_norm(&trial.err, &y, &trial.y1, &scale, opts, S::COUPLED);
+                            let e =
+                                error_norm(&trial.err, &y, &trial.y1, &scale, opts, sys.coupled());
                             (trial.y1, None, e)
                         }
                         Err(rodas4::Singular) => (y, None, f64::INFINITY),
@@ -200,7 +201,7 @@ fn initial_step<const D: usize, S: OdeSystem<D>>(
 ) -> f64 {
     let order = if method == Method::Rodas4 { 4.0 } else { 5.0 };
     let sc = |i: usize| opts.atol * scale[i] + opts.rtol * y[i].abs();
-    let m = S::COUPLED;
+    let m = sys.coupled();
     let norm = |v: &SVector<f64, D>| {
         ((0..m).map(|i| (v[i] / sc(i)).powi(2)).sum::<f64>() / m as f64).sqrt()
     };

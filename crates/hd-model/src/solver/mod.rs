@@ -29,6 +29,13 @@ pub trait OdeSystem<const D: usize>: Sync {
     /// Number of leading, coupled states; the rest are quadratures.
     const COUPLED: usize = D;
 
+    /// Number of leading states that are actually coupled in this instance (at most
+    /// `COUPLED`); the states from here to `COUPLED` must have zero rates and nothing may
+    /// depend on them, so the solver treats them like quadratures.
+    fn coupled(&self) -> usize {
+        Self::COUPLED
+    }
+
     /// The right-hand side f(t, y).
     fn rhs(&self, t: f64, y: &SVector<f64, D>) -> SVector<f64, D>;
 
@@ -117,6 +124,19 @@ pub struct SolverStats {
     pub implicit_steps: u64,
     /// Method switches of an `auto` solve.
     pub switches: u64,
+}
+
+impl SolverStats {
+    /// Add the work of a further solve (a sampled run solves once per period).
+    pub fn accumulate(&mut self, o: &SolverStats) {
+        self.steps += o.steps;
+        self.rejected += o.rejected;
+        self.rhs_evals += o.rhs_evals;
+        self.jac_evals += o.jac_evals;
+        self.lu_decomps += o.lu_decomps;
+        self.implicit_steps += o.implicit_steps;
+        self.switches += o.switches;
+    }
 }
 
 /// Weighted RMS norm of `err` over the controlled (coupled) components.

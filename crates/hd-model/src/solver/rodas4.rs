@@ -60,7 +60,7 @@ pub(crate) fn step<const D: usize, S: OdeSystem<D>>(
     for i in 0..D {
         w[(i, i)] += d;
     }
-    let lu = BlockLu::new(w, S::COUPLED).ok_or(Singular)?;
+    let lu = BlockLu::new(w, sys.coupled()).ok_or(Singular)?;
     let mut k = [SVector::<f64, D>::zeros(); 6];
     for i in 0..6 {
         let f = if i == 0 {

@@ -70,6 +70,15 @@ impl Checker<'_> {
                 key,
                 format!("{other}: expected a variant name (linear, damped, full)"),
             )),
+            (Knob::Compensation, toml::Value::String(s)) => {
+                s.parse().map(Value::Compensation).map_err(|e: String| self.err(at, key, e))
+            }
+            (Knob::Feedback, toml::Value::String(s)) => {
+                s.parse().map(Value::Feedback).map_err(|e: String| self.err(at, key, e))
+            }
+            (Knob::Compensation | Knob::Feedback, other) => {
+                Err(self.err(at, key, format!("{other}: expected a name, not a number")))
+            }
             (_, toml::Value::Float(x)) => {
                 knob.check(*x).map(|_| Value::Num(*x)).map_err(|e| self.err(at, key, e))
             }

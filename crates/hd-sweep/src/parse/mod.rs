@@ -85,7 +85,11 @@ impl Checker<'_> {
                 "expected a non-empty study name",
             ));
         }
-        let mut base = SimConfig { solver: spec.solver, ..SimConfig::default() };
+        let mut base = SimConfig {
+            solver: spec.solver,
+            controller: spec.controller.clone(),
+            ..SimConfig::default()
+        };
         let base_cycles = spec.base.t_end_cycles.as_ref();
         base.metrics = spec.metrics.settings.resolve();
         self.apply_base(&spec.base, &mut base)?;
@@ -272,6 +276,15 @@ impl Checker<'_> {
             }
         };
         let axes = axes.iter().map(|a| self.axis(a, &base.input)).collect::<Result<Vec<_>, _>>()?;
+        if base.controller.is_none()
+            && let Some(a) = axes.iter().find(|a| a.knob.is_controller())
+        {
+            return Err(self.err(
+                pos,
+                "axis.name",
+                format!("'{}' needs a [controller] table in the study file", a.knob.name()),
+            ));
+        }
         // Zipped axes must have equal lengths.
         for (k, a) in axes.iter().enumerate() {
             if let Some(z) = &a.zip
