@@ -4,6 +4,7 @@ mod common;
 mod explore_cli;
 mod fit_bad_data;
 mod fit_cli;
+mod fit_laws;
 mod fit_rig_files;
 mod fit_shipped_data;
 mod sensitivity_cli;

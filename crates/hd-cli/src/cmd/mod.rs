@@ -3,6 +3,7 @@
 pub mod common;
 pub mod explore;
 pub mod fit;
+pub mod fit_hysteresis;
 pub mod fit_input;
 pub mod plot;
 pub mod sensitivity;
