@@ -1,6 +1,7 @@
 //! End-to-end tests of the `hdw` binary, in one test binary so polars is linked once.
 
 mod common;
+mod datasheet_cli;
 mod explore_cli;
 mod fit_bad_data;
 mod fit_cli;

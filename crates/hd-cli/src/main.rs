@@ -30,6 +30,8 @@ enum Command {
     Fit(cmd::fit::FitArgs),
     /// Write synthetic data from the model (CSV or Parquet) to check identifiability.
     Synth(cmd::synth::SynthArgs),
+    /// Model parameters from a catalogue's stiffness data (K1, K2, K3, T1, T2, hysteresis loss).
+    Datasheet(cmd::datasheet::DatasheetArgs),
     /// Run a study file: many runs in parallel → runs.parquet, study.json, report.md.
     Study(cmd::study::StudyArgs),
     /// Global sensitivity (Sobol' indices, Morris screening); `--check ishigami` self-check.
@@ -46,6 +48,7 @@ fn main() -> ExitCode {
         Command::Simulate(args) => cmd::simulate::run(args),
         Command::Fit(args) => cmd::fit::run(args),
         Command::Synth(args) => cmd::synth::run(args),
+        Command::Datasheet(args) => cmd::datasheet::run(args),
         Command::Study(args) => cmd::study::run(args),
         Command::Sensitivity(args) => cmd::sensitivity::run(args),
         Command::Explore(args) => cmd::explore::run(args),

@@ -1,6 +1,7 @@
 //! One module per subcommand.
 
 pub mod common;
+pub mod datasheet;
 pub mod explore;
 pub mod fit;
 pub mod fit_hysteresis;
