@@ -126,14 +126,14 @@ fn outputs(dir: &Path, data: &HysteresisData, fit: &LawFit, src: &DataSource) ->
     let law = fit.law.name();
     let th = data.theta().to_vec();
     let measured = Series::new("measured", th.clone(), data.torque().to_vec());
-    let fitted = Series::new(&format!("fitted ({law})"), th.clone(), fit.fitted.clone());
+    let fitted = Series::new(format!("fitted ({law})"), th.clone(), fit.fitted.clone());
     let title = format!("Hysteresis fit ({law}): transmitted torque against deflection");
     fit_plot(&dir.join("loop.svg"), &title, "θ [rad]", "Tb [N·m]", &measured, &fitted)?;
     // The same loop with the linear spring c·θ taken off both, so the hysteresis shows.
     let minus_c =
         |y: &[f64]| -> Vec<f64> { y.iter().zip(&th).map(|(v, t)| v - fit.c * t).collect() };
     let measured = Series::new("measured − c·θ", th.clone(), minus_c(data.torque()));
-    let fitted = Series::new(&format!("fitted ({law}) − c·θ"), th.clone(), minus_c(&fit.fitted));
+    let fitted = Series::new(format!("fitted ({law}) − c·θ"), th.clone(), minus_c(&fit.fitted));
     let title = format!("Hysteresis fit ({law}): torque minus the linear spring c·θ");
     fit_plot(&dir.join("memory.svg"), &title, "θ [rad]", "Tb − c·θ [N·m]", &measured, &fitted)?;
     let res = Series::new("residual", data.t().to_vec(), fit.residuals.clone());

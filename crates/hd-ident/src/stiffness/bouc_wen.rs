@@ -17,6 +17,9 @@ use hd_model::laws::stiffness::CubicSpring;
 use rayon::prelude::*;
 use std::time::Instant;
 
+/// A shape constant in the report: name, unit, value, how to set it, what it does.
+type ShapeParam<'a> = (&'a str, &'static str, f64, &'a dyn Fn(BoucWen, f64) -> BoucWen, &'a str);
+
 /// Smallest and largest exponent n tried.
 pub const N_RANGE: (f64, f64) = (0.3, 8.0);
 
@@ -139,7 +142,7 @@ pub fn fit(data: &HysteresisData, opts: &LawOptions) -> Result<LawFit, FitError>
         let down = state(theta, f(el, v - dv));
         up.iter().zip(&down).map(|(u, d)| alpha * (u - d) / (2.0 * dv)).collect()
     };
-    let params: [(&str, &'static str, f64, &dyn Fn(BoucWen, f64) -> BoucWen, &str); 3] = [
+    let params: [ShapeParam; 3] = [
         ("bw_beta", "rad^-n", el.beta, &|e, v| BoucWen { beta: v, ..e }, "the shape constant β"),
         ("bw_gamma", "rad^-n", el.gamma, &|e, v| BoucWen { gamma: v, ..e }, "the shape constant γ"),
         ("bw_n", "-", el.n, &|e, v| BoucWen { n: v, ..e }, "the smoothness exponent n"),

@@ -84,6 +84,9 @@ pub fn reversals(theta: &[f64]) -> Vec<usize> {
     out
 }
 
+/// A cycle: first row, last row, amplitude [rad].
+type Cycle = (usize, usize, f64);
+
 fn loop_integral(theta: &[f64], torque: &[f64], a: usize, b: usize) -> f64 {
     (a..b).map(|k| 0.5 * (torque[k] + torque[k + 1]) * (theta[k + 1] - theta[k])).sum()
 }
@@ -122,7 +125,7 @@ pub fn upward_crossings(theta: &[f64]) -> Vec<usize> {
 /// whose θ does not swing through the middle of its range has no cycles.
 pub fn loop_energies(theta: &[f64], measured: &[f64], model: &[f64]) -> Vec<LoopBlock> {
     let ups = upward_crossings(theta);
-    let cycles: Vec<(usize, usize, f64)> = ups
+    let cycles: Vec<Cycle> = ups
         .windows(2)
         .map(|w| {
             let (lo, hi) = theta[w[0]..=w[1]]
@@ -132,7 +135,7 @@ pub fn loop_energies(theta: &[f64], measured: &[f64], model: &[f64]) -> Vec<Loop
         })
         .collect();
     let largest = cycles.iter().map(|c| c.2).fold(0.0, f64::max);
-    let mut blocks: Vec<(Vec<(usize, usize, f64)>, f64)> = Vec::new();
+    let mut blocks: Vec<(Vec<Cycle>, f64)> = Vec::new();
     for c in cycles.into_iter().filter(|c| c.2 >= SMALLEST_CYCLE * largest) {
         match blocks.last_mut() {
             Some((members, first))

@@ -242,7 +242,7 @@ pub fn with_loss(curve: CatalogueCurve, loss: f64, rated: f64) -> Result<Catalog
     };
     let f_max = 0.9 * k_min * theta_r / (2.0 * harmonic);
     let widest = loop_width(&build(f_max), theta_r);
-    if !(widest >= loss) {
+    if widest.is_nan() || widest < loss {
         return Err(format!(
             "hysteresis loss {loss:.4e} rad: expected at most {widest:.4e} rad for these spring rates at the rated torque {rated} N·m (more would need a negative unloading slope)"
         ));
