@@ -212,7 +212,7 @@ mod tests {
         check_derivatives(&q, 12.3, 1e-3);
         // Peak of the first block (0.25·1e-3 at t = 12.5 s) and of the last (1e-3).
         assert!((q.at(12.5)[0] - 2.5e-4).abs() < 1e-15);
-        assert!((q.at(150.0 + 1.25)[0] - 1e-3).abs() < 1e-15);
+        assert!((q.at(160.0 + 1.25)[0] - 1e-3).abs() < 1e-15);
     }
 
     #[test]
