@@ -1,9 +1,11 @@
 //! End-to-end tests of the `hdw` binary, in one test binary so polars is linked once.
 
 mod common;
+mod datasheet_cli;
 mod explore_cli;
 mod fit_bad_data;
 mod fit_cli;
+mod fit_laws;
 mod fit_rig_files;
 mod fit_shipped_data;
 mod report_cli;

@@ -30,6 +30,8 @@ enum Command {
     Fit(cmd::fit::FitArgs),
     /// Write synthetic data from the model (CSV or Parquet) to check identifiability.
     Synth(cmd::synth::SynthArgs),
+    /// Model parameters from a catalogue's stiffness data (K1, K2, K3, T1, T2, hysteresis loss).
+    Datasheet(cmd::datasheet::DatasheetArgs),
     /// Run a study file: many runs in parallel → runs.parquet, study.json, report.md.
     Study(cmd::study::StudyArgs),
     /// Merge a study's shards (runs-shard-*.parquet) into runs.parquet and write its report.
@@ -48,6 +50,7 @@ fn main() -> ExitCode {
         Command::Simulate(args) => cmd::simulate::run(args),
         Command::Fit(args) => cmd::fit::run(args),
         Command::Synth(args) => cmd::synth::run(args),
+        Command::Datasheet(args) => cmd::datasheet::run(args),
         Command::Study(args) => cmd::study::run(args),
         Command::Report(args) => cmd::report::run(args),
         Command::Sensitivity(args) => cmd::sensitivity::run(args),

@@ -15,11 +15,14 @@
 //!   argmin's Brent method, linear least squares inside);
 //! - [`FitReport`], serialised as `fit.json`, with a terminal [`FitReport::table`];
 //! - [`Fixed`] for `--fix NAME=VALUE`;
+//! - [`stiffness`]: any stiffness law (memory, Maxwell-slip, Bouc–Wen) fitted to a
+//!   torque–deflection record, and the laws ranked by BIC ([`stiffness::compare_laws`]);
 //! - [`synth`], synthetic data from the model.
 //!
 //! [`FadingMemory::step_linear`]: hd_model::laws::stiffness::FadingMemory::step_linear
 
 pub mod data;
+pub mod datasheet;
 pub mod derivative;
 pub mod error;
 pub mod fix;
@@ -27,10 +30,12 @@ pub mod friction;
 pub mod hysteresis;
 pub mod linear;
 pub mod lm;
+pub mod nnls;
 pub mod path;
 pub mod report;
 pub mod search;
 pub mod separable;
+pub mod stiffness;
 pub mod student_t;
 pub mod synth;
 pub mod uncertainty;
@@ -42,3 +47,4 @@ pub use friction::{FrictionFit, FrictionOptions, fit_friction, fit_friction_with
 pub use hysteresis::{HYSTERESIS_PARAMS, fit_hysteresis, fit_hysteresis_with};
 pub use report::{DataSource, Estimate, FitReport};
 pub use separable::SeparableFit;
+pub use stiffness::{Law, LawFit, LawOptions, fit_law};

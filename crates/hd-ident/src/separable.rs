@@ -243,6 +243,7 @@ pub fn fit_separable<P: Separable>(problem: &P, fixed: &Fixed) -> Result<Separab
     }
     let report = FitReport {
         fit: problem.fit_name().to_string(),
+        law: None,
         data: Vec::new(),
         parameters: params,
         rms: (rss / n as f64).sqrt(),
@@ -269,6 +270,7 @@ pub fn fit_separable<P: Separable>(problem: &P, fixed: &Fixed) -> Result<Separab
         stages: Vec::new(),
         remarks: sample_warning.into_iter().collect(),
         wall_time_s: start.elapsed().as_secs_f64(),
+        loop_energy: Vec::new(),
     };
     Ok(SeparableFit {
         report,

@@ -110,6 +110,23 @@ pub static SENSITIVITY_COLUMNS: &[ColumnDoc] = &[
     col("note", "", "why an index is missing, if it is"),
 ];
 
+/// Columns of the `fitted.parquet` a hysteresis fit writes (one row per input sample).
+pub static FIT_COLUMNS: &[ColumnDoc] = &[
+    col("t", "s", "time of the input sample"),
+    col("theta", "rad", "gear deflection of the input sample"),
+    col("torque", "N·m", "measured transmitted torque"),
+    col("fitted", "N·m", "torque of the fitted law along the measured deflection"),
+    col("residual", "N·m", "measured minus fitted torque"),
+];
+
+/// Parameters of the stiffness laws outside the registry (Maxwell-slip, Bouc–Wen,
+/// catalogue), as they appear in fit.json, comparison.json and params files;
+/// `<i>` stands for an element number.
+pub fn law_params() -> Vec<ColumnDoc> {
+    use crate::laws::{bouc_wen, catalogue, maxwell_slip};
+    [maxwell_slip::PARAMS, bouc_wen::PARAMS, catalogue::PARAMS].concat()
+}
+
 /// The kinds of file whose columns this module describes.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum FileKind {
@@ -119,6 +136,8 @@ pub enum FileKind {
     Trace,
     /// `sensitivity.parquet`.
     Sensitivity,
+    /// `fitted.parquet` of a hysteresis fit.
+    Fit,
 }
 
 /// Every column a file of `kind` may hold (design `u_` columns excepted), in order.
@@ -138,6 +157,7 @@ pub fn columns(kind: FileKind) -> Vec<ColumnDoc> {
             .chain(TRACE_COLUMNS.iter().map(|c| col(c.name, c.unit, c.doc)))
             .collect(),
         FileKind::Sensitivity => SENSITIVITY_COLUMNS.to_vec(),
+        FileKind::Fit => FIT_COLUMNS.to_vec(),
     }
 }
 
@@ -153,7 +173,7 @@ pub fn describe(name: &str) -> Option<ColumnDoc> {
     {
         return Some(col("u_", "-", "unit-cube coordinate of a design parameter, in [0, 1]"));
     }
-    [FileKind::Runs, FileKind::Trace, FileKind::Sensitivity]
+    [FileKind::Runs, FileKind::Trace, FileKind::Sensitivity, FileKind::Fit]
         .into_iter()
         .flat_map(columns)
         .find(|c| c.name == name)
@@ -189,6 +209,8 @@ pub fn doc_sections() -> Vec<(&'static str, String)> {
         ("run-design", markdown_table(RUN_DESIGN_COLUMNS)),
         ("trace", markdown_table(&trace)),
         ("sensitivity", markdown_table(SENSITIVITY_COLUMNS)),
+        ("fitted", markdown_table(FIT_COLUMNS)),
+        ("law-parameters", markdown_table(&law_params())),
     ]
 }
 
@@ -212,7 +234,7 @@ mod tests {
 
     #[test]
     fn no_file_has_two_names_equal_under_case_folding() {
-        for kind in [FileKind::Runs, FileKind::Trace, FileKind::Sensitivity] {
+        for kind in [FileKind::Runs, FileKind::Trace, FileKind::Sensitivity, FileKind::Fit] {
             let cols = columns(kind);
             for (i, a) in cols.iter().enumerate() {
                 for b in &cols[i + 1..] {
@@ -242,5 +264,19 @@ mod tests {
         assert_eq!(unit_of("u_sigma0"), Some("-"));
         assert_eq!(unit_of("status"), Some(""));
         assert_eq!(unit_of("nonsense"), None);
+        assert_eq!(unit_of("fitted"), Some("N·m"));
+    }
+
+    #[test]
+    fn law_parameters_are_unique_under_case_folding_with_the_registry() {
+        let laws = law_params();
+        let names: Vec<&str> =
+            laws.iter().map(|c| c.name).chain(REGISTRY.iter().map(|p| p.name)).collect();
+        for (i, a) in names.iter().enumerate() {
+            for b in &names[i + 1..] {
+                assert!(!a.eq_ignore_ascii_case(b), "'{a}' and '{b}' differ only by case");
+            }
+        }
+        assert!(laws.iter().all(|c| !c.unit.is_empty() && !c.doc.is_empty()));
     }
 }

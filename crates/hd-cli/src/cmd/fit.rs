@@ -3,13 +3,12 @@
 
 use super::common::ensure_dir;
 use super::fit_input::{
-    FrictionUnits, angle_factor, column_names, data_context, friction_series, load, scale, source,
+    FrictionUnits, column_names, data_context, friction_series, load, scale, source,
 };
 use anyhow::{Context, Result, bail};
 use clap::{Args, Subcommand};
 use hd_ident::{
-    FitReport, Fixed, FrictionOptions, HysteresisData, SeparableFit, SteadyData, TransientData,
-    fit_friction_with, fit_hysteresis_with,
+    FitReport, Fixed, FrictionOptions, SeparableFit, SteadyData, TransientData, fit_friction_with,
 };
 use hd_model::laws::friction::{FrictionLaw, LuGre};
 use hd_plot::{Series, fit_plot, residual_plot};
@@ -21,7 +20,7 @@ use std::path::{Path, PathBuf};
     after_help = "Each fit writes DIR/fit.json (values, standard errors, 95 % intervals, a determined flag with the\n\
 reason when the data cannot fix a parameter, correlations, RMS, R², iterations, termination), the\n\
 fitted signals and SVG plots, and prints a table.\n\n\
-Example:\n  hdw fit hysteresis data/hysteresis-wide-range.parquet --out out/fit-wide\n  hdw fit friction --steady data/friction-steady.csv --transient data/friction-transient.parquet --out out/fit-fric"
+Example:\n  hdw fit hysteresis data/hysteresis-wide-range.parquet --out out/fit-wide\n  hdw fit hysteresis data/hysteresis-paper-range.csv --law all --out out/compare\n  hdw fit friction --steady data/friction-steady.csv --transient data/friction-transient.parquet --out out/fit-fric"
 )]
 pub struct FitArgs {
     #[command(subcommand)]
@@ -31,48 +30,11 @@ pub struct FitArgs {
 /// What to fit.
 #[derive(Subcommand, Debug)]
 pub enum FitWhat {
-    /// Fit a, b, c, A, B to a torque–deflection record.
-    Hysteresis(HysteresisArgs),
+    /// Fit a stiffness law (memory, maxwell-slip, bouc-wen, or all ranked by BIC) to a
+    /// torque–deflection record.
+    Hysteresis(super::fit_hysteresis::HysteresisArgs),
     /// Fit the LuGre parameters: static (Tc, Ts, ws, sigma2) and/or dynamic (sigma0, sigma1).
     Friction(FrictionArgs),
-}
-
-/// `hdw fit hysteresis`.
-#[derive(Args, Debug)]
-#[command(
-    after_help = "The memory state runs along the measured θ(t) (linear between samples) from z = 0 at the first\n\
-sample. For each trial B, a, b, c and A follow by linear least squares; B comes from a grid over\n\
-ln B refined by Brent's method from the best grid minima. Bounds are the registry ranges; B is\n\
-searched in [0.1/record length, 10/median sample interval].\n\n\
-Outputs (in --out DIR):\n  fit.json       parameters (value, std_error, ci95, determined, note), correlation, rms, r2,\n                 iterations, termination\n  fitted.parquet t, theta, torque, fitted, residual\n  loop.svg       measured vs fitted torque–deflection loop, residuals below\n  memory.svg     the same with c·θ taken off both, so the memory loops show\n  residuals.svg  residuals over time\n\n\
-Example:\n  hdw synth hysteresis --set c=6.5e4 --set B=150 --out out/hyst.csv\n  hdw fit hysteresis out/hyst.csv --out out/fit-hyst\n  hdw fit hysteresis data/hysteresis-paper-range.csv --fix a=0 --fix b=0 --out out/fit-paper"
-)]
-pub struct HysteresisArgs {
-    /// Data file (.csv with a header row, or .parquet).
-    #[arg(value_name = "FILE")]
-    pub file: PathBuf,
-    /// Names of the time [s], deflection [rad] and torque [N·m] columns.
-    #[arg(long, value_name = "T,THETA,TORQUE", default_value = "t,theta,torque")]
-    pub columns: String,
-    /// Unit of the deflection column: rad, mrad, urad, deg, arcmin or arcsec.
-    #[arg(long, value_name = "UNIT", default_value = "rad")]
-    pub theta_unit: String,
-    /// Factor from the file's time unit to seconds (e.g. 1e-3 for ms).
-    #[arg(long, value_name = "K", default_value_t = 1.0, allow_hyphen_values = true)]
-    pub time_scale: f64,
-    /// Factor from the file's torque unit to N·m; negative flips the sign.
-    #[arg(long, value_name = "K", default_value_t = 1.0, allow_hyphen_values = true)]
-    pub torque_scale: f64,
-    /// Fit a constant torque offset of the rig (`offset` [N·m]) with a, b, c, A, B; a
-    /// deflection offset is absorbed exactly by b, c and the torque offset (see fit.json).
-    #[arg(long)]
-    pub fit_offsets: bool,
-    /// Hold a parameter at a value instead of fitting it, e.g. `--fix B=300` (repeatable).
-    #[arg(long = "fix", value_name = "NAME=VALUE")]
-    pub fix: Vec<String>,
-    /// Output folder.
-    #[arg(long, value_name = "DIR", default_value = "out/fit-hysteresis")]
-    pub out: PathBuf,
 }
 
 /// `hdw fit friction`.
@@ -125,7 +87,7 @@ pub struct FrictionArgs {
 }
 
 /// Write fit.json and print the table.
-fn report_out(dir: &Path, report: &FitReport) -> Result<()> {
+pub(crate) fn report_out(dir: &Path, report: &FitReport) -> Result<()> {
     let path = dir.join("fit.json");
     let text = report.to_json();
     hd_io::atomic::write_atomically(&path, |f| {
@@ -145,63 +107,9 @@ fn fitted_columns(fit: &SeparableFit, measured: &[f64]) -> [Vec<f64>; 3] {
 /// Run `hdw fit ...`.
 pub fn run(args: FitArgs) -> Result<()> {
     match args.what {
-        FitWhat::Hysteresis(a) => run_hysteresis(a),
+        FitWhat::Hysteresis(a) => super::fit_hysteresis::run(a),
         FitWhat::Friction(a) => run_friction(a),
     }
-}
-
-fn run_hysteresis(args: HysteresisArgs) -> Result<()> {
-    let names = column_names(&args.columns, &[3], "--columns")?;
-    let fixed = Fixed::parse(&args.fix).context("--fix")?;
-    let to_rad = angle_factor(&args.theta_unit)?;
-    let mut cols = load(&args.file, &names)?;
-    let (mut torque, mut theta, mut t) =
-        (cols.pop().unwrap(), cols.pop().unwrap(), cols.pop().unwrap());
-    let mut log = Vec::new();
-    scale(&mut t, args.time_scale, "time", "--time-scale", &mut log)?;
-    scale(&mut theta, to_rad, "deflection", "--theta-unit", &mut log)?;
-    scale(&mut torque, args.torque_scale, "torque", "--torque-scale", &mut log)?;
-    let data = HysteresisData::new(t, theta, torque)
-        .with_context(|| data_context(&args.file, &["t", "theta", "torque"], &names))?;
-    let fit = fit_hysteresis_with(&data, &fixed, args.fit_offsets)
-        .with_context(|| format!("fitting {}", args.file.display()))?;
-    let dir = ensure_dir(&args.out)?;
-    let mut report = fit.report.clone();
-    report.data.push(source("hysteresis", &args.file, &names, log));
-    report_out(&dir, &report)?;
-    let [m, f, r] = fitted_columns(&fit, data.torque());
-    hd_io::write_columns(
-        &dir.join("fitted.parquet"),
-        &["t", "theta", "torque", "fitted", "residual"],
-        &[data.t().to_vec(), data.theta().to_vec(), m, f.clone(), r.clone()],
-    )?;
-    let measured = Series::new("measured", data.theta().to_vec(), data.torque().to_vec());
-    let fitted = Series::new("fitted", data.theta().to_vec(), f);
-    let title = "Hysteresis fit: transmitted torque against deflection";
-    fit_plot(&dir.join("loop.svg"), title, "θ [rad]", "Tb [N·m]", &measured, &fitted)?;
-    // The same loop with the linear spring c·θ taken off both, so the memory loops show.
-    let c = fit.value("c").unwrap_or(0.0);
-    let minus_c =
-        |y: &[f64]| -> Vec<f64> { y.iter().zip(data.theta()).map(|(v, th)| v - c * th).collect() };
-    let measured = Series::new("measured − c·θ", data.theta().to_vec(), minus_c(data.torque()));
-    let fitted = Series::new("fitted − c·θ", data.theta().to_vec(), minus_c(&fitted.y));
-    let title = "Hysteresis fit: torque minus the linear spring c·θ";
-    fit_plot(&dir.join("memory.svg"), title, "θ [rad]", "Tb − c·θ [N·m]", &measured, &fitted)?;
-    let res = Series::new("residual", data.t().to_vec(), r);
-    residual_plot(
-        &dir.join("residuals.svg"),
-        "Hysteresis fit residuals",
-        "t [s]",
-        "Tb [N·m]",
-        &res,
-    )?;
-    eprintln!(
-        "fitted {} samples in {:.3} s; wrote {}",
-        data.len(),
-        fit.report.wall_time_s,
-        dir.display()
-    );
-    Ok(())
 }
 
 fn run_friction(args: FrictionArgs) -> Result<()> {

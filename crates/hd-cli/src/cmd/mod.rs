@@ -2,8 +2,10 @@
 
 pub mod common;
 pub mod control_args;
+pub mod datasheet;
 pub mod explore;
 pub mod fit;
+pub mod fit_hysteresis;
 pub mod fit_input;
 pub mod plot;
 pub mod report;

@@ -5,8 +5,9 @@ use super::common::load_params;
 use anyhow::{Context, Result, bail};
 use clap::{Args, Subcommand};
 use hd_ident::synth::{
-    HysteresisExcitation, Noise, PlateauProfile, SteadySweep, Synthetic, TransientExcitation,
-    synth_hysteresis, synth_plateaus, synth_steady, synth_transient,
+    HysteresisExcitation, Noise, PlateauProfile, QuasiStatic, Schedule, SteadySweep,
+    StiffnessTruth, Synthetic, TransientExcitation, bouc_wen_truth, is_law_name,
+    maxwell_slip_truth, synth_plateaus, synth_steady, synth_stiffness, synth_transient,
 };
 use std::path::PathBuf;
 
@@ -56,28 +57,51 @@ pub struct Common {
 /// `hdw synth hysteresis`.
 #[derive(Args, Debug)]
 #[command(
-    after_help = "The deflection θ(t) is a sum of equal sines (all starting at zero) whose peak is bounded by\n\
---amplitude; the memory state follows ż = A·θ̇ − B·z from z = 0 (hd-model's Dopri5), and the torque\n\
-is f(θ) + z from the hysteretic law. Spread the frequencies around the memory corner B/2π so that\n\
-A and B are both visible; sample at 100 or more points per period of the fastest sine.\n\n\
+    after_help = "Laws (--law): memory (f(θ) + z, ż = A·θ̇ − B·z; its state integrated by hd-model's Dopri5),\n\
+maxwell-slip (f(θ) plus --elements elastoplastic elements; by default of equal stiffness mem_A/N with\n\
+yield deflections log-spaced from 2 % to 60 % of --amplitude; set ms_k<i>, ms_f<i>), bouc-wen (f(θ) + α·w\n\
+with α = mem_A, A = 1, n = 1 and saturation deflection 0.2 × --amplitude by default; set bw_alpha,\n\
+bw_A, bw_beta, bw_gamma, bw_n). The rate-independent laws step their states through θ at 32 points\n\
+per sample interval. The spring a, b, c always comes from --params/--set.\n\n\
+Schedules (--schedule): sines (θ(t) a sum of equal sines at --freqs, all starting at zero, peak bounded\n\
+by --amplitude, --samples over --duration); quasi-static (for each of --freqs, default 0.02,0.2 Hz, in\n\
+turn, --cycles whole cycles of level·amplitude·sin(2πft) at each of --levels, sampled at --sample-rate).\n\n\
 Output: --out FILE with columns t [s], theta [rad], torque [N·m].\n\n\
-Example:\n  hdw synth hysteresis --set c=6.5e4 --set A=2.5e4 --set B=150 --noise 0.01 --out out/hyst.csv\n  hdw synth hysteresis --set a=1e8 --set b=2e6 --amplitude 0.02 --out out/wide.parquet"
+Example:\n  hdw synth hysteresis --set c=6.5e4 --set A=2.5e4 --set B=150 --noise 0.01 --out out/hyst.csv\n  hdw synth hysteresis --set a=1e8 --set b=2e6 --amplitude 0.02 --out out/wide.parquet\n  hdw synth hysteresis --law maxwell-slip --schedule quasi-static --noise 0.01 --out out/qs.csv\n  hdw synth hysteresis --law bouc-wen --set bw_n=2 --schedule quasi-static --out out/bw.parquet"
 )]
 pub struct HysteresisSynthArgs {
     #[command(flatten)]
     pub common: Common,
-    /// Peak bound of the deflection [rad].
+    /// Stiffness law that makes the data: memory, maxwell-slip or bouc-wen.
+    #[arg(long, value_name = "LAW", default_value = "memory")]
+    pub law: String,
+    /// Maxwell-slip: number of elements of the true law.
+    #[arg(long, value_name = "N", default_value_t = 8)]
+    pub elements: usize,
+    /// Imposed deflection: sines or quasi-static.
+    #[arg(long, value_name = "NAME", default_value = "sines")]
+    pub schedule: String,
+    /// Peak bound of the deflection (sines) or rated amplitude (quasi-static) [rad].
     #[arg(long, default_value_t = 1e-3)]
     pub amplitude: f64,
-    /// Sine frequencies [Hz], comma-separated.
-    #[arg(long, value_name = "F1,F2,..", default_value = "4,15,55,200")]
-    pub freqs: String,
-    /// Record length [s].
+    /// Frequencies [Hz], comma-separated (default 4,15,55,200 for sines, 0.02,0.2 quasi-static).
+    #[arg(long, value_name = "F1,F2,..")]
+    pub freqs: Option<String>,
+    /// Sines: record length [s].
     #[arg(long, default_value_t = 0.5)]
     pub duration: f64,
-    /// Samples, evenly spaced over the record.
+    /// Sines: samples, evenly spaced over the record.
     #[arg(long, default_value_t = 20_000)]
     pub samples: usize,
+    /// Quasi-static: amplitude levels as shares of --amplitude, comma-separated, in order.
+    #[arg(long, value_name = "L1,L2,..", default_value = "0.25,0.5,1")]
+    pub levels: String,
+    /// Quasi-static: whole cycles per level and frequency.
+    #[arg(long, default_value_t = 1)]
+    pub cycles: usize,
+    /// Quasi-static: sampling rate [Hz].
+    #[arg(long, default_value_t = 200.0)]
+    pub sample_rate: f64,
 }
 
 /// `hdw synth friction`.
@@ -158,23 +182,7 @@ fn write(c: &Common, data: &Synthetic) -> Result<()> {
 /// Run `hdw synth ...`.
 pub fn run(args: SynthArgs) -> Result<()> {
     match args.what {
-        SynthWhat::Hysteresis(a) => {
-            let p = load_params(a.common.params.as_deref(), &a.common.set)?;
-            let frequencies = a
-                .freqs
-                .split(',')
-                .map(|f| f.trim().parse::<f64>())
-                .collect::<Result<Vec<f64>, _>>()
-                .with_context(|| format!("--freqs {}: expected numbers [Hz]", a.freqs))?;
-            let exc = HysteresisExcitation {
-                amplitude: a.amplitude,
-                frequencies,
-                duration: a.duration,
-                samples: a.samples,
-            };
-            let data = synth_hysteresis(&p, &exc, &noise(&a.common)?)?;
-            write(&a.common, &data)
-        }
+        SynthWhat::Hysteresis(a) => synth_hysteresis_cmd(a),
         SynthWhat::Friction(a) => {
             let p = load_params(a.common.params.as_deref(), &a.common.set)?;
             let n = noise(&a.common)?;
@@ -215,4 +223,70 @@ pub fn run(args: SynthArgs) -> Result<()> {
             write(&a.common, &data)
         }
     }
+}
+
+fn numbers(text: &str, flag: &str, unit: &str) -> Result<Vec<f64>> {
+    text.split(',')
+        .map(|f| f.trim().parse::<f64>())
+        .collect::<Result<Vec<f64>, _>>()
+        .with_context(|| format!("{flag} {text}: expected comma-separated numbers [{unit}]"))
+}
+
+fn synth_hysteresis_cmd(a: HysteresisSynthArgs) -> Result<()> {
+    // Names of the rate-independent laws go to the law; the rest to the registry.
+    let (law_sets, reg_sets): (Vec<String>, Vec<String>) = a
+        .common
+        .set
+        .iter()
+        .cloned()
+        .partition(|s| is_law_name(s.split('=').next().unwrap_or("").trim()));
+    let p = load_params(a.common.params.as_deref(), &reg_sets)?;
+    let law_values = law_sets
+        .iter()
+        .map(|s| {
+            let (name, value) = s.split_once('=').unwrap_or((s, ""));
+            let v = value.trim().parse::<f64>().with_context(|| {
+                format!("--set {s}: expected NAME=VALUE with a number after '='")
+            })?;
+            Ok((name.trim().to_string(), v))
+        })
+        .collect::<Result<Vec<(String, f64)>>>()?;
+    let truth = match a.law.as_str() {
+        "memory" => {
+            if let Some((name, _)) = law_values.first() {
+                bail!(
+                    "--set {name}: a parameter of another law; --law memory takes registry names (a, b, c, A, B)"
+                );
+            }
+            StiffnessTruth::Memory(p)
+        }
+        "maxwell-slip" => StiffnessTruth::MaxwellSlip(maxwell_slip_truth(
+            &p,
+            a.amplitude,
+            a.elements,
+            &law_values,
+        )?),
+        "bouc-wen" => StiffnessTruth::BoucWen(bouc_wen_truth(&p, a.amplitude, &law_values)?),
+        other => bail!("--law {other}: expected memory, maxwell-slip or bouc-wen"),
+    };
+    let schedule = match a.schedule.as_str() {
+        "sines" => Schedule::Sines(HysteresisExcitation {
+            amplitude: a.amplitude,
+            frequencies: numbers(a.freqs.as_deref().unwrap_or("4,15,55,200"), "--freqs", "Hz")?,
+            duration: a.duration,
+            samples: a.samples,
+        }),
+        "quasi-static" => Schedule::QuasiStatic {
+            test: QuasiStatic {
+                amplitude: a.amplitude,
+                levels: numbers(&a.levels, "--levels", "-")?,
+                frequencies: numbers(a.freqs.as_deref().unwrap_or("0.02,0.2"), "--freqs", "Hz")?,
+                cycles: a.cycles,
+            },
+            sample_rate: a.sample_rate,
+        },
+        other => bail!("--schedule {other}: expected sines or quasi-static"),
+    };
+    let data = synth_stiffness(&truth, &schedule, &noise(&a.common)?)?;
+    write(&a.common, &data)
 }

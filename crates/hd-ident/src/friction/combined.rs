@@ -234,6 +234,7 @@ fn combine(
     remarks.push("rms, r2, samples and dof are those of the dynamic stage, whose model uses all six parameters".into());
     FitReport {
         fit: "friction".to_string(),
+        law: None,
         data: Vec::new(),
         parameters: Parameters(params),
         rms: r2.rms,
@@ -249,5 +250,6 @@ fn combine(
         stages: vec![r1.clone(), r2.clone()],
         remarks,
         wall_time_s: start.elapsed().as_secs_f64(),
+        loop_energy: Vec::new(),
     }
 }

@@ -115,6 +115,9 @@ pub struct DataSource {
 pub struct FitReport {
     /// Which fit: `hysteresis`, `friction-static`, `friction-dynamic` or `friction`.
     pub fit: String,
+    /// The stiffness law of a hysteresis fit: `memory`, `maxwell-slip` or `bouc-wen`.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub law: Option<String>,
     /// The data sets fitted, when the caller recorded them.
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub data: Vec<DataSource>,
@@ -148,6 +151,10 @@ pub struct FitReport {
     pub remarks: Vec<String>,
     /// Wall time of the fit [s].
     pub wall_time_s: f64,
+    /// Hysteresis fits: the loop energy per cycle of each amplitude block of the record,
+    /// of the fitted law and of the measured torque.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub loop_energy: Vec<crate::stiffness::cycles::LoopBlock>,
 }
 
 impl FitReport {

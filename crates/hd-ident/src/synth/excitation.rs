@@ -28,6 +28,67 @@ impl Signal for SumOfSines {
     }
 }
 
+/// A quasi-static stiffness test: for each frequency in turn, `cycles` whole cycles of
+/// `x(t) = level·amplitude·sin(2π·f·t)` at each level, starting and ending every block at 0
+/// (the amplitude steps between blocks; the slope jumps, the deflection does not).
+#[derive(Clone, Debug, PartialEq)]
+pub struct QuasiStatic {
+    /// Rated (largest) amplitude [signal unit].
+    pub amplitude: f64,
+    /// Levels as shares of the amplitude, in order [–]; default 0.25, 0.5, 1.
+    pub levels: Vec<f64>,
+    /// Frequencies [Hz], in order; default 0.02 and 0.2.
+    pub frequencies: Vec<f64>,
+    /// Whole cycles per block; default 1.
+    pub cycles: usize,
+}
+
+impl Default for QuasiStatic {
+    fn default() -> Self {
+        Self {
+            amplitude: 1e-3,
+            levels: vec![0.25, 0.5, 1.0],
+            frequencies: vec![0.02, 0.2],
+            cycles: 1,
+        }
+    }
+}
+
+impl QuasiStatic {
+    /// The blocks in order: (start time [s], amplitude, frequency [Hz]).
+    fn blocks(&self) -> Vec<(f64, f64, f64)> {
+        let mut t = 0.0;
+        let mut out = Vec::new();
+        for &f in &self.frequencies {
+            for &l in &self.levels {
+                out.push((t, l * self.amplitude, f));
+                t += self.cycles as f64 / f;
+            }
+        }
+        out
+    }
+
+    /// Total duration [s].
+    pub fn duration(&self) -> f64 {
+        self.frequencies.iter().map(|f| self.cycles as f64 * self.levels.len() as f64 / f).sum()
+    }
+}
+
+impl Signal for QuasiStatic {
+    fn at(&self, t: f64) -> [f64; 3] {
+        let blocks = self.blocks();
+        let Some(&(t0, a, f)) = blocks.iter().rev().find(|b| b.0 <= t) else {
+            return [0.0; 3];
+        };
+        if t >= self.duration() {
+            return [0.0; 3];
+        }
+        let w = TAU * f;
+        let (s, c) = (w * (t - t0)).sin_cos();
+        [a * s, a * w * c, -a * w * w * s]
+    }
+}
+
 /// `x(t) = e(t)·sin(2π·f·t)` with a geometric envelope `e(t) = peak·10^{−decades·(1 − t/T)}`
 /// that grows from `peak·10^{−decades}` at t = 0 to `peak` at t = T.
 #[derive(Clone, Debug, PartialEq)]
@@ -142,6 +203,16 @@ mod tests {
         };
         check_derivatives(&p, 0.27, 100.0);
         check_derivatives(&p, 0.51, 100.0);
+    }
+
+    #[test]
+    fn quasi_static_blocks_step_the_amplitude() {
+        let q = QuasiStatic::default();
+        assert!((q.duration() - 165.0).abs() < 1e-12);
+        check_derivatives(&q, 12.3, 1e-3);
+        // Peak of the first block (0.25·1e-3 at t = 12.5 s) and of the last (1e-3).
+        assert!((q.at(12.5)[0] - 2.5e-4).abs() < 1e-15);
+        assert!((q.at(160.0 + 1.25)[0] - 1e-3).abs() < 1e-15);
     }
 
     #[test]

@@ -5,14 +5,18 @@
 mod excitation;
 mod friction;
 mod hysteresis;
+mod laws;
 mod noise;
+mod truth;
 
-pub use excitation::{GrowingSine, PlateauProfile, SumOfSines};
+pub use excitation::{GrowingSine, PlateauProfile, QuasiStatic, SumOfSines};
 pub use friction::{
     SteadySweep, TransientExcitation, synth_plateaus, synth_steady, synth_transient,
 };
 pub use hysteresis::{HysteresisExcitation, synth_hysteresis};
+pub use laws::{Schedule, StiffnessTruth, synth_stiffness};
 pub use noise::{Noise, add_noise};
+pub use truth::{bouc_wen_truth, is_law_name, maxwell_slip_truth};
 
 /// A synthetic data set: named columns ready to write, and how it was made.
 #[derive(Clone, Debug, PartialEq)]

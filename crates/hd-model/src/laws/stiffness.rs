@@ -114,6 +114,29 @@ impl StiffnessLaw for CubicSpring {
     }
 }
 
+/// A memoryless elastic curve `T = f(θ)`: the spring beside which every hysteretic law
+/// (fading memory, Maxwell-slip, Bouc–Wen, catalogue) adds its hysteretic torque.
+pub trait ElasticCurve: Send + Sync {
+    /// Torque f(θ) [N·m] at deflection θ [rad].
+    fn spring_torque(&self, theta: f64) -> f64;
+    /// Slope f'(θ) [N·m/rad].
+    fn spring_slope(&self, theta: f64) -> f64;
+    /// Potential energy `∫₀^θ f` [J].
+    fn spring_energy(&self, theta: f64) -> f64;
+}
+
+impl ElasticCurve for CubicSpring {
+    fn spring_torque(&self, theta: f64) -> f64 {
+        self.torque(theta)
+    }
+    fn spring_slope(&self, theta: f64) -> f64 {
+        self.slope(theta)
+    }
+    fn spring_energy(&self, theta: f64) -> f64 {
+        StiffnessLaw::potential(self, theta)
+    }
+}
+
 /// Fading memory of the deflection rate: `z(t) = ∫ A·e^{−B(t−τ)}·θ̇(τ) dτ`, i.e.
 /// `ż = A·θ̇ − B·z`.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]

@@ -147,6 +147,7 @@ pub(super) fn finish(
     ));
     let report = FitReport {
         fit: "friction".into(),
+        law: None,
         data: Vec::new(),
         parameters: params,
         rms: (rss / n as f64).sqrt(),
@@ -165,6 +166,7 @@ pub(super) fn finish(
         stages: Vec::new(),
         remarks,
         wall_time_s: started.elapsed().as_secs_f64(),
+        loop_energy: Vec::new(),
     };
     Ok(SeparableFit {
         report,

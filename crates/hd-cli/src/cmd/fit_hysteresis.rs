@@ -1,0 +1,143 @@
+//! `hdw fit hysteresis`: one stiffness law, or every law ranked by BIC (`--law all`).
+
+use super::common::ensure_dir;
+use super::fit::report_out;
+use super::fit_input::{angle_factor, column_names, data_context, load, scale, source};
+use anyhow::{Context, Result};
+use clap::Args;
+use hd_ident::stiffness::{Law, LawFit, LawOptions, compare_laws, fit_law};
+use hd_ident::{DataSource, Fixed, HysteresisData};
+use hd_model::{Cells, OutTable};
+use hd_plot::{Series, fit_plot, residual_plot};
+use std::path::{Path, PathBuf};
+
+/// `hdw fit hysteresis`.
+#[derive(Args, Debug)]
+#[command(
+    after_help = "Laws (--law):\n  memory        f(θ) + z, ż = A·θ̇ − B·z (the seed's law; rate-dependent). For each trial B, a, b, c and A\n                follow by linear least squares; B from a grid over ln B refined by Brent's method, searched in\n                [0.1/record length, 10/median sample interval]. The memory starts at z = 0.\n  maxwell-slip  f(θ) + Σ kᵢ·eᵢ, elastoplastic elements (rate-independent). Yield deflections start log-spaced\n                over two decades up to 0.9 × half the largest excursion between reversals; a, b, c and kᵢ ≥ 0\n                by exact non-negative least squares, yield deflections refined by Levenberg–Marquardt.\n  bouc-wen      f(θ) + α·w, ẇ = A·θ̇ − β·|θ̇|·|w|^(n−1)·w − γ·θ̇·|w|^n with A = 1 (rate-independent).\n  all           every law on the same data, ranked by BIC = n·ln(RSS/n) + p·ln n.\n\n\
+Outputs (in --out DIR; with --law all in DIR/<law>/ for each law):\n  fit.json         parameters (value, std_error, ci95, determined, note), correlation, rms, r2, iterations,\n                   termination, loop_energy (per block of cycles of similar amplitude: the fitted law's and\n                   the measured torque's ∮ T dθ per cycle [J])\n  fitted.parquet   t, theta, torque, fitted, residual (row for row with the input)\n  loop.svg         measured vs fitted torque–deflection loop, residuals below\n  memory.svg       the same with c·θ taken off both, so the hysteresis loops show\n  residuals.svg    residuals over time\nWith --law all, also DIR/comparison.json (best first: law, rms [N·m], aic, bic, delta_bic, parameters) and\nDIR/comparison.md.\n\n\
+Examples:\n  hdw synth hysteresis --set c=6.5e4 --set B=150 --out out/hyst.csv\n  hdw fit hysteresis out/hyst.csv --out out/fit-hyst\n  hdw fit hysteresis data/hysteresis-paper-range.csv --fix a=0 --fix b=0 --out out/fit-paper\n  hdw synth hysteresis --law maxwell-slip --schedule quasi-static --out out/qs.csv\n  hdw fit hysteresis out/qs.csv --law all --out out/compare   # ranks the laws; see out/compare/comparison.md"
+)]
+pub struct HysteresisArgs {
+    /// Data file (.csv with a header row, or .parquet).
+    #[arg(value_name = "FILE")]
+    pub file: PathBuf,
+    /// Stiffness law: memory, maxwell-slip, bouc-wen, or all (every law, ranked by BIC).
+    #[arg(long, value_name = "LAW", default_value = "memory")]
+    pub law: String,
+    /// Maxwell-slip: number of elements.
+    #[arg(long, value_name = "N", default_value_t = hd_ident::stiffness::maxwell_slip::DEFAULT_ELEMENTS)]
+    pub elements: usize,
+    /// Names of the time [s], deflection [rad] and torque [N·m] columns.
+    #[arg(long, value_name = "T,THETA,TORQUE", default_value = "t,theta,torque")]
+    pub columns: String,
+    /// Unit of the deflection column: rad, mrad, urad, deg, arcmin or arcsec.
+    #[arg(long, value_name = "UNIT", default_value = "rad")]
+    pub theta_unit: String,
+    /// Factor from the file's time unit to seconds (e.g. 1e-3 for ms).
+    #[arg(long, value_name = "K", default_value_t = 1.0, allow_hyphen_values = true)]
+    pub time_scale: f64,
+    /// Factor from the file's torque unit to N·m; negative flips the sign.
+    #[arg(long, value_name = "K", default_value_t = 1.0, allow_hyphen_values = true)]
+    pub torque_scale: f64,
+    /// Fit a constant torque offset of the rig (`offset` [N·m]) with the law's parameters; a
+    /// deflection offset is absorbed exactly by b, c and the torque offset (see fit.json).
+    #[arg(long)]
+    pub fit_offsets: bool,
+    /// Hold a parameter at a value instead of fitting it, e.g. `--fix B=300` (repeatable;
+    /// memory law only).
+    #[arg(long = "fix", value_name = "NAME=VALUE")]
+    pub fix: Vec<String>,
+    /// Output folder.
+    #[arg(long, value_name = "DIR", default_value = "out/fit-hysteresis")]
+    pub out: PathBuf,
+}
+
+/// Run `hdw fit hysteresis`.
+pub fn run(args: HysteresisArgs) -> Result<()> {
+    let names = column_names(&args.columns, &[3], "--columns")?;
+    let fixed = Fixed::parse(&args.fix).context("--fix")?;
+    let to_rad = angle_factor(&args.theta_unit)?;
+    let mut cols = load(&args.file, &names)?;
+    let (mut torque, mut theta, mut t) =
+        (cols.pop().unwrap(), cols.pop().unwrap(), cols.pop().unwrap());
+    let mut log = Vec::new();
+    scale(&mut t, args.time_scale, "time", "--time-scale", &mut log)?;
+    scale(&mut theta, to_rad, "deflection", "--theta-unit", &mut log)?;
+    scale(&mut torque, args.torque_scale, "torque", "--torque-scale", &mut log)?;
+    let data = HysteresisData::new(t, theta, torque)
+        .with_context(|| data_context(&args.file, &["t", "theta", "torque"], &names))?;
+    let src = source("hysteresis", &args.file, &names, log);
+    let opts = LawOptions { offset: args.fit_offsets, elements: args.elements, fixed };
+    let dir = ensure_dir(&args.out)?;
+    if args.law == "all" {
+        let started = std::time::Instant::now();
+        let cmp = compare_laws(&data, &opts);
+        for fit in &cmp.fits {
+            let sub = ensure_dir(&dir.join(fit.law.name()))?;
+            outputs(&sub, &data, fit, &src)?;
+        }
+        let text = cmp.to_json();
+        let md = cmp.to_markdown(&args.file.display().to_string());
+        for (name, body) in [("comparison.json", text), ("comparison.md", md.clone())] {
+            let path = dir.join(name);
+            hd_io::atomic::write_atomically(&path, |f| {
+                use std::io::Write;
+                f.write_all(body.as_bytes()).map_err(|e| hd_io::IoError::fs(&path, e))
+            })?;
+        }
+        use std::io::Write;
+        let _ = writeln!(std::io::stdout().lock(), "{md}");
+        eprintln!(
+            "compared {} laws on {} samples in {:.3} s; wrote {}",
+            cmp.entries.len(),
+            data.len(),
+            started.elapsed().as_secs_f64(),
+            dir.display()
+        );
+        return Ok(());
+    }
+    let law = Law::parse(&args.law).context("--law")?;
+    let fit =
+        fit_law(&data, law, &opts).with_context(|| format!("fitting {}", args.file.display()))?;
+    outputs(&dir, &data, &fit, &src)?;
+    eprintln!(
+        "fitted the {} law to {} samples in {:.3} s; wrote {}",
+        law.name(),
+        data.len(),
+        fit.report.wall_time_s,
+        dir.display()
+    );
+    Ok(())
+}
+
+/// fit.json, fitted.parquet and the plots of one law's fit in `dir`.
+fn outputs(dir: &Path, data: &HysteresisData, fit: &LawFit, src: &DataSource) -> Result<()> {
+    let mut report = fit.report.clone();
+    report.data.push(src.clone());
+    report_out(dir, &report)?;
+    let mut table = OutTable::default();
+    table.push("t", Cells::F64(data.t().to_vec()));
+    table.push("theta", Cells::F64(data.theta().to_vec()));
+    table.push("torque", Cells::F64(data.torque().to_vec()));
+    table.push("fitted", Cells::F64(fit.fitted.clone()));
+    table.push("residual", Cells::F64(fit.residuals.clone()));
+    hd_io::write_out_table(&dir.join("fitted.parquet"), &table)?;
+    let law = fit.law.name();
+    let th = data.theta().to_vec();
+    let measured = Series::new("measured", th.clone(), data.torque().to_vec());
+    let fitted = Series::new(format!("fitted ({law})"), th.clone(), fit.fitted.clone());
+    let title = format!("Hysteresis fit ({law}): transmitted torque against deflection");
+    fit_plot(&dir.join("loop.svg"), &title, "θ [rad]", "Tb [N·m]", &measured, &fitted)?;
+    // The same loop with the linear spring c·θ taken off both, so the hysteresis shows.
+    let minus_c =
+        |y: &[f64]| -> Vec<f64> { y.iter().zip(&th).map(|(v, t)| v - fit.c * t).collect() };
+    let measured = Series::new("measured − c·θ", th.clone(), minus_c(data.torque()));
+    let fitted = Series::new(format!("fitted ({law}) − c·θ"), th.clone(), minus_c(&fit.fitted));
+    let title = format!("Hysteresis fit ({law}): torque minus the linear spring c·θ");
+    fit_plot(&dir.join("memory.svg"), &title, "θ [rad]", "Tb − c·θ [N·m]", &measured, &fitted)?;
+    let res = Series::new("residual", data.t().to_vec(), fit.residuals.clone());
+    let title = format!("Hysteresis fit ({law}) residuals");
+    residual_plot(&dir.join("residuals.svg"), &title, "t [s]", "Tb [N·m]", &res)?;
+    Ok(())
+}

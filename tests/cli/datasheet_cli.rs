@@ -1,0 +1,89 @@
+//! `hdw datasheet` on the worked example of issue #17: files, the catalogue deflection, the
+//! realised hysteresis loss, a seed params file the simulator accepts, and clear errors.
+
+use crate::common::*;
+
+#[test]
+fn worked_example_writes_the_catalogue_law_and_a_usable_seed_spring() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("ds");
+    let o = out.to_str().unwrap();
+    let args = [
+        "datasheet",
+        "--k1",
+        "6.7e4",
+        "--k2",
+        "1.1e5",
+        "--k3",
+        "1.2e5",
+        "--t1",
+        "29",
+        "--t2",
+        "108",
+        "--hysteresis-loss",
+        "1",
+        "--out",
+        o,
+    ];
+    let run = hdw_ok(&args);
+    assert!(String::from_utf8_lossy(&run.stdout).contains("seed spring"));
+    for f in ["catalogue.toml", "seed-params.toml", "datasheet.json", "curves.svg"] {
+        assert!(out.join(f).is_file(), "{f}");
+    }
+    let j = json(&out.join("datasheet.json"));
+    // T2 sits in the middle of the second rounded corner, where the rounded curve runs
+    // (K3 − K2)·h/4 ≈ 0.05 N·m above the sharp one: the deflection is 4e-4 smaller.
+    let sharp = 29.0 / 6.7e4 + 79.0 / 1.1e5;
+    let got = j["rated_deflection"].as_f64().unwrap();
+    assert!(got < sharp && (1.0 - got / sharp) < 1e-3, "{got} vs {sharp}");
+    let loss = j["hysteresis_loss_arcmin"]["model"].as_f64().unwrap();
+    assert!((loss - 1.0).abs() < 1e-3, "{loss}");
+    assert!(j["seed_spring"]["rms_error"].as_f64().unwrap() > 0.0);
+    let cat = std::fs::read_to_string(out.join("catalogue.toml")).unwrap();
+    assert!(cat.contains("cat_K1 = 6.7e4") && cat.contains("ms_k4"), "{cat}");
+    let sim = dir.path().join("sim");
+    let p = out.join("seed-params.toml");
+    hdw_ok(&[
+        "simulate",
+        "--params",
+        p.to_str().unwrap(),
+        "--t-end",
+        "0.02",
+        "--out",
+        sim.to_str().unwrap(),
+    ]);
+}
+
+#[test]
+fn bad_catalogue_values_name_the_flag() {
+    let out = hdw(&[
+        "datasheet",
+        "--k1",
+        "6.7e4",
+        "--k2",
+        "1.1e5",
+        "--k3",
+        "1.2e5",
+        "--t1",
+        "29",
+        "--t2",
+        "20",
+    ]);
+    assert_one_line_error(&out, &["--t2", "expected a torque above T1"]);
+    let out = hdw(&[
+        "datasheet",
+        "--k1",
+        "6.7e4",
+        "--k2",
+        "1.1e5",
+        "--k3",
+        "1.2e5",
+        "--t1",
+        "29",
+        "--t2",
+        "108",
+        "--hysteresis-loss",
+        "30",
+    ]);
+    assert_one_line_error(&out, &["--hysteresis-loss", "expected at most"]);
+}
