@@ -8,8 +8,9 @@ use crate::data::require_samples;
 use crate::error::FitError;
 use crate::fix::{Fixed, fitted_info};
 use crate::linear::bounded_least_squares;
+use crate::report::free_estimate;
 use crate::report::{
-    Correlation, Estimate, Explanation, FitReport, Judgement, Parameters, SearchSummary, judge,
+    Correlation, Estimate, Explanation, FitReport, Judgement, Parameters, SearchSummary,
 };
 use crate::search::{GRID_POINTS, search_log};
 use crate::uncertainty::{Covariance, covariance};
@@ -212,7 +213,7 @@ pub fn fit_separable<P: Separable>(problem: &P, fixed: &Fixed) -> Result<Separab
             _ => None,
         };
         let at_bound = (!nonlinear && inner.at_bound[j]).then_some(value);
-        let (determined, note) = judge(&Judgement {
+        let judgement = Judgement {
             name,
             unit,
             value,
@@ -226,20 +227,8 @@ pub fn fit_separable<P: Separable>(problem: &P, fixed: &Fixed) -> Result<Separab
             output_unit: "N·m",
             strongest,
             explanation: &explanation,
-        });
-        let ci95 = cov.std_error[k].map(|se| [value - cov.t95 * se, value + cov.t95 * se]);
-        params.0.push((
-            name.to_string(),
-            Estimate {
-                value,
-                unit,
-                std_error: cov.std_error[k],
-                ci95,
-                determined,
-                fixed: false,
-                note,
-            },
-        ));
+        };
+        params.0.push((name.to_string(), free_estimate(&judgement, unit, cov.t95)));
     }
     let report = FitReport {
         fit: problem.fit_name().to_string(),

@@ -6,7 +6,7 @@ mod notes;
 mod table;
 
 pub use notes::{Explanation, REL_SE_LIMIT};
-pub(crate) use notes::{Judgement, judge};
+pub(crate) use notes::{Judgement, free_estimate};
 
 use serde::Serialize;
 use serde::ser::{SerializeMap, Serializer};

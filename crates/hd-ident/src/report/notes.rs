@@ -37,6 +37,22 @@ pub(crate) struct Judgement<'a> {
     pub explanation: &'a Explanation,
 }
 
+/// The report entry of a free (fitted) parameter: the verdict and note of [`judge`], its
+/// standard error and the 95 % interval `value ± t95·se` (`t95`: Student's t quantile for
+/// the fit's degrees of freedom).
+pub(crate) fn free_estimate(j: &Judgement, unit: &'static str, t95: f64) -> super::Estimate {
+    let (determined, note) = judge(j);
+    super::Estimate {
+        value: j.value,
+        unit,
+        std_error: j.std_error,
+        ci95: j.std_error.map(|se| [j.value - t95 * se, j.value + t95 * se]),
+        determined,
+        fixed: false,
+        note,
+    }
+}
+
 /// Whether the parameter is determined, and the note saying why not.
 pub(crate) fn judge(j: &Judgement) -> (bool, Option<String>) {
     let ex = j.explanation;

@@ -2,7 +2,8 @@
 //! same covariance, intervals and verdicts as every other fit, from the Jacobian columns
 //! the law's fit supplies.
 
-use crate::report::{Correlation, Estimate, Explanation, FitReport, Judgement, Parameters, judge};
+use crate::report::free_estimate;
+use crate::report::{Correlation, Estimate, Explanation, FitReport, Judgement, Parameters};
 use crate::uncertainty::covariance;
 use std::time::Instant;
 
@@ -64,7 +65,7 @@ pub(crate) fn build(entries: Vec<Entry>, y: &[f64], fitted: &[f64], work: Work) 
                     .filter(|&o| o != k)
                     .filter_map(|o| cov.correlation[k][o].map(|r| (names[o].as_str(), r)))
                     .max_by(|a, b| a.1.abs().total_cmp(&b.1.abs()));
-                let (determined, note) = judge(&Judgement {
+                let judgement = Judgement {
                     name: &name,
                     unit,
                     value,
@@ -78,20 +79,9 @@ pub(crate) fn build(entries: Vec<Entry>, y: &[f64], fitted: &[f64], work: Work) 
                     output_unit: "N·m",
                     strongest,
                     explanation: &explanation,
-                });
-                let ci95 = cov.std_error[k].map(|se| [value - cov.t95 * se, value + cov.t95 * se]);
-                params.0.push((
-                    name,
-                    Estimate {
-                        value,
-                        unit,
-                        std_error: cov.std_error[k],
-                        ci95,
-                        determined,
-                        fixed: false,
-                        note,
-                    },
-                ));
+                };
+                let estimate = free_estimate(&judgement, unit, cov.t95);
+                params.0.push((name, estimate));
                 k += 1;
             }
         }

@@ -2,9 +2,8 @@
 
 use super::{JointProblem, NONLINEAR_ALL, unit_of};
 use crate::error::FitError;
-use crate::report::{
-    Correlation, Estimate, FitReport, Judgement, Parameters, SearchSummary, judge,
-};
+use crate::report::free_estimate;
+use crate::report::{Correlation, Estimate, FitReport, Judgement, Parameters, SearchSummary};
 use crate::separable::SeparableFit;
 use crate::uncertainty::covariance;
 use rayon::prelude::*;
@@ -107,7 +106,7 @@ pub(super) fn finish(
             _ => None,
         };
         let explanation = problem.explain(name, v);
-        let (determined, note) = judge(&Judgement {
+        let judgement = Judgement {
             name,
             unit,
             value,
@@ -121,20 +120,8 @@ pub(super) fn finish(
             output_unit: "N·m",
             strongest,
             explanation: &explanation,
-        });
-        let ci95 = cov.std_error[k].map(|se| [value - cov.t95 * se, value + cov.t95 * se]);
-        params.0.push((
-            name.to_string(),
-            Estimate {
-                value,
-                unit,
-                std_error: cov.std_error[k],
-                ci95,
-                determined,
-                fixed: false,
-                note,
-            },
-        ));
+        };
+        params.0.push((name.to_string(), free_estimate(&judgement, unit, cov.t95)));
     }
     let mean = y.iter().sum::<f64>() / n as f64;
     let sst: f64 = y.iter().map(|x| (x - mean).powi(2)).sum();
