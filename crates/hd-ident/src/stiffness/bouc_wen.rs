@@ -69,11 +69,7 @@ impl Problem<'_> {
 pub fn fit(data: &HysteresisData, opts: &LawOptions) -> Result<LawFit, FitError> {
     let started = Instant::now();
     let (theta, y) = (data.theta(), data.torque());
-    let mut spring: Vec<Vec<f64>> =
-        (1..=3).rev().map(|p| theta.iter().map(|t| t.powi(p)).collect()).collect();
-    if opts.offset {
-        spring.push(vec![1.0; theta.len()]);
-    }
+    let spring = super::spring_columns(theta, opts.offset);
     let problem = Problem { theta, y, spring };
     // Grid: saturation deflections over the record's excursions, n = 1 and 2, γ/β = 0, 0.5.
     let grid_wu = super::maxwell_slip::yield_grid(theta, 8);

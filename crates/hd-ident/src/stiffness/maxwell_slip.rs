@@ -104,11 +104,7 @@ pub fn fit(data: &HysteresisData, opts: &LawOptions) -> Result<LawFit, FitError>
         });
     }
     let (theta, y) = (data.theta(), data.torque());
-    let mut spring: Vec<Vec<f64>> =
-        (1..=3).rev().map(|p| theta.iter().map(|t| t.powi(p)).collect()).collect();
-    if opts.offset {
-        spring.push(vec![1.0; theta.len()]);
-    }
+    let spring = super::spring_columns(theta, opts.offset);
     let problem = Problem { theta, y, spring };
     let start = yield_grid(theta, opts.elements);
     let res = |u: &[f64]| -> Result<Vec<f64>, FitError> {

@@ -133,3 +133,15 @@ pub fn fit_law(data: &HysteresisData, law: Law, opts: &LawOptions) -> Result<Law
     fit.report.loop_energy = cycles::loop_energies(data.theta(), data.torque(), &fit.fitted);
     Ok(fit)
 }
+
+/// The regressor columns of the cubic spring `a·θ³ + b·θ² + c·θ` over `theta` (in that
+/// order), and a constant column for the torque offset when `offset` is set: the linear
+/// part every stiffness-law fit shares.
+pub(crate) fn spring_columns(theta: &[f64], offset: bool) -> Vec<Vec<f64>> {
+    let mut cols: Vec<Vec<f64>> =
+        (1..=3).rev().map(|p| theta.iter().map(|t| t.powi(p)).collect()).collect();
+    if offset {
+        cols.push(vec![1.0; theta.len()]);
+    }
+    cols
+}
