@@ -136,6 +136,7 @@ fn single(fit: SeparableFit, fixed: &Fixed, opts: FrictionOptions, steady: bool)
         ws: value("ws"),
         tc_neg: if opts.asymmetric { value("Tc_neg") } else { tc },
         ts_neg: if opts.asymmetric { value("Ts_neg") } else { ts },
+        mu: hd_model::laws::friction::LoadFactors::default(),
     };
     let mut report = fit.report.clone();
     report.parameters.0.sort_by_key(|(n, _)| order_key(n));

@@ -19,7 +19,17 @@ pub const WS_RANGE_FACTOR: f64 = 10.0;
 /// torque): levels `[Tc, Ts, Tc_neg, Ts_neg]`.
 fn static_law(levels: [f64; 4], sigma2: f64, ws: f64) -> LuGre {
     let [tc, ts, tc_neg, ts_neg] = levels;
-    LuGre { sigma0: 1.0, sigma1: 0.0, sigma2, tc, ts, ws, tc_neg, ts_neg }
+    LuGre {
+        sigma0: 1.0,
+        sigma1: 0.0,
+        sigma2,
+        tc,
+        ts,
+        ws,
+        tc_neg,
+        ts_neg,
+        mu: hd_model::laws::friction::LoadFactors::default(),
+    }
 }
 
 /// Optional terms of the static fit.
