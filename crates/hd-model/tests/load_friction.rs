@@ -95,3 +95,35 @@ fn energy_balance_closes_with_load_dependent_friction_and_a_load_torque() {
     // Measured 8.0e-15.
     assert!(e_in > 0.0 && rel < 1e-13, "in {e_in} J, accounted {accounted} J, rel {rel:e}");
 }
+
+#[test]
+fn steady_efficiency_is_the_torque_ratio_with_the_raised_levels() {
+    // Constant voltage against a constant load torque: in steady running the output power
+    // is Tb·ωz and the wave generator takes (Tb + Tf)/N·ωj with ωj/N = ωz, so the
+    // efficiency is Tb/(Tb + Tf) with Tf the raised Stribeck level at v = ωj/N.
+    let mut cfg = SimConfig {
+        record_trace: false,
+        t_end: 0.4,
+        input: Input::Constant { amplitude: 24.0 },
+        load_torque: LoadTorque::new(Input::Constant { amplitude: 30.0 }),
+        ..SimConfig::default()
+    };
+    cfg.metrics.final_fraction = 0.2;
+    cfg.params.mu_c_fwd = 0.08;
+    cfg.params.mu_s_fwd = 0.12;
+    cfg.params.sigma2 = 0.5;
+    let out = simulate(&cfg).unwrap();
+    let y = out.final_state;
+    let p = &cfg.params;
+    let wz = y[OMEGA_Z];
+    let tb = 30.0 + p.cz * wz;
+    let tf = LuGre::from_params(p).steady_torque_loaded(y[OMEGA_J] / p.n, tb);
+    let expected = tb / (tb + tf);
+    let got = out.metrics.efficiency;
+    eprintln!(
+        "steady efficiency {got:.9}, Tb/(Tb + Tf) = {expected:.9}, {:.1e} apart",
+        (got - expected).abs()
+    );
+    // Measured 4.5e-11 apart.
+    assert!((got - expected).abs() < 5e-10, "efficiency {got}, expected {expected}");
+}
