@@ -46,6 +46,18 @@ pub struct Params {
     /// default) means equal to Ts.
     #[serde(rename = "Ts_neg", skip_serializing_if = "Option::is_none")]
     pub ts_neg: Option<f64>,
+    /// Growth of the Coulomb level with the transmitted torque while driving forward
+    /// (`Tc + mu_c_fwd·|Tb|`) [–]; default 0.
+    pub mu_c_fwd: f64,
+    /// Growth of the static level with the transmitted torque while driving forward
+    /// (`Ts + mu_s_fwd·|Tb|`) [–]; default 0.
+    pub mu_s_fwd: f64,
+    /// Growth of the Coulomb level with the transmitted torque while back-driven [–];
+    /// default 0.
+    pub mu_c_back: f64,
+    /// Growth of the static level with the transmitted torque while back-driven [–];
+    /// default 0.
+    pub mu_s_back: f64,
     /// Armature resistance R [Ω]; default 6.
     #[serde(rename = "R")]
     pub r: f64,
@@ -99,6 +111,10 @@ impl Default for Params {
             ws: 0.01,
             tc_neg: None,
             ts_neg: None,
+            mu_c_fwd: 0.0,
+            mu_s_fwd: 0.0,
+            mu_c_back: 0.0,
+            mu_s_back: 0.0,
             r: 6.0,
             km: 0.52,
             ke: 0.52,

@@ -43,6 +43,7 @@ pub static RUN_INPUT_COLUMNS: &[ColumnDoc] = &[
     col("voltage", "V", "input amplitude or level (null for recorded inputs)"),
     col("freq", "Hz", "drive frequency (null for non-periodic inputs)"),
     col("friction_scale", "-", "factor on the friction torques Tc and Ts, when swept"),
+    col("load_torque", "N·m", "constant external load torque T_L, when swept"),
 ];
 
 /// Columns of `runs.parquet` of studies with a `[controller]`, after the input columns.

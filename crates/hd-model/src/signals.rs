@@ -80,14 +80,16 @@ impl DriveSystem {
             p.st.d_theta
         };
         let c0 = if self.friction.has_state() {
-            // C0 = dTf/dt / v̇ = ∂Tf/∂v + ∂Tf/∂w · ẇ/v̇.
+            // C0 = dTf/dt / v̇ = ∂Tf/∂v + (∂Tf/∂w · ẇ + ∂Tf/∂Tb · Ṫb)/v̇ (the last term
+            // only with load-dependent levels).
             let d = self.rhs(t, y);
             let v_dot = match self.friction_velocity {
                 FrictionVelocity::Motor => d[OMEGA_J] / self.n,
                 FrictionVelocity::Deflection => d[OMEGA_J] / self.n - d[OMEGA_Z],
             };
             if v_dot.abs() > eps.v_dot {
-                p.fr.d_v + p.fr.d_w * p.fr.w_rate / v_dot
+                let tb_rate = p.st.d_theta * p.theta_dot + p.st.d_z * p.st.z_rate;
+                p.fr.d_v + (p.fr.d_w * p.fr.w_rate + p.fr.d_tb * tb_rate) / v_dot
             } else {
                 f64::NAN
             }

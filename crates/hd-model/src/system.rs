@@ -162,7 +162,7 @@ impl DriveSystem {
         let (a, b) = self.v_coeffs();
         let v = a * y[OMEGA_J] + b * y[OMEGA_Z];
         let st = self.stiffness.eval(y[THETA], theta_dot, y[Z]);
-        let fr = self.friction.eval(v, y[W]);
+        let fr = self.friction.eval_loaded(v, y[W], st.torque);
         let t_out = st.torque + if self.friction_on_load() { fr.torque } else { 0.0 };
         let ta = (st.torque + fr.torque) / self.n;
         Parts { u, i, theta_dot, v, st, fr, t_out, ta, tl: self.load.value(t), ctl }
@@ -252,7 +252,7 @@ impl OdeSystem<DIM> for DriveSystem {
         let g_thd = unit(OMEGA_J) / self.n - unit(OMEGA_Z);
         let g_v = va * unit(OMEGA_J) + vb * unit(OMEGA_Z);
         let g_tb = p.st.d_theta * unit(THETA) + p.st.d_z * unit(Z);
-        let g_tf = p.fr.d_v * g_v + p.fr.d_w * unit(W);
+        let g_tf = p.fr.d_v * g_v + p.fr.d_w * unit(W) + p.fr.d_tb * g_tb;
         let g_i = if inductive { unit(CURRENT) } else { (g_u - m.ke * unit(OMEGA_J)) / m.r };
         let g_out = if self.friction_on_load() { g_tb + g_tf } else { g_tb };
         let g_ta = (g_tb + g_tf) / self.n;
@@ -268,7 +268,7 @@ impl OdeSystem<DIM> for DriveSystem {
         rows[OMEGA_Z] = (g_out - self.cz * unit(OMEGA_Z)) / self.jz;
         dfdt[OMEGA_Z] = -self.load.rate(t) / self.jz;
         rows[Z] = p.st.z_rate_d_thetadot * g_thd + p.st.z_rate_d_z * unit(Z);
-        rows[W] = p.fr.w_rate_d_v * g_v + p.fr.w_rate_d_w * unit(W);
+        rows[W] = p.fr.w_rate_d_v * g_v + p.fr.w_rate_d_w * unit(W) + p.fr.w_rate_d_tb * g_tb;
         if inductive {
             rows[CURRENT] = (g_u - m.r * unit(CURRENT) - m.ke * unit(OMEGA_J)) / m.l;
             dfdt[CURRENT] = du / m.l;

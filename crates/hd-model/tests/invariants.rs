@@ -128,17 +128,28 @@ fn a_very_stiff_bristle_still_finishes() {
 
 #[test]
 fn analytic_jacobian_matches_finite_differences() {
-    let mut p = Params { sigma2: 0.02, ..Params::default() };
-    for (sk, fk, fv, l) in [
-        (StiffnessKind::Hysteretic, FrictionKind::Lugre, FrictionVelocity::Motor, 0.0),
-        (StiffnessKind::Hysteretic, FrictionKind::Lugre, FrictionVelocity::Deflection, 1e-3),
-        (StiffnessKind::Linear, FrictionKind::Viscous, FrictionVelocity::Motor, 0.0),
-        (StiffnessKind::Cubic, FrictionKind::None, FrictionVelocity::Deflection, 1e-3),
+    // Unequal forward and back-driving factors: both branches of the levels are checked.
+    let mut p = Params {
+        sigma2: 0.02,
+        mu_c_fwd: 0.03,
+        mu_s_fwd: 0.05,
+        mu_c_back: 0.06,
+        mu_s_back: 0.09,
+        ..Params::default()
+    };
+    for (sk, fk, fv, l, z) in [
+        // z = 0.2 N·m: Tb ≈ 1.2 N·m, forward; z = −3 N·m: Tb ≈ −2 N·m, back-driven.
+        (StiffnessKind::Hysteretic, FrictionKind::Lugre, FrictionVelocity::Motor, 0.0, 0.2),
+        (StiffnessKind::Hysteretic, FrictionKind::Lugre, FrictionVelocity::Motor, 0.0, -3.0),
+        (StiffnessKind::Hysteretic, FrictionKind::Lugre, FrictionVelocity::Deflection, 1e-3, 0.2),
+        (StiffnessKind::Hysteretic, FrictionKind::Lugre, FrictionVelocity::Deflection, 0.0, -3.0),
+        (StiffnessKind::Linear, FrictionKind::Viscous, FrictionVelocity::Motor, 0.0, 0.2),
+        (StiffnessKind::Cubic, FrictionKind::None, FrictionVelocity::Deflection, 1e-3, 0.2),
     ] {
         p.l = l;
         let sys = DriveSystem::new(&p, sk, fk, Input::Sine { amplitude: 24.0, freq: 50.0 }, fv);
         let mut y = State::zeros();
-        let vals = [0.3, 5.0, 2e-5, 0.04, 0.2, 0.1, 1.5, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0];
+        let vals = [0.3, 5.0, 2e-5, 0.04, z, 0.1, 1.5, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0];
         for (k, v) in vals.iter().enumerate() {
             y[k] = *v;
         }

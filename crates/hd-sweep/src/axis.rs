@@ -6,11 +6,12 @@ use hd_model::{Compensation, Feedback, Input, SimConfig, Variant};
 use serde::{Deserialize, Serialize};
 
 /// Names that are not registry parameters but can be swept.
-pub const SPECIAL: [&str; 11] = [
+pub const SPECIAL: [&str; 12] = [
     "voltage",
     "freq",
     "variant",
     "friction_scale",
+    "load_torque",
     "ctl_kp",
     "ctl_ki",
     "ctl_kd",
@@ -27,6 +28,8 @@ pub enum Knob {
     Param(&'static ParamInfo),
     /// Input amplitude or level [V].
     Voltage,
+    /// A constant external load torque T_L [N·m].
+    LoadTorque,
     /// Sine frequency [Hz].
     Freq,
     /// Factor on both Coulomb and static friction torques Tc, Ts [–].
@@ -70,6 +73,7 @@ impl Knob {
             "voltage" => Ok(Knob::Voltage),
             "freq" => Ok(Knob::Freq),
             "friction_scale" => Ok(Knob::FrictionScale),
+            "load_torque" => Ok(Knob::LoadTorque),
             "variant" => Ok(Knob::Variant),
             "ctl_kp" => Ok(Knob::CtlKp),
             "ctl_ki" => Ok(Knob::CtlKi),
@@ -99,6 +103,7 @@ impl Knob {
             Knob::Voltage => "voltage",
             Knob::Freq => "freq",
             Knob::FrictionScale => "friction_scale",
+            Knob::LoadTorque => "load_torque",
             Knob::Variant => "variant",
             Knob::CtlKp => "ctl_kp",
             Knob::CtlKi => "ctl_ki",
@@ -116,6 +121,8 @@ impl Knob {
             Knob::Param(p) => p.check(v).map_err(|e| e.to_string()),
             Knob::Voltage if v.is_finite() => Ok(()),
             Knob::Voltage => Err(format!("voltage = {v}: expected a finite number [V]")),
+            Knob::LoadTorque if v.is_finite() => Ok(()),
+            Knob::LoadTorque => Err(format!("load_torque = {v}: expected a finite number [N·m]")),
             Knob::Freq | Knob::FrictionScale if v.is_finite() && v > 0.0 => Ok(()),
             Knob::Freq => Err(format!("freq = {v}: expected a finite number > 0 [Hz]")),
             Knob::FrictionScale => {
@@ -198,6 +205,10 @@ impl Knob {
                 for side in [&mut cfg.params.tc_neg, &mut cfg.params.ts_neg].into_iter().flatten() {
                     *side *= v;
                 }
+            }
+            (Knob::LoadTorque, Value::Num(v)) => {
+                cfg.load_torque =
+                    hd_model::laws::load::LoadTorque::new(Input::Constant { amplitude: v });
             }
             (Knob::Variant, Value::Variant(v)) => cfg.variant = v,
             (k, v) if k.is_controller() => {

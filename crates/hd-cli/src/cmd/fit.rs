@@ -62,6 +62,11 @@ pub struct FrictionArgs {
     /// Names of the speed and torque columns of the steady-state file.
     #[arg(long, value_name = "OMEGA,TORQUE", default_value = "omega,torque")]
     pub steady_columns: String,
+    /// Column of the steady-state file holding the torque the gear transmitted [N·m] (scaled
+    /// by --torque-scale): fits the load factors mu_c_fwd, mu_s_fwd, mu_c_back, mu_s_back of
+    /// the levels Tc + μc·|Tb|, Ts + μs·|Tb| (steady-state table only).
+    #[arg(long, value_name = "NAME")]
+    pub load_column: Option<String>,
     /// Time series (.csv or .parquet): time [s], speed [rad/s], friction torque [N·m].
     #[arg(long, value_name = "FILE")]
     pub transient: Option<PathBuf>,
@@ -121,19 +126,31 @@ fn run_friction(args: FrictionArgs) -> Result<()> {
     let u = &args.units;
     let steady = match &args.steady {
         Some(path) => {
-            let names = column_names(&args.steady_columns, &[2], "--steady-columns")?;
+            let mut names = column_names(&args.steady_columns, &[2], "--steady-columns")?;
+            names.extend(args.load_column.clone());
             let mut cols = load(path, &names)?;
+            let mut tb = if args.load_column.is_some() { cols.pop() } else { None };
             let (mut torque, mut omega) = (cols.pop().unwrap(), cols.pop().unwrap());
             let mut log = Vec::new();
             scale(&mut omega, u.speed_scale, "speed", "--speed-scale", &mut log)?;
             scale(&mut torque, u.torque_scale, "torque", "--torque-scale", &mut log)?;
-            let d = SteadyData::new(omega, torque)
-                .with_context(|| data_context(path, &["omega", "torque"], &names))?;
+            if let Some(tb) = tb.as_mut() {
+                scale(tb, u.torque_scale, "transmitted torque", "--torque-scale", &mut log)?;
+            }
+            let roles = ["omega", "torque", "load"];
+            let mut d = SteadyData::new(omega, torque)
+                .with_context(|| data_context(path, &roles, &names))?;
+            if let Some(tb) = tb {
+                d = d.with_load(tb).with_context(|| data_context(path, &roles, &names))?;
+            }
             sources.push(source("steady", path, &names, log));
             Some(d)
         }
         None => None,
     };
+    if args.load_column.is_some() && args.steady.is_none() {
+        bail!("--load-column needs --steady FILE (the steady-state table it belongs to)");
+    }
     if u.position_column.is_some() && args.transient.is_none() {
         bail!("--position-column needs --transient FILE (the time series it belongs to)");
     }

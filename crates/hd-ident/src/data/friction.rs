@@ -10,6 +10,7 @@ use crate::error::DataError;
 pub struct SteadyData {
     omega: Vec<f64>,
     torque: Vec<f64>,
+    load: Option<Vec<f64>>,
 }
 
 impl SteadyData {
@@ -25,7 +26,20 @@ impl SteadyData {
             return Err(DataError::ZeroSpeed { row: i + 1 });
         }
         check::varies("omega", &omega)?;
-        Ok(Self { omega, torque })
+        Ok(Self { omega, torque, load: None })
+    }
+
+    /// Add the torque the gear transmitted at each row, Tb [N·m], which raises the
+    /// friction levels when the load factors μ are fitted (docs/model.md §2.3).
+    pub fn with_load(mut self, load: Vec<f64>) -> Result<Self, DataError> {
+        check::column("load", &load, "omega", self.omega.len())?;
+        self.load = Some(load);
+        Ok(self)
+    }
+
+    /// Transmitted torque Tb [N·m] per row, when the data carries it.
+    pub fn load(&self) -> Option<&[f64]> {
+        self.load.as_deref()
     }
 
     /// Sliding speed [rad/s].

@@ -3,14 +3,14 @@
 
 use super::joint::{FrictionOptions, fit_joint};
 use super::propagate::{Propagated, propagate};
-use super::steady::{STATIC_PARAMS, SteadyOptions, SteadyProblem};
+use super::steady::{LOAD_PARAMS, STATIC_PARAMS, SteadyOptions, SteadyProblem};
 use super::transient::{DYNAMIC_PARAMS, TransientProblem};
 use crate::data::{SteadyData, TransientData};
 use crate::error::FitError;
 use crate::fix::Fixed;
 use crate::report::{Correlation, FitReport, Parameters, REL_SE_LIMIT};
 use crate::separable::{SeparableFit, fit_separable};
-use hd_model::laws::friction::LuGre;
+use hd_model::laws::friction::{LoadFactors, LuGre};
 use hd_model::registry::{REGISTRY, lookup};
 use std::time::Instant;
 
@@ -61,8 +61,20 @@ pub fn fit_friction_with(
     opts: FrictionOptions,
 ) -> Result<FrictionFit, FitError> {
     let start = Instant::now();
-    let allowed: &[&str] = if opts.asymmetric { &ASYMMETRIC_PARAMS } else { &FRICTION_PARAMS };
-    fixed.check_allowed("friction", allowed)?;
+    let base: &[&str] = if opts.asymmetric { &ASYMMETRIC_PARAMS } else { &FRICTION_PARAMS };
+    let mut allowed = base.to_vec();
+    let loaded = steady.is_some_and(|d| d.load().is_some());
+    if loaded {
+        allowed.extend(LOAD_PARAMS);
+    }
+    fixed.check_allowed("friction", &allowed)?;
+    if loaded && transient.is_some() {
+        return Err(FitError::Setting {
+            field: "--load-column",
+            value: "with both --steady and --transient".into(),
+            expected: "a steady-state table alone: the load factors are fitted from the steady-state levels".into(),
+        });
+    }
     if steady.is_none() && transient.is_none() {
         return Err(FitError::NoData);
     }
@@ -136,6 +148,12 @@ fn single(fit: SeparableFit, fixed: &Fixed, opts: FrictionOptions, steady: bool)
         ws: value("ws"),
         tc_neg: if opts.asymmetric { value("Tc_neg") } else { tc },
         ts_neg: if opts.asymmetric { value("Ts_neg") } else { ts },
+        mu: LoadFactors {
+            c_fwd: value("mu_c_fwd"),
+            s_fwd: value("mu_s_fwd"),
+            c_back: value("mu_c_back"),
+            s_back: value("mu_s_back"),
+        },
     };
     let mut report = fit.report.clone();
     report.parameters.0.sort_by_key(|(n, _)| order_key(n));

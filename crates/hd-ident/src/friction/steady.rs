@@ -6,7 +6,7 @@ use crate::data::SteadyData;
 use crate::error::FitError;
 use crate::report::Explanation;
 use crate::separable::{Basis, Separable};
-use hd_model::laws::friction::{FrictionLaw, LuGre};
+use hd_model::laws::friction::{FrictionLaw, LoadFactors, LuGre};
 
 /// Parameters of the static stage, in report order.
 pub const STATIC_PARAMS: [&str; 4] = ["Tc", "Ts", "sigma2", "ws"];
@@ -15,11 +15,24 @@ pub const STATIC_PARAMS: [&str; 4] = ["Tc", "Ts", "sigma2", "ws"];
 /// times the fastest |ω| (outside, the Stribeck drop is entirely above or below the data).
 pub const WS_RANGE_FACTOR: f64 = 10.0;
 
+/// Load factors fitted with a transmitted-torque column, in report order.
+pub const LOAD_PARAMS: [&str; 4] = ["mu_c_fwd", "mu_s_fwd", "mu_c_back", "mu_s_back"];
+
 /// A LuGre law with only the static parameters set (the others do not affect the steady
-/// torque): levels `[Tc, Ts, Tc_neg, Ts_neg]`.
-fn static_law(levels: [f64; 4], sigma2: f64, ws: f64) -> LuGre {
+/// torque): levels `[Tc, Ts, Tc_neg, Ts_neg]`, load factors `mu`.
+fn static_law(levels: [f64; 4], sigma2: f64, ws: f64, mu: [f64; 4]) -> LuGre {
     let [tc, ts, tc_neg, ts_neg] = levels;
-    LuGre { sigma0: 1.0, sigma1: 0.0, sigma2, tc, ts, ws, tc_neg, ts_neg }
+    LuGre {
+        sigma0: 1.0,
+        sigma1: 0.0,
+        sigma2,
+        tc,
+        ts,
+        ws,
+        tc_neg,
+        ts_neg,
+        mu: LoadFactors { c_fwd: mu[0], s_fwd: mu[1], c_back: mu[2], s_back: mu[3] },
+    }
 }
 
 /// Optional terms of the static fit.
@@ -52,7 +65,16 @@ impl<'a> SteadyProblem<'a> {
     }
 
     fn curve(&self, law: &LuGre) -> Vec<f64> {
-        self.data.omega().iter().map(|&w| law.steady_torque(w)).collect()
+        let w = self.data.omega().iter();
+        match self.data.load() {
+            Some(tb) => w.zip(tb).map(|(&w, &tb)| law.steady_torque_loaded(w, tb)).collect(),
+            None => w.map(|&w| law.steady_torque(w)).collect(),
+        }
+    }
+
+    /// Number of level and σ2/offset parameters before the load factors.
+    fn base_count(&self) -> usize {
+        (if self.opts.asymmetric { 5 } else { 3 }) + usize::from(self.opts.offset)
     }
 
     /// Levels `[Tc, Ts, Tc_neg, Ts_neg]` from the linear parameters `beta`.
@@ -70,11 +92,21 @@ impl Separable for SteadyProblem<'_> {
         "friction-static"
     }
     fn linear_names(&self) -> &'static [&'static str] {
-        match (self.opts.asymmetric, self.opts.offset) {
-            (false, false) => &["Tc", "Ts", "sigma2"],
-            (false, true) => &["Tc", "Ts", "sigma2", "offset"],
-            (true, false) => &["Tc", "Ts", "Tc_neg", "Ts_neg", "sigma2"],
-            (true, true) => &["Tc", "Ts", "Tc_neg", "Ts_neg", "sigma2", "offset"],
+        const MU: [&str; 4] = LOAD_PARAMS;
+        let load = self.data.load().is_some();
+        match (self.opts.asymmetric, self.opts.offset, load) {
+            (false, false, false) => &["Tc", "Ts", "sigma2"],
+            (false, true, false) => &["Tc", "Ts", "sigma2", "offset"],
+            (true, false, false) => &["Tc", "Ts", "Tc_neg", "Ts_neg", "sigma2"],
+            (true, true, false) => &["Tc", "Ts", "Tc_neg", "Ts_neg", "sigma2", "offset"],
+            (false, false, true) => &["Tc", "Ts", "sigma2", MU[0], MU[1], MU[2], MU[3]],
+            (false, true, true) => &["Tc", "Ts", "sigma2", "offset", MU[0], MU[1], MU[2], MU[3]],
+            (true, false, true) => {
+                &["Tc", "Ts", "Tc_neg", "Ts_neg", "sigma2", MU[0], MU[1], MU[2], MU[3]]
+            }
+            (true, true, true) => {
+                &["Tc", "Ts", "Tc_neg", "Ts_neg", "sigma2", "offset", MU[0], MU[1], MU[2], MU[3]]
+            }
         }
     }
     fn nonlinear_name(&self) -> &'static str {
@@ -98,17 +130,31 @@ impl Separable for SteadyProblem<'_> {
             vec![[1.0, 0.0, 1.0, 0.0], [0.0, 1.0, 0.0, 1.0]]
         };
         let mut columns: Vec<Vec<f64>> =
-            unit_levels.into_iter().map(|l| self.curve(&static_law(l, 0.0, q))).collect();
-        columns.push(self.curve(&static_law([0.0; 4], 1.0, q)));
+            unit_levels.into_iter().map(|l| self.curve(&static_law(l, 0.0, q, [0.0; 4]))).collect();
+        columns.push(self.curve(&static_law([0.0; 4], 1.0, q, [0.0; 4])));
         if self.opts.offset {
             columns.push(vec![1.0; self.data.len()]);
+        }
+        if self.data.load().is_some() {
+            // The steady torque is linear in each factor: a unit factor alone gives its column.
+            for k in 0..4 {
+                let mut mu = [0.0; 4];
+                mu[k] = 1.0;
+                columns.push(self.curve(&static_law([0.0; 4], 0.0, q, mu)));
+            }
         }
         Ok(Basis { columns, offset: None })
     }
     fn predict(&self, beta: &[f64], q: f64) -> Result<Vec<f64>, FitError> {
         let k = if self.opts.asymmetric { 4 } else { 2 };
         let offset = if self.opts.offset { beta[k + 1] } else { 0.0 };
-        let curve = self.curve(&static_law(self.levels(beta), beta[k], q));
+        let b = self.base_count();
+        let mu = if self.data.load().is_some() {
+            [beta[b], beta[b + 1], beta[b + 2], beta[b + 3]]
+        } else {
+            [0.0; 4]
+        };
+        let curve = self.curve(&static_law(self.levels(beta), beta[k], q, mu));
         Ok(curve.into_iter().map(|v| v + offset).collect())
     }
     fn explain(&self, name: &str, _values: &[(&'static str, f64)]) -> Explanation {
@@ -125,6 +171,10 @@ impl Separable for SteadyProblem<'_> {
             "Ts" | "Ts_neg" => (
                 format!("the static level {name}"),
                 format!("speeds well below ωs (here |ω| ≥ {lo:.3e} rad/s) would reveal it"),
+            ),
+            n if n.starts_with("mu_") => (
+                format!("the growth {n} of a level with the transmitted torque"),
+                "rows that carry a range of transmitted torques in this direction of power flow (forward: torque and speed of the same sign; back-driven: opposite signs) would reveal it".into(),
             ),
             "sigma2" => (
                 "the viscous torque σ2·ω".into(),

@@ -21,6 +21,10 @@ pub struct FrictionEval {
     pub w_rate_d_v: f64,
     /// ∂ẇ/∂w [1/s].
     pub w_rate_d_w: f64,
+    /// ∂Tf/∂Tb, through the load-dependent levels [–].
+    pub d_tb: f64,
+    /// ∂ẇ/∂Tb [1/s].
+    pub w_rate_d_tb: f64,
 }
 
 /// A friction law: torque from the sliding speed v [rad/s] and an internal state w [N·m].
@@ -29,6 +33,15 @@ pub trait FrictionLaw: Send + Sync {
     fn eval(&self, v: f64, w: f64) -> FrictionEval;
     /// Steady-state torque at constant speed v [N·m].
     fn steady_torque(&self, v: f64) -> f64;
+    /// [`FrictionLaw::eval`] while the gear transmits the torque `tb` [N·m] (laws whose
+    /// levels do not depend on the load ignore it).
+    fn eval_loaded(&self, v: f64, w: f64, _tb: f64) -> FrictionEval {
+        self.eval(v, w)
+    }
+    /// [`FrictionLaw::steady_torque`] while the gear transmits the torque `tb` [N·m].
+    fn steady_torque_loaded(&self, v: f64, _tb: f64) -> f64 {
+        self.steady_torque(v)
+    }
     /// Mean bristle deflection s [rad] for internal state w.
     fn deflection(&self, w: f64) -> f64;
     /// Whether the law carries an internal state (dynamic friction).
@@ -96,12 +109,55 @@ pub struct LuGre {
     pub tc_neg: f64,
     /// Static torque for negative speeds [N·m] (equal to `ts` for a symmetric law).
     pub ts_neg: f64,
+    /// Growth of the levels with the transmitted torque (all zero: no load dependence).
+    pub mu: LoadFactors,
+}
+
+/// How the LuGre levels grow with the transmitted torque Tb (docs/model.md §2.3):
+/// `Tc + μc·|Tb|` and `Ts + μs·|Tb|`, with one pair of factors while power flows from the
+/// motor to the load (`Tb·v > 0`, forward) and another while it flows back (`Tb·v < 0`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct LoadFactors {
+    /// Coulomb level growth while driving forward `mu_c_fwd` [–].
+    pub c_fwd: f64,
+    /// Static level growth while driving forward `mu_s_fwd` [–].
+    pub s_fwd: f64,
+    /// Coulomb level growth while back-driven `mu_c_back` [–].
+    pub c_back: f64,
+    /// Static level growth while back-driven `mu_s_back` [–].
+    pub s_back: f64,
+}
+
+impl LoadFactors {
+    /// The factors of the parameters `mu_c_fwd`, `mu_s_fwd`, `mu_c_back`, `mu_s_back`.
+    pub fn from_params(p: &crate::Params) -> Self {
+        Self { c_fwd: p.mu_c_fwd, s_fwd: p.mu_s_fwd, c_back: p.mu_c_back, s_back: p.mu_s_back }
+    }
+
+    /// `(μc, μs)` [–] for sliding speed v [rad/s] and transmitted torque tb [N·m]: the
+    /// back-driving pair when `tb·v < 0`, the forward pair otherwise. The switch happens
+    /// only where tb = 0 (the added level μ·|tb| is zero on both sides, so the levels are
+    /// continuous in tb) or where v = 0 (where the bristle rate does not see the level).
+    #[inline]
+    pub fn pick(&self, v: f64, tb: f64) -> (f64, f64) {
+        if tb * v < 0.0 { (self.c_back, self.s_back) } else { (self.c_fwd, self.s_fwd) }
+    }
 }
 
 impl LuGre {
     /// A direction-independent law: the negative-side levels equal Tc and Ts.
     pub fn symmetric(sigma0: f64, sigma1: f64, sigma2: f64, tc: f64, ts: f64, ws: f64) -> Self {
-        Self { sigma0, sigma1, sigma2, tc, ts, ws, tc_neg: tc, ts_neg: ts }
+        Self {
+            sigma0,
+            sigma1,
+            sigma2,
+            tc,
+            ts,
+            ws,
+            tc_neg: tc,
+            ts_neg: ts,
+            mu: LoadFactors::default(),
+        }
     }
 
     /// The law with the parameters' values (negative-side levels default to Tc, Ts).
@@ -115,6 +171,7 @@ impl LuGre {
             ws: p.ws,
             tc_neg: p.tc_neg.unwrap_or(p.tc),
             ts_neg: p.ts_neg.unwrap_or(p.ts),
+            mu: LoadFactors::from_params(p),
         }
     }
 
@@ -131,12 +188,33 @@ impl LuGre {
     /// there because it multiplies the level's inverse by |v|.
     #[inline]
     pub fn stribeck(&self, v: f64) -> (f64, f64) {
-        let (tc, ts) = self.levels(v);
+        let (level, slope, _) = self.stribeck_loaded(v, 0.0);
+        (level, slope)
+    }
+
+    /// The Stribeck level [N·m] with the load-raised levels `Tc + μc·|Tb|`,
+    /// `Ts + μs·|Tb|`, its derivative in v [N·m·s/rad] and in Tb [–].
+    #[inline]
+    pub fn stribeck_loaded(&self, v: f64, tb: f64) -> (f64, f64, f64) {
+        let (tc0, ts0) = self.levels(v);
+        let (mc, ms) = self.mu.pick(v, tb);
+        let (a, sg) = (
+            tb.abs(),
+            if tb > 0.0 {
+                1.0
+            } else if tb < 0.0 {
+                -1.0
+            } else {
+                0.0
+            },
+        );
+        let (tc, ts) = (tc0 + mc * a, ts0 + ms * a);
         let r = v / self.ws;
         let e = (-(r * r)).exp();
         let level = tc + (ts - tc) * e;
         let slope = (ts - tc) * e * (-2.0 * r / self.ws);
-        (level, slope)
+        let d_tb = sg * (mc + (ms - mc) * e);
+        (level, slope, d_tb)
     }
 
     /// Largest of the four levels [N·m]: a scale for the bristle torque w.
@@ -148,8 +226,12 @@ impl LuGre {
 impl FrictionLaw for LuGre {
     #[inline]
     fn eval(&self, v: f64, w: f64) -> FrictionEval {
+        self.eval_loaded(v, w, 0.0)
+    }
+    #[inline]
+    fn eval_loaded(&self, v: f64, w: f64, tb: f64) -> FrictionEval {
         // ṡ = v − |v|·s/g(v); in torque units w = σ0·s: ẇ = σ0·(v − |v|·w/G(v)).
-        let (level, level_dv) = self.stribeck(v);
+        let (level, level_dv, level_dtb) = self.stribeck_loaded(v, tb);
         let av = v.abs();
         let sv = if v > 0.0 {
             1.0
@@ -161,6 +243,7 @@ impl FrictionLaw for LuGre {
         let s_rate = v - av * w / level; // ṡ [rad/s]
         let s_rate_d_v = 1.0 - w * (sv * level - av * level_dv) / (level * level);
         let s_rate_d_w = -av / level;
+        let s_rate_d_tb = av * w * level_dtb / (level * level);
         FrictionEval {
             torque: w + self.sigma1 * s_rate + self.sigma2 * v,
             d_v: self.sigma1 * s_rate_d_v + self.sigma2,
@@ -168,10 +251,15 @@ impl FrictionLaw for LuGre {
             w_rate: self.sigma0 * s_rate,
             w_rate_d_v: self.sigma0 * s_rate_d_v,
             w_rate_d_w: self.sigma0 * s_rate_d_w,
+            d_tb: self.sigma1 * s_rate_d_tb,
+            w_rate_d_tb: self.sigma0 * s_rate_d_tb,
         }
     }
     fn steady_torque(&self, v: f64) -> f64 {
-        let (level, _) = self.stribeck(v);
+        self.steady_torque_loaded(v, 0.0)
+    }
+    fn steady_torque_loaded(&self, v: f64, tb: f64) -> f64 {
+        let (level, _, _) = self.stribeck_loaded(v, tb);
         let coulomb = if v == 0.0 { 0.0 } else { v.signum() * level };
         coulomb + self.sigma2 * v
     }
@@ -211,6 +299,19 @@ impl FrictionLaw for Friction {
             Friction::None(l) => l.eval(v, w),
             Friction::Viscous(l) => l.eval(v, w),
             Friction::LuGre(l) => l.eval(v, w),
+        }
+    }
+    #[inline]
+    fn eval_loaded(&self, v: f64, w: f64, tb: f64) -> FrictionEval {
+        match self {
+            Friction::LuGre(l) => l.eval_loaded(v, w, tb),
+            _ => self.eval(v, w),
+        }
+    }
+    fn steady_torque_loaded(&self, v: f64, tb: f64) -> f64 {
+        match self {
+            Friction::LuGre(l) => l.steady_torque_loaded(v, tb),
+            _ => self.steady_torque(v),
         }
     }
     fn steady_torque(&self, v: f64) -> f64 {

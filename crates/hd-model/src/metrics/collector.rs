@@ -133,6 +133,12 @@ impl Collector {
                 }
             }
         } else {
+            // Non-periodic runs: the state where the final window starts, for the
+            // efficiency over that window.
+            let t_final = self.t_end * (1.0 - self.settings.final_fraction);
+            if s.t1 >= t_final && self.y_window.is_none() {
+                self.y_window = Some(if t_final <= s.t0 { *s.y0 } else { s.interpolate(t_final) });
+            }
             loop {
                 let tk = self.run_t.len() as f64 * self.run_dt;
                 if self.run_t.len() >= self.settings.run_samples.max(2) || tk > s.t1 {
@@ -198,6 +204,11 @@ impl Collector {
         m.tf_peak = self.tf_peak;
         m.s_peak = self.s_peak;
         m.energy_residual = self.energy_residual(sys, y_end);
+        if let (None, Some(yw)) = (self.periodic, self.y_window) {
+            let work_in = y_end[Q_IN] - yw[Q_IN];
+            m.efficiency =
+                if work_in > 0.0 { (y_end[Q_OUT] - yw[Q_OUT]) / work_in } else { f64::NAN };
+        }
         if let (Some((f, _tw, cycles)), Some(yw)) = (self.periodic, self.y_window) {
             let n = cycles as f64;
             m.cycles_used = n;

@@ -65,7 +65,8 @@ pub struct Metrics {
     pub hyst_loss_per_cycle: f64,
     /// Energy dissipated per cycle by friction, ∮ Tf·v dt [J].
     pub friction_loss_per_cycle: f64,
-    /// Positive output work over positive input work at the wave generator [–].
+    /// Positive output work over positive input work at the wave generator [–]: over the
+    /// periodic window, or over the final fraction of a non-periodic run.
     pub efficiency: f64,
     /// Number of whole cycles the periodic metrics used [–].
     pub cycles_used: f64,

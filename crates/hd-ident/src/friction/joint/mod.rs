@@ -158,6 +158,7 @@ impl<'a> JointProblem<'a> {
             ws: v[2],
             tc_neg: v[4],
             ts_neg: v[5],
+            mu: hd_model::laws::friction::LoadFactors::default(),
         };
         let (t, omega) = (self.data.t(), self.data.omega());
         let w = bristle_states(t, omega, &law, self.data.torque()[0] - self.first_bias)?;
