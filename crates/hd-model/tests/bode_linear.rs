@@ -1,5 +1,5 @@
-//! Stepped-sine Bode points of the linear plant θz/u against its transfer function
-//! (docs/model.md §4.6): `θz/u = b·K̄ / (s·Q(s))` with
+//! Stepped-sine Bode points of the linear plant θz/u, and of the PID loop around it,
+//! against their transfer functions (docs/model.md §4.6): `θz/u = b·K̄ / (s·Q(s))` with
 //! `Q(s) = J1·J2·s³ + (J1·c2 + J2·c1)·s² + (K̄·(J1 + J2) + c1·c2)·s + K̄·(c1 + c2)`,
 //! `J1 = Jj·N²`, `J2 = Jz`, `c1 = N²·(Km·Ke/R + Cj)`, `c2 = Cz`, `b = N·Km/R`.
 
@@ -48,4 +48,42 @@ fn linear_plant_bode_points_match_the_transfer_function() {
     eprintln!("worst: {:.2e} dB, {:.2e}°", worst.0, worst.1);
     // Measured worst: 2.4e-7 dB and 1.6e-7° (rtol 1e-9); 10× that is allowed.
     assert!(worst.0 < 2.4e-6 && worst.1 < 1.6e-6, "worst {worst:?}");
+}
+
+/// The PID loop of the control study around the same plant (seed Cz; the resonance is far
+/// above the loop's band): θz/θz_ref = C·P/(1 + C·P) with C = kp + ki/s (kd = 0).
+#[test]
+fn linear_closed_loop_bode_points_match_c_p_over_one_plus_c_p() {
+    use hd_model::control::{ControllerConfig, Reference};
+    let p = Params::default();
+    let (kp, ki) = (2000.0, 20000.0);
+    let mut worst = (0.0f64, 0.0f64);
+    for f in [1.0f64, 4.0, 9.0, 30.0] {
+        let ctl = ControllerConfig {
+            kp,
+            ki,
+            kd: 0.0,
+            reference: Reference::Sine { amplitude: 1e-4, freq: f },
+            ..Default::default()
+        };
+        let cfg = SimConfig {
+            params: p.clone(),
+            variant: Variant::Linear,
+            t_end: (30.0 / f).max(1.5),
+            solver: SolverOptions { rtol: 1e-9, atol: 1e-14, ..Default::default() },
+            controller: Some(ctl),
+            ..SimConfig::default()
+        };
+        let m = simulate(&cfg).unwrap().metrics;
+        let s = Complex::new(0.0, TAU * f);
+        let l = (Complex::new(kp, 0.0) + Complex::new(ki, 0.0) / s) * plant(&p, f);
+        let t = l / (Complex::new(1.0, 0.0) + l);
+        let (db, deg) = (20.0 * t.norm().log10(), t.arg().to_degrees());
+        let d_phase = (m.phase_deg - deg + 540.0).rem_euclid(360.0) - 180.0;
+        worst = (worst.0.max((m.gain_db - db).abs()), worst.1.max(d_phase.abs()));
+        eprintln!("{f} Hz: {:.5} dB vs {db:.5}, {:.4}° vs {deg:.4}", m.gain_db, m.phase_deg);
+    }
+    eprintln!("worst: {:.2e} dB, {:.2e}°", worst.0, worst.1);
+    // Measured worst: 1.4e-7 dB and 2.2e-6° (rtol 1e-9); 10× that is allowed.
+    assert!(worst.0 < 1.4e-6 && worst.1 < 2.2e-5, "worst {worst:?}");
 }

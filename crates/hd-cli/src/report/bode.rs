@@ -1,6 +1,6 @@
 //! The Bode figure of a part that sweeps `freq` and kept `gain_db` and `phase_deg`: one
 //! curve per combination of the other axes (and variant), phase unwrapped along frequency,
-//! with a line per curve giving its peak and its −3 dB frequency.
+//! with a table row per curve giving its peak and its −3 dB frequency.
 
 use super::markdown::fmt;
 use super::part_data::PartData;
@@ -51,11 +51,12 @@ pub fn curves(d: &PartData) -> Vec<BodeCurve> {
         .collect()
 }
 
-/// The −3 dB frequency [Hz] below the first point: the first crossing of the level 3 dB
-/// under the lowest-frequency gain, interpolated in log frequency; NaN if none.
+/// The −3 dB frequency [Hz]: the first crossing of the level 3 dB under the lowest-
+/// frequency gain or under 0 dB, whichever is lower (0 dB is the reference of a closed
+/// loop θz/θz_ref), interpolated in log frequency; NaN if none.
 pub fn bandwidth(c: &BodeCurve) -> f64 {
     let Some(&g0) = c.mag_db.first() else { return f64::NAN };
-    let level = g0 - 3.0;
+    let level = g0.min(0.0) - 3.0;
     for k in 1..c.freq.len() {
         let (a, b) = (c.mag_db[k - 1], c.mag_db[k]);
         if a >= level && b < level {
@@ -76,7 +77,7 @@ pub fn section(dir: &Path, file: &str, d: &PartData) -> Result<String> {
     let title = format!("Bode plot of θz over the drive ({})", d.part.name);
     hd_plot::bode_plot(&dir.join(file), &title, &curves)?;
     let mut md = format!(
-        "![Bode plot]({file})\n\n| curve | peak [dB] | at [Hz] | −3 dB below the first point [Hz] | phase at the top frequency [°] |\n|---|---|---|---|---|\n"
+        "![Bode plot]({file})\n\n| curve | peak [dB] | at [Hz] | −3 dB [Hz] | phase at the top frequency [°] |\n|---|---|---|---|---|\n"
     );
     for c in &curves {
         let peak = (0..c.freq.len())
@@ -107,9 +108,9 @@ mod tests {
         let c = BodeCurve {
             name: "x".into(),
             freq: vec![1.0, 10.0, 100.0],
-            mag_db: vec![0.0, -2.0, -4.0],
+            mag_db: vec![0.5, -2.0, -4.0],
             phase_deg: vec![0.0; 3],
         };
-        assert!((bandwidth(&c) - 10f64.powf(1.5)).abs() < 1e-9);
+        assert!((bandwidth(&c) - 10f64.powf(1.5)).abs() < 1e-9, "{}", bandwidth(&c));
     }
 }
