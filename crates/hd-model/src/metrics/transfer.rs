@@ -13,7 +13,7 @@ pub fn gain_phase(t: &[f64], x: &[f64], y: &[f64], freq: f64) -> (f64, f64) {
     let (_, xa, xb, _) = fit_fundamental(t, x, freq);
     let (_, ya, yb, _) = fit_fundamental(t, y, freq);
     let x_amp = xa.hypot(xb);
-    if !(x_amp > 0.0) || !ya.is_finite() || !yb.is_finite() {
+    if x_amp.is_nan() || x_amp <= 0.0 || !ya.is_finite() || !yb.is_finite() {
         return (f64::NAN, f64::NAN);
     }
     let phase = wrap(yb.atan2(ya) - xb.atan2(xa));
