@@ -166,16 +166,21 @@ impl SimConfig {
         b
     }
 
+    /// The frequency of the periodic drive [Hz]: the reference's in closed loop, the
+    /// input's open loop; `None` if the drive is not periodic.
+    pub fn drive_frequency(&self) -> Option<f64> {
+        match &self.controller {
+            Some(c) => c.reference.period().map(|p| 1.0 / p),
+            None => self.input.drive_frequency(),
+        }
+    }
+
     /// The trace sampling interval actually used [s].
     pub fn output_interval(&self) -> f64 {
         if self.dt_out > 0.0 {
             return self.dt_out;
         }
-        let freq = match &self.controller {
-            Some(c) => c.reference.period().map(|p| 1.0 / p),
-            None => self.input.drive_frequency(),
-        };
-        match freq {
+        match self.drive_frequency() {
             Some(f) => (1.0 / (200.0 * f)).min(self.t_end / 100.0),
             None => self.t_end / 10_000.0,
         }

@@ -9,6 +9,7 @@
 //!
 //! Figures:
 //! - [`response_plot`]: a run's load angle θz(t) and its torque–deflection loop Tb(θ);
+//! - [`bode_plot`]: magnitude [dB] and phase [°] of frequency responses ([`BodeCurve`]);
 //! - [`line_plot`] / [`overlay_plot`]: named curves with a legend, optional log x;
 //! - [`heatmap`]: values on a grid with a colour bar, optional log axes;
 //! - [`bar_chart`]: grouped bars ([`BarGroup`]) with optional error bars;
@@ -17,6 +18,7 @@
 
 mod axis;
 mod bars;
+mod bode;
 mod chart;
 mod colorbar;
 mod colormap;
@@ -35,6 +37,7 @@ mod style;
 mod ticks;
 
 pub use bars::{BarGroup, bar_chart};
+pub use bode::{BodeCurve, bode_plot};
 pub use error::PlotError;
 pub use fit::{fit_plot, residual_plot};
 pub use heatmap::heatmap;

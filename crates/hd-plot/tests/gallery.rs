@@ -93,6 +93,22 @@ fn write_figures_for_viewing() {
         .unwrap();
     let r = Series::new("r", m.x.clone(), m.y.iter().zip(&f.y).map(|(a, b)| a - b).collect());
     residual_plot(&dir.join("residuals.png"), "Residuals", "θ [rad]", "Tb [N·m]", &r).unwrap();
+    let fb: Vec<f64> = (0..200).map(|i| 10f64.powf(4.0 * i as f64 / 199.0)).collect();
+    let curves: Vec<BodeCurve> = (0..2)
+        .map(|k| {
+            let zeta = 0.1 + 0.3 * k as f64;
+            let h: Vec<(f64, f64)> =
+                fb.iter().map(|&f| (1.0 - (f / 50.0).powi(2), 2.0 * zeta * f / 50.0)).collect();
+            BodeCurve {
+                name: format!("ζ = {zeta}"),
+                freq: fb.clone(),
+                mag_db: h.iter().map(|(re, im)| -10.0 * (re * re + im * im).log10()).collect(),
+                phase_deg: h.iter().map(|(re, im)| -im.atan2(*re).to_degrees()).collect(),
+            }
+        })
+        .collect();
+    bode_plot(&dir.join("bode.png"), "Second-order plant", &curves).unwrap();
+    bode_plot(&dir.join("bode.svg"), "Second-order plant", &curves).unwrap();
     let flat = Series::new("constant", vec![0.0, 1.0, 2.0], vec![2e-4, 2e-4, 2e-4]);
     line_plot(&dir.join("flat.png"), "A constant signal", "t [s]", "θ [rad]", &[flat], false)
         .unwrap();
@@ -100,6 +116,8 @@ fn write_figures_for_viewing() {
         "response.png",
         "response.svg",
         "lines.png",
+        "bode.png",
+        "bode.svg",
         "heatmap.png",
         "bars.png",
         "fit.png",
@@ -111,6 +129,8 @@ fn write_figures_for_viewing() {
     }
     let svg = std::fs::read_to_string(dir.join("response.svg")).unwrap();
     assert!(svg.contains("Seed case: step response"), "the SVG lacks its title");
+    let bode = std::fs::read_to_string(dir.join("bode.svg")).unwrap();
+    assert!(bode.contains("phase [°]") && bode.contains("magnitude [dB]"), "Bode panels");
     let left: Vec<String> = std::fs::read_dir(&dir)
         .unwrap()
         .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())

@@ -30,7 +30,7 @@ pub enum Knob {
     Voltage,
     /// A constant external load torque T_L [N·m].
     LoadTorque,
-    /// Sine frequency [Hz].
+    /// Sine frequency [Hz]: of the input open loop, of the sine reference closed loop.
     Freq,
     /// Factor on both Coulomb and static friction torques Tc, Ts [–].
     FrictionScale,
@@ -186,6 +186,19 @@ impl Knob {
                 | Input::SteppedSine { amplitude, .. } => *amplitude = v,
                 Input::Recorded(_) => {}
             },
+            // In closed loop the frequency is the sine reference's.
+            (Knob::Freq, Value::Num(v))
+                if matches!(
+                    cfg.controller.as_ref().map(|c| &c.reference),
+                    Some(hd_model::control::Reference::Sine { .. })
+                ) =>
+            {
+                if let Some(hd_model::control::Reference::Sine { freq, .. }) =
+                    cfg.controller.as_mut().map(|c| &mut c.reference)
+                {
+                    *freq = v;
+                }
+            }
             (Knob::Freq, Value::Num(v)) => match &mut cfg.input {
                 Input::Sine { freq, .. } => *freq = v,
                 Input::Chirp { f0, f1, .. } => {

@@ -43,7 +43,8 @@ pub struct RunRow {
     pub params: Params,
     /// Input amplitude [V] (NaN for recorded inputs).
     pub voltage: f64,
-    /// Drive frequency [Hz] (NaN for non-periodic inputs).
+    /// Drive frequency [Hz]: the input's open loop, the reference's closed loop (NaN if
+    /// not periodic).
     pub freq: f64,
     /// The controller of a closed-loop run.
     pub controller: Option<hd_model::ControllerConfig>,
@@ -79,6 +80,9 @@ impl RunRow {
             | hd_model::Input::SteppedSine { amplitude, .. } => (*amplitude, f64::NAN),
             hd_model::Input::Recorded(_) => (f64::NAN, f64::NAN),
         };
+        // Closed loop: the drive frequency is the reference's.
+        let freq =
+            if cfg.controller.is_some() { cfg.drive_frequency().unwrap_or(f64::NAN) } else { freq };
         let base = RunRow {
             run_id: spec.run_id.clone(),
             run_index: spec.index,

@@ -160,7 +160,7 @@ impl Study {
                 for (knob, value) in &ordered {
                     knob.apply(&mut cfg, *value);
                 }
-                if let (Some(n), Some(f)) = (part.t_end_cycles, cfg.input.drive_frequency()) {
+                if let (Some(n), Some(f)) = (part.t_end_cycles, cfg.drive_frequency()) {
                     cfg.t_end = n / f;
                 }
                 cfg.record_trace = self.traces.keep;

@@ -1,7 +1,9 @@
 //! The study report: `report.md` with the key tables, and SVG plots beside it (a heatmap
-//! per metric for 2-D grids, lines for 1-D axes, overlaid traces where traces were kept),
+//! per metric for 2-D grids, lines for 1-D axes, a Bode figure where `freq` is swept with
+//! `gain_db` and `phase_deg` kept, overlaid traces where traces were kept),
 //! plus the paper-versus-model table when the study states the paper's claims.
 
+mod bode;
 mod compare;
 mod markdown;
 mod part_data;

@@ -7,12 +7,11 @@ use hd_plot::Series;
 use std::fmt::Write as _;
 use std::path::Path;
 
-/// Metrics worth a figure: kept, finite somewhere, and not bookkeeping.
+/// Metrics worth a figure of their own: kept, finite somewhere, not bookkeeping, and not
+/// gain and phase, which go to the Bode figure.
 fn plotted_metrics<'a>(d: &'a PartData) -> impl Iterator<Item = &'static str> + 'a {
-    d.metrics
-        .iter()
-        .copied()
-        .filter(|m| !["cycles_used", "energy_residual", "limit_cycle"].contains(m))
+    let skip = ["cycles_used", "energy_residual", "limit_cycle", "gain_db", "phase_deg"];
+    d.metrics.iter().copied().filter(move |m| !skip.contains(m))
 }
 
 fn file_name(study: &str, part: &str, what: &str) -> String {
@@ -75,6 +74,7 @@ pub fn part_plots(dir: &Path, study: &str, d: &PartData, traces: Option<&Table>)
         1 => md.push_str(&lines(dir, study, d, 0, None)?),
         _ => {}
     }
+    md.push_str(&super::bode::section(dir, &file_name(study, &d.part.name, "bode"), d)?);
     if let Some(t) = traces {
         md.push_str(&trace_overlay(dir, study, d, t)?);
     }

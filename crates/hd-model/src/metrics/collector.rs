@@ -22,6 +22,8 @@ pub struct Collector {
     window_hi: f64,
     window_t: Vec<f64>,
     window_thz: Vec<f64>,
+    /// The drive over the window: u [V] open loop, θz_ref [rad] closed loop.
+    window_drive: Vec<f64>,
     run_dt: f64,
     run_t: Vec<f64>,
     run_wz: Vec<f64>,
@@ -81,6 +83,7 @@ impl Collector {
             window_hi: f64::NEG_INFINITY,
             window_t: Vec::new(),
             window_thz: Vec::new(),
+            window_drive: Vec::new(),
             run_dt: if run_samples > 0 { t_end / (run_samples - 1) as f64 } else { 0.0 },
             run_t: Vec::with_capacity(run_samples),
             run_wz: Vec::with_capacity(run_samples),
@@ -130,6 +133,10 @@ impl Collector {
                     let y = s.interpolate(tk.max(s.t0));
                     self.window_t.push(tk);
                     self.window_thz.push(sys.theta_z(&y));
+                    self.window_drive.push(match &sys.ctl {
+                        Some(c) => c.reference().eval(tk)[0],
+                        None => sys.input.value(tk),
+                    });
                 }
             }
         } else {
@@ -216,6 +223,10 @@ impl Collector {
             let (mean, _, _, rms) = periodic::fit_fundamental(&self.window_t, &self.window_thz, f);
             m.thz_mean = mean;
             m.thz_ripple = rms;
+            let (gain, phase) =
+                super::gain_phase(&self.window_t, &self.window_drive, &self.window_thz, f);
+            m.gain_db = super::to_db(gain);
+            m.phase_deg = phase.to_degrees();
             m.hyst_loss_per_cycle = (y_end[Q_HYST] - yw[Q_HYST]) / n;
             m.friction_loss_per_cycle = (y_end[Q_FRIC] - yw[Q_FRIC]) / n;
             let work_in = y_end[Q_IN] - yw[Q_IN];

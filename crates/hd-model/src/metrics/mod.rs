@@ -8,11 +8,13 @@ mod periodic;
 mod schema;
 mod step;
 mod tracking;
+mod transfer;
 
 pub use collector::Collector;
 pub use extrema::cubic_extrema;
 pub use periodic::fit_fundamental;
 pub use schema::{METRICS, MetricColumn};
+pub use transfer::{gain_phase, to_db, unwrap_deg};
 
 use serde::{Deserialize, Serialize};
 
@@ -68,6 +70,10 @@ pub struct Metrics {
     /// Positive output work over positive input work at the wave generator [–]: over the
     /// periodic window, or over the final fraction of a non-periodic run.
     pub efficiency: f64,
+    /// Gain of θz's fundamental over the drive's (u open loop, θz_ref closed loop) [dB].
+    pub gain_db: f64,
+    /// Phase of θz's fundamental minus the drive's, wrapped to (−180, 180] [°].
+    pub phase_deg: f64,
     /// Number of whole cycles the periodic metrics used [–].
     pub cycles_used: f64,
     /// 10 %–90 % rise time of the load speed after a step [s].
@@ -132,6 +138,8 @@ impl Metrics {
             hyst_loss_per_cycle: n,
             friction_loss_per_cycle: n,
             efficiency: n,
+            gain_db: n,
+            phase_deg: n,
             cycles_used: n,
             rise_time: n,
             overshoot: n,

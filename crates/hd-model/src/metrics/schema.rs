@@ -72,6 +72,18 @@ pub static METRICS: &[MetricColumn] = &[
         "-",
         "positive output work over positive input work at the wave generator"
     ),
+    m!(
+        "gain_db",
+        gain_db,
+        "dB",
+        "gain of θz's fundamental over the drive's: over u open loop (re 1 rad/V), over θz_ref closed loop"
+    ),
+    m!(
+        "phase_deg",
+        phase_deg,
+        "deg",
+        "phase of θz's fundamental minus the drive's (u open loop, θz_ref closed loop), in (−180, 180]"
+    ),
     m!("cycles_used", cycles_used, "-", "number of whole cycles the periodic metrics used"),
     m!("rise_time", rise_time, "s", "10 %–90 % rise time of the load speed after a step"),
     m!(
