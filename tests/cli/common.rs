@@ -49,3 +49,17 @@ pub fn assert_one_line_error(out: &Output, needles: &[&str]) {
         assert!(lines[0].contains(n), "error line {:?} lacks {n:?}", lines[0]);
     }
 }
+
+/// A three-run study whose middle run fails (an inertia of 1e-12 kg·m² exhausts the step
+/// budget), for the tests of failed rows.
+pub const FAILING_STUDY: &str = r#"
+name = "failing"
+[base]
+variant = "damped"
+t_end = 0.02
+[solver]
+max_steps = 20000
+[[axis]]
+name = "Jz"
+values = [0.024, 1e-12, 0.05]
+"#;

@@ -144,17 +144,7 @@ fn duplicated_runs_are_kept_once() {
 #[test]
 fn failed_runs_are_reported_and_foreign_runs_refused() {
     let dir = scratch("report-failed");
-    let text = r#"
-name = "failing"
-[base]
-variant = "damped"
-t_end = 0.02
-[solver]
-max_steps = 20000
-[[axis]]
-name = "Jz"
-values = [0.024, 1e-12, 0.05]
-"#;
+    let text = FAILING_STUDY;
     let (file, out) = sharded(&dir, text, 2);
     let done = hdw_ok(&["report", s(&out)]);
     assert!(stderr(&done).contains("failed: index 1 (id"), "{}", stderr(&done));

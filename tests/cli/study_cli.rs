@@ -76,17 +76,7 @@ fn a_small_study_has_the_documented_schema_and_one_row_per_run() {
 #[test]
 fn a_failing_point_is_a_failed_row_and_the_rest_succeed() {
     let dir = scratch("failing");
-    let text = r#"
-name = "failing"
-[base]
-variant = "damped"
-t_end = 0.02
-[solver]
-max_steps = 20000
-[[axis]]
-name = "Jz"
-values = [0.024, 1e-12, 0.05]
-"#;
+    let text = FAILING_STUDY;
     let file = write_study(&dir, text);
     let out_dir = dir.join("out");
     ok(&hdw(&["study", file.to_str().unwrap(), "--out", out_dir.to_str().unwrap()]));
