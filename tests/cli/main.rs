@@ -12,4 +12,5 @@ mod report_cli;
 mod sensitivity_cli;
 mod shipped_studies;
 mod simulate_cli;
+mod stiffness_cli;
 mod study_cli;

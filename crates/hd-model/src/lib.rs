@@ -1,10 +1,10 @@
 //! Physics of the harmonic-drive workbench: a DC motor driving an inertial load through a
-//! harmonic drive whose stiffness is hysteretic (cubic spring plus fading memory) and whose
-//! friction is dynamic (LuGre). The equations are those of `docs/model.md`.
+//! harmonic drive whose stiffness is hysteretic (an elastic curve plus fading memory,
+//! Bouc–Wen or Maxwell-slip elements) and whose friction is dynamic (LuGre). The equations are those of `docs/model.md`.
 //!
 //! Main types:
 //! - [`Params`] and the [`registry`]: every parameter with one name, unit, default, range;
-//! - the laws in [`laws`] ([`laws::stiffness::StiffnessLaw`], [`laws::friction::FrictionLaw`],
+//! - the laws in [`laws`] ([`laws::composed::Stiffness`], [`laws::friction::FrictionLaw`],
 //!   [`laws::motor::DcMotor`], [`laws::input::Input`]) combined by a [`Variant`];
 //! - [`DriveSystem`], the assembled ODE with its analytic Jacobian;
 //! - [`solver`], the adaptive Dopri5 / Rodas4 integrators;
@@ -23,6 +23,7 @@ pub mod out_table;
 pub mod params;
 pub mod params_file;
 pub mod registry;
+pub mod registry_slip;
 pub mod schema;
 pub mod signals;
 pub mod simulate;
@@ -42,4 +43,4 @@ pub use simulate::{SimConfig, SimError, SimOutput, simulate};
 pub use solver::{Method, SolverOptions, SolverStats};
 pub use system::{DriveSystem, FrictionVelocity};
 pub use trace::{TRACE_COLUMNS, Trace, TraceColumn};
-pub use variant::Variant;
+pub use variant::{HystLaw, Variant};

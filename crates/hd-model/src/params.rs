@@ -1,6 +1,7 @@
 //! Physical parameters of the motor–gear–load system, with the seed study's tables as
 //! defaults (docs/model.md §1).
 
+use crate::laws::maxwell_slip::SlipElement;
 use serde::{Deserialize, Serialize};
 
 /// Every physical parameter of the drive. Field names follow the parameter registry
@@ -93,6 +94,54 @@ pub struct Params {
     /// default 0.16.
     #[serde(rename = "C0bar")]
     pub c0bar: f64,
+    /// Number of Maxwell-slip elements `ms_n` of the `maxwell-slip` law (spread evenly up to
+    /// `ms_delta`) [–]; default 8, at most 12.
+    pub ms_n: f64,
+    /// Total stiffness of the Maxwell-slip elements `ms_k` [N·m/rad]; default 40 000 (the
+    /// memory law's A).
+    pub ms_k: f64,
+    /// Largest yield deflection of the Maxwell-slip elements `ms_delta` [rad]; default 2e-5
+    /// (twice the seed case's deflection amplitude).
+    pub ms_delta: f64,
+    /// Explicit Maxwell-slip elements (`ms_k<i>` [N·m/rad], `ms_f<i>` [N·m], i from 1), as
+    /// `hdw fit hysteresis --law maxwell-slip` reports them; when any has a stiffness > 0
+    /// they replace the even set of `ms_n`, `ms_k`, `ms_delta`.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub ms_elements: Vec<SlipElement>,
+    /// Bouc–Wen hysteretic stiffness α `bw_alpha` [N·m/rad]; default 40 000.
+    pub bw_alpha: f64,
+    /// Bouc–Wen rate gain A `bw_A` [–]; default 1.
+    #[serde(rename = "bw_A")]
+    pub bw_a: f64,
+    /// Bouc–Wen shape constant β `bw_beta` [rad^−n]; default 5e4.
+    pub bw_beta: f64,
+    /// Bouc–Wen shape constant γ `bw_gamma` [rad^−n]; default 5e4 (with β: saturation at
+    /// w = 1e-5 rad).
+    pub bw_gamma: f64,
+    /// Bouc–Wen smoothness exponent n `bw_n` [–]; default 1.
+    pub bw_n: f64,
+    /// Catalogue spring rate below T1 `cat_K1` [N·m/rad]; default 6.7e4.
+    #[serde(rename = "cat_K1")]
+    pub cat_k1: f64,
+    /// Catalogue spring rate from T1 to T2 `cat_K2` [N·m/rad]; default 1.1e5.
+    #[serde(rename = "cat_K2")]
+    pub cat_k2: f64,
+    /// Catalogue spring rate above T2 `cat_K3` [N·m/rad]; default 1.2e5.
+    #[serde(rename = "cat_K3")]
+    pub cat_k3: f64,
+    /// Catalogue corner torque T1 `cat_T1` [N·m]; default 29.
+    #[serde(rename = "cat_T1")]
+    pub cat_t1: f64,
+    /// Catalogue corner torque T2 `cat_T2` [N·m]; default 108.
+    #[serde(rename = "cat_T2")]
+    pub cat_t2: f64,
+    /// Catalogue hysteresis loss `cat_loss` (loop width at zero torque after ±`cat_rated`)
+    /// [rad]; default 0 (no hysteresis).
+    pub cat_loss: f64,
+    /// Rated torque `cat_rated` at which the catalogue's hysteresis loss is given [N·m];
+    /// default 108.
+    #[serde(alias = "rated_torque")]
+    pub cat_rated: f64,
 }
 
 impl Default for Params {
@@ -126,6 +175,22 @@ impl Default for Params {
             n: 100.0,
             kbar: 7.8e5,
             c0bar: 0.16,
+            ms_n: 8.0,
+            ms_k: 40_000.0,
+            ms_delta: 2e-5,
+            ms_elements: Vec::new(),
+            bw_alpha: 40_000.0,
+            bw_a: 1.0,
+            bw_beta: 5e4,
+            bw_gamma: 5e4,
+            bw_n: 1.0,
+            cat_k1: 6.7e4,
+            cat_k2: 1.1e5,
+            cat_k3: 1.2e5,
+            cat_t1: 29.0,
+            cat_t2: 108.0,
+            cat_loss: 0.0,
+            cat_rated: 108.0,
         }
     }
 }

@@ -6,7 +6,8 @@
 //! ```
 //!
 //! Every key must be a registry name and every value a number inside the registry's range;
-//! errors name the file, the line and the key.
+//! errors name the file, the line and the key. Two keys are not numbers: `stiffness`, the
+//! law the file is for (`stiffness = "maxwell-slip"`), and the `[controller]` table.
 
 use crate::error::ParamError;
 use crate::params::Params;
@@ -16,6 +17,32 @@ use toml::Spanned;
 
 /// The key of the controller table in a params file.
 pub const CONTROLLER_KEY: &str = "controller";
+/// The key naming the stiffness law a params file is for (`stiffness = "catalogue"`).
+pub const STIFFNESS_KEY: &str = "stiffness";
+
+/// The stiffness law a params file names with `stiffness = "…"`, if it names one.
+pub fn stiffness_from_toml(text: &str, file: &str) -> Result<Option<crate::HystLaw>, ParamError> {
+    let table: BTreeMap<Spanned<String>, Spanned<toml::Value>> =
+        toml::from_str(text).map_err(|e| ParamError::File {
+            file: file.to_string(),
+            line: e.span().map_or(1, |s| line_of(text, s.start)),
+            message: format!("malformed TOML: {}", e.message()),
+        })?;
+    let Some((key, value)) = table.iter().find(|(k, _)| k.get_ref() == STIFFNESS_KEY) else {
+        return Ok(None);
+    };
+    let at = |message: String| ParamError::File {
+        file: file.to_string(),
+        line: line_of(text, key.span().start),
+        message,
+    };
+    match value.get_ref() {
+        toml::Value::String(name) => name.parse().map(Some).map_err(at),
+        other => Err(at(format!(
+            "stiffness = {other}: expected a law name (memory, maxwell-slip, bouc-wen, catalogue)"
+        ))),
+    }
+}
 
 /// The `[controller]` table of a params file's text, if it has one (docs/model.md §6).
 /// `file` names the source in error messages.
@@ -50,7 +77,7 @@ pub fn apply_params_toml(base: &mut Params, text: &str, file: &str) -> Result<()
             message: format!("malformed TOML: {}", e.message()),
         })?;
     for (key, value) in &table {
-        if key.get_ref() == CONTROLLER_KEY {
+        if key.get_ref() == CONTROLLER_KEY || key.get_ref() == STIFFNESS_KEY {
             continue;
         }
         let at = |message: String| ParamError::File {

@@ -23,8 +23,8 @@ pub struct ParamInfo {
     pub max: f64,
     /// Whether `min` itself is allowed.
     pub min_inclusive: bool,
-    get: fn(&Params) -> f64,
-    set: fn(&mut Params, f64),
+    pub(crate) get: fn(&Params) -> f64,
+    pub(crate) set: fn(&mut Params, f64),
 }
 
 impl ParamInfo {
@@ -142,13 +142,28 @@ pub static REGISTRY: &[ParamInfo] = &[
     p!("N", n, "-", 1.0, true, INF, "gear ratio"),
     p!("Kbar", kbar, "N·m/rad", 0.0, false, INF, "nominal gear stiffness (linear, damped)"),
     p!("C0bar", c0bar, "N·m·s/rad", 0.0, true, INF, "nominal viscous friction (damped)"),
+    p!("ms_n", ms_n, "-", 1.0, true, 12.0, "Maxwell-slip element count (whole number)"),
+    p!("ms_k", ms_k, "N·m/rad", 0.0, true, INF, "Maxwell-slip elements' total stiffness"),
+    p!("ms_delta", ms_delta, "rad", 0.0, false, INF, "Maxwell-slip largest yield deflection"),
+    p!("bw_alpha", bw_alpha, "N·m/rad", 0.0, true, INF, "Bouc–Wen hysteretic stiffness α"),
+    p!("bw_A", bw_a, "-", 0.0, true, INF, "Bouc–Wen rate gain A"),
+    p!("bw_beta", bw_beta, "rad^-n", -INF, false, INF, "Bouc–Wen shape constant β"),
+    p!("bw_gamma", bw_gamma, "rad^-n", -INF, false, INF, "Bouc–Wen shape constant γ"),
+    p!("bw_n", bw_n, "-", 0.0, false, INF, "Bouc–Wen smoothness exponent n"),
+    p!("cat_K1", cat_k1, "N·m/rad", 0.0, false, INF, "catalogue spring rate below T1"),
+    p!("cat_K2", cat_k2, "N·m/rad", 0.0, false, INF, "catalogue spring rate from T1 to T2"),
+    p!("cat_K3", cat_k3, "N·m/rad", 0.0, false, INF, "catalogue spring rate above T2"),
+    p!("cat_T1", cat_t1, "N·m", 0.0, false, INF, "catalogue corner torque T1"),
+    p!("cat_T2", cat_t2, "N·m", 0.0, false, INF, "catalogue corner torque T2"),
+    p!("cat_loss", cat_loss, "rad", 0.0, true, INF, "catalogue hysteresis loss (loop width)"),
+    p!("cat_rated", ["rated_torque"], cat_rated, "N·m", 0.0, false, INF, "catalogue rated torque"),
 ];
 
 /// Look a parameter up by its canonical name or an alias (`A` finds `mem_A`); the error
 /// suggests the nearest valid name.
 pub fn lookup(name: &str) -> Result<&'static ParamInfo, ParamError> {
     let found = REGISTRY.iter().find(|p| p.name == name || p.aliases.contains(&name));
-    found.ok_or_else(|| ParamError::Unknown {
+    found.or_else(|| crate::registry_slip::find(name)).ok_or_else(|| ParamError::Unknown {
         name: name.to_string(),
         suggestion: nearest_name(name).map(str::to_string),
     })

@@ -120,12 +120,15 @@ pub static FIT_COLUMNS: &[ColumnDoc] = &[
     col("residual", "N·m", "measured minus fitted torque"),
 ];
 
-/// Parameters of the stiffness laws outside the registry (Maxwell-slip, Bouc–Wen,
-/// catalogue), as they appear in fit.json, comparison.json and params files;
-/// `<i>` stands for an element number.
+/// Parameters of the rate-independent stiffness laws (Maxwell-slip, Bouc–Wen, catalogue),
+/// as they appear in params files, fit.json and comparison.json: the explicit elements
+/// (`<i>` stands for an element number) and the laws' registry entries.
 pub fn law_params() -> Vec<ColumnDoc> {
-    use crate::laws::{bouc_wen, catalogue, maxwell_slip};
-    [maxwell_slip::PARAMS, bouc_wen::PARAMS, catalogue::PARAMS].concat()
+    let registry = REGISTRY
+        .iter()
+        .filter(|p| ["ms_", "bw_", "cat_"].iter().any(|pre| p.name.starts_with(pre)))
+        .map(|p| col(p.name, p.unit, p.doc));
+    crate::laws::maxwell_slip::PARAMS.iter().copied().chain(registry).collect()
 }
 
 /// The kinds of file whose columns this module describes.
@@ -271,8 +274,9 @@ mod tests {
     #[test]
     fn law_parameters_are_unique_under_case_folding_with_the_registry() {
         let laws = law_params();
+        let elements = crate::registry_slip::SLIP_ELEMENT_PARAMS.iter().flatten();
         let names: Vec<&str> =
-            laws.iter().map(|c| c.name).chain(REGISTRY.iter().map(|p| p.name)).collect();
+            REGISTRY.iter().map(|p| p.name).chain(elements.map(|p| p.name)).collect();
         for (i, a) in names.iter().enumerate() {
             for b in &names[i + 1..] {
                 assert!(!a.eq_ignore_ascii_case(b), "'{a}' and '{b}' differ only by case");

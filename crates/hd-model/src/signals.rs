@@ -2,7 +2,6 @@
 //! seed's K(t) and C0(t), NaN where they are undefined (§2, §3).
 
 use crate::laws::friction::FrictionLaw;
-use crate::laws::stiffness::StiffnessLaw;
 use crate::solver::OdeSystem;
 use crate::state::*;
 use crate::system::{DriveSystem, FrictionVelocity};
@@ -26,7 +25,7 @@ pub struct Sample {
     pub omega_z: f64,
     /// Deflection [rad].
     pub theta: f64,
-    /// Memory torque [N·m].
+    /// Hysteretic torque [N·m] (memory z, Bouc–Wen α·w, or Σkᵢeᵢ of slip elements).
     pub z: f64,
     /// Bristle deflection [rad].
     pub s: f64,
@@ -114,7 +113,7 @@ impl DriveSystem {
             theta_z: y[THETA_J] / self.n - y[THETA],
             omega_z: y[OMEGA_Z],
             theta: y[THETA],
-            z: y[Z],
+            z: p.st.hyst,
             s: self.friction.deflection(y[W]),
             tb: p.st.torque,
             tf: p.fr.torque,

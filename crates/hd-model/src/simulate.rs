@@ -12,7 +12,7 @@ use crate::solver::{Method, SolverOptions, SolverStats, Step, solve};
 use crate::state::{CMP_Q, DIM, State};
 use crate::system::{DriveSystem, FrictionVelocity};
 use crate::trace::Trace;
-use crate::variant::Variant;
+use crate::variant::{HystLaw, StiffnessKind, Variant};
 use serde::{Deserialize, Serialize};
 use std::time::Instant;
 use thiserror::Error;
@@ -25,6 +25,8 @@ pub struct SimConfig {
     pub params: Params,
     /// Model variant; default `full`.
     pub variant: Variant,
+    /// Hysteretic stiffness law of the `full` variant; default `memory` (the seed's).
+    pub stiffness: HystLaw,
     /// Armature voltage; default 24 V sine at 50 Hz.
     pub input: Input,
     /// Simulated time [s]; default 0.2.
@@ -52,6 +54,7 @@ impl Default for SimConfig {
         Self {
             params: Params::default(),
             variant: Variant::Full,
+            stiffness: HystLaw::Memory,
             input: Input::default(),
             t_end: 0.2,
             dt_out: 0.0,
@@ -103,6 +106,16 @@ impl SimConfig {
         if let Some(c) = &self.controller {
             c.validate(&self.params)?;
         }
+        if self.stiffness != HystLaw::Memory && self.variant != Variant::Full {
+            return Err(ConfigError::Invalid {
+                field: "stiffness".to_string(),
+                value: self.stiffness.name().to_string(),
+                expected: format!(
+                    "memory with the {} variant (the stiffness law applies to the full variant)",
+                    self.variant
+                ),
+            });
+        }
         let bad = |field: &str, value: f64, expected: &str| {
             Err(ConfigError::Invalid {
                 field: field.to_string(),
@@ -141,19 +154,30 @@ impl SimConfig {
 
     /// Assemble the system this configuration describes.
     pub fn system(&self) -> Result<DriveSystem, ConfigError> {
-        let (stiffness, friction) = self.variant.kinds();
+        let (stiffness, friction) = self.laws();
         let mut sys = DriveSystem::new(
             &self.params,
             stiffness,
             friction,
             self.input.clone(),
             self.friction_velocity,
-        );
+        )?;
         sys.load = self.load_torque.clone();
         if let Some(c) = &self.controller {
             sys.ctl = Some(Controller::new(c, &self.params, stiffness, friction)?);
         }
         Ok(sys)
+    }
+
+    /// The stiffness and friction laws of the run: the variant's, with the full
+    /// variant's hysteretic law replaced by the chosen one.
+    pub fn laws(&self) -> (StiffnessKind, crate::variant::FrictionKind) {
+        let (stiffness, friction) = self.variant.kinds();
+        let stiffness = match stiffness {
+            StiffnessKind::Hysteretic => self.stiffness.kind(),
+            other => other,
+        };
+        (stiffness, friction)
     }
 
     /// Times where a signal of the run jumps (input or reference, and load torque).

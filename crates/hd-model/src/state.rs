@@ -7,7 +7,9 @@
 //!
 //! After the plant's seven states come four controller states (zero and inactive in an
 //! open-loop run, when the solver treats them like quadratures). The trailing states are running integrals (quadratures) used by the metrics and the
-//! energy audit; nothing feeds back from them.
+//! energy audit; nothing feeds back from them. Last come the slip elements' offsets, which
+//! the solver treats like quadratures with zero rate and the system rewrites at each
+//! accepted step (see [`crate::laws::slip_set`]).
 
 use nalgebra::SVector;
 
@@ -48,12 +50,20 @@ pub const Q_DISS: usize = 16;
 /// ∫ T_L·ωz dt: work the load does against the external load torque [J].
 pub const Q_LOAD: usize = 17;
 
+/// ∫ slip dissipation: energy the slip elements' sliders have turned into heat [J],
+/// advanced when a step is accepted (not by a rate).
+pub const Q_SLIP: usize = 18;
+/// First of the slip elements' offsets oᵢ = eᵢ − θ [rad], one per element (at most
+/// [`crate::laws::slip_set::MAX_SLIP`]); rewritten when a step is accepted, constant
+/// inside a step.
+pub const SLIP: usize = 19;
+
 /// Number of coupled states of the plant alone (an open-loop run).
 pub const PLANT: usize = 7;
 /// Number of coupled (dynamic) states, controller states included.
 pub const COUPLED: usize = 11;
 /// Total state dimension.
-pub const DIM: usize = 18;
+pub const DIM: usize = SLIP + crate::laws::slip_set::MAX_SLIP;
 
 /// The integrated state.
 pub type State = SVector<f64, DIM>;

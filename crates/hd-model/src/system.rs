@@ -6,7 +6,7 @@ use crate::laws::friction::{Friction, FrictionEval, FrictionLaw};
 use crate::laws::input::Input;
 use crate::laws::load::LoadTorque;
 use crate::laws::motor::DcMotor;
-use crate::laws::stiffness::{Stiffness, StiffnessEval, StiffnessLaw};
+use crate::laws::stiffness::{Stiffness, StiffnessEval};
 use crate::params::Params;
 use crate::solver::OdeSystem;
 use crate::state::*;
@@ -89,16 +89,17 @@ pub struct Parts {
 }
 
 impl DriveSystem {
-    /// Assemble the system from parameters, law choices and input.
+    /// Assemble the system from parameters, law choices and input; the error names the
+    /// stiffness parameter a law could not be built from.
     pub fn new(
         p: &Params,
         stiffness: StiffnessKind,
         friction: FrictionKind,
         input: Input,
         friction_velocity: FrictionVelocity,
-    ) -> Self {
-        Self {
-            stiffness: stiffness_law(stiffness, p),
+    ) -> Result<Self, crate::error::ConfigError> {
+        Ok(Self {
+            stiffness: stiffness_law(stiffness, p)?,
             friction: friction_law(friction, p),
             motor: DcMotor { r: p.r, km: p.km, ke: p.ke, l: p.l },
             input,
@@ -111,7 +112,7 @@ impl DriveSystem {
             jz: p.jz,
             cj: p.cj,
             cz: p.cz,
-        }
+        })
     }
 
     /// Whether the system has a stiff part that calls for the implicit method.
@@ -161,7 +162,7 @@ impl DriveSystem {
         let theta_dot = y[OMEGA_J] / self.n - y[OMEGA_Z];
         let (a, b) = self.v_coeffs();
         let v = a * y[OMEGA_J] + b * y[OMEGA_Z];
-        let st = self.stiffness.eval(y[THETA], theta_dot, y[Z]);
+        let st = self.stiffness.eval(y[THETA], theta_dot, y[Z], slots(y));
         let fr = self.friction.eval_loaded(v, y[W], st.torque);
         let t_out = st.torque + if self.friction_on_load() { fr.torque } else { 0.0 };
         let ta = (st.torque + fr.torque) / self.n;
@@ -187,7 +188,9 @@ impl DriveSystem {
         let ke = 0.5 * self.jj * y[OMEGA_J].powi(2) + 0.5 * self.jz * y[OMEGA_Z].powi(2);
         let magnetic =
             if self.motor.has_inductance() { 0.5 * self.motor.l * y[CURRENT].powi(2) } else { 0.0 };
-        ke + self.stiffness.potential(y[THETA]) + self.stiffness.memory_energy(y[Z]) + magnetic
+        ke + self.stiffness.potential(y[THETA])
+            + self.stiffness.hyst_energy(y[THETA], y[Z], slots(y))
+            + magnetic
     }
 }
 
@@ -220,15 +223,12 @@ impl OdeSystem<DIM> for DriveSystem {
             d[CMP_Q] = c.rates[3];
         }
         d[Q_LOAD] = p.tl * wz;
-        d[Q_HYST] = y[Z] * p.theta_dot;
+        d[Q_HYST] = p.st.hyst * p.theta_dot;
         d[Q_FRIC] = p.fr.torque * p.v;
         d[Q_OUT] = (p.t_out * wz).max(0.0);
         d[Q_IN] = (p.ta * wj).max(0.0);
         d[Q_ELEC] = p.u * p.i;
-        d[Q_DISS] = m.r * p.i * p.i
-            + self.cj * wj * wj
-            + self.cz * wz * wz
-            + self.stiffness.memory_dissipation(y[Z]);
+        d[Q_DISS] = m.r * p.i * p.i + self.cj * wj * wj + self.cz * wz * wz + p.st.dissipation;
         d
     }
 
@@ -244,7 +244,7 @@ impl OdeSystem<DIM> for DriveSystem {
             None => (G::zeros(), self.input.value_and_rate(t).1),
         };
         let m = &self.motor;
-        let (wj, wz, z) = (y[OMEGA_J], y[OMEGA_Z], y[Z]);
+        let (wj, wz) = (y[OMEGA_J], y[OMEGA_Z]);
         let (va, vb) = self.v_coeffs();
         let inductive = m.has_inductance();
 
@@ -273,7 +273,11 @@ impl OdeSystem<DIM> for DriveSystem {
             rows[CURRENT] = (g_u - m.r * unit(CURRENT) - m.ke * unit(OMEGA_J)) / m.l;
             dfdt[CURRENT] = du / m.l;
         }
-        rows[Q_HYST] = z * g_thd + p.theta_dot * unit(Z);
+        // ∂(hysteretic torque) = ∂Tb less the curve's slope (the hysteretic torque's own
+        // slope in θ is the slip elements' sticking stiffness).
+        let curve_slope = self.stiffness.curve.torque_slope(y[THETA]).1;
+        let g_hyst = (p.st.d_theta - curve_slope) * unit(THETA) + p.st.d_z * unit(Z);
+        rows[Q_HYST] = p.st.hyst * g_thd + p.theta_dot * g_hyst;
         rows[Q_FRIC] = p.v * g_tf + p.fr.torque * g_v;
         if p.t_out * wz > 0.0 {
             rows[Q_OUT] = wz * g_out + p.t_out * unit(OMEGA_Z);
@@ -291,14 +295,11 @@ impl OdeSystem<DIM> for DriveSystem {
         dfdt[Q_LOAD] = self.load.rate(t) * wz;
         rows[Q_ELEC] = p.u * g_i + p.i * g_u;
         dfdt[Q_ELEC] = du * p.i + p.u * di_dt;
-        let mem_slope = {
-            let h = self.stiffness.memory_dissipation(1.0);
-            2.0 * h * z // B·z²/A is quadratic in z: derivative 2·(B/A)·z
-        };
         rows[Q_DISS] = 2.0 * m.r * p.i * g_i
             + 2.0 * self.cj * wj * unit(OMEGA_J)
             + 2.0 * self.cz * wz * unit(OMEGA_Z)
-            + mem_slope * unit(Z);
+            + p.st.diss_d_z * unit(Z)
+            + p.st.diss_d_thetadot * g_thd;
         dfdt[Q_DISS] = 2.0 * m.r * p.i * di_dt;
 
         let mut jac = SMatrix::<f64, DIM, DIM>::zeros();
@@ -310,11 +311,79 @@ impl OdeSystem<DIM> for DriveSystem {
         (jac, dfdt)
     }
 
+    fn commit(&self, t0: f64, t1: f64, y0: &State, f0: &State, y1: &mut State, f1: &State) {
+        if let Some(set) = self.stiffness.slips() {
+            let path = deflection_path(t1 - t0, y0[THETA], f0[THETA], y1[THETA], f1[THETA]);
+            let n = set.len();
+            let mut o = [0.0; crate::laws::slip_set::MAX_SLIP];
+            o[..n].copy_from_slice(&y1.as_slice()[SLIP..SLIP + n]);
+            y1[Q_SLIP] += set.commit(path.as_slice(), &mut o[..n]);
+            y1.as_mut_slice()[SLIP..SLIP + n].copy_from_slice(&o[..n]);
+        }
+    }
+
     fn abs_scale(&self) -> State {
         // The deflection is held to the same absolute accuracy as a torque: an error of
         // atol [N·m] in Tb, i.e. atol/k0 [rad] in θ.
         let mut s = State::from_element(1.0);
         s[THETA] = 1.0 / self.stiffness.reference_stiffness().max(1.0);
         s
+    }
+}
+
+/// The slip elements' offsets held in `y` [rad].
+#[inline]
+pub fn slots(y: &State) -> &[f64] {
+    &y.as_slice()[SLIP..]
+}
+
+/// The deflection along an accepted step of length `h` [s] at its start, at each turning
+/// point of the step's cubic Hermite interpolant (from θ0, θ̇0, θ1, θ̇1), and at its end:
+/// the path is monotone between consecutive entries.
+pub fn deflection_path(h: f64, th0: f64, thd0: f64, th1: f64, thd1: f64) -> DeflectionPath {
+    let mut p = DeflectionPath { pts: [th0, 0.0, 0.0, 0.0], len: 1 };
+    if h > 0.0 {
+        // dθ/ds = a·s² + b·s + c over s ∈ [0, 1].
+        let d = th0 - th1;
+        let (a, b, c) = (
+            6.0 * d + 3.0 * h * (thd0 + thd1),
+            -6.0 * d - 4.0 * h * thd0 - 2.0 * h * thd1,
+            h * thd0,
+        );
+        let mut roots = [f64::NAN; 2];
+        if a.abs() > 1e-300 {
+            let disc = b * b - 4.0 * a * c;
+            if disc > 0.0 {
+                let q = -0.5 * (b + disc.sqrt().copysign(b));
+                roots = [q / a, if q != 0.0 { c / q } else { f64::NAN }];
+            }
+        } else if b != 0.0 {
+            roots[0] = -c / b;
+        }
+        roots.sort_by(f64::total_cmp);
+        for s in roots {
+            if s > 0.0 && s < 1.0 {
+                let [h00, h10, h01, h11] = crate::interp::hermite_basis(s);
+                p.pts[p.len] = h00 * th0 + h10 * h * thd0 + h01 * th1 + h11 * h * thd1;
+                p.len += 1;
+            }
+        }
+    }
+    p.pts[p.len] = th1;
+    p.len += 1;
+    p
+}
+
+/// A deflection path of at most four points (see [`deflection_path`]).
+#[derive(Clone, Copy, Debug)]
+pub struct DeflectionPath {
+    pts: [f64; 4],
+    len: usize,
+}
+
+impl DeflectionPath {
+    /// The points [rad].
+    pub fn as_slice(&self) -> &[f64] {
+        &self.pts[..self.len]
     }
 }

@@ -49,7 +49,7 @@ pub static TRACE_COLUMNS: &[TraceColumn] = &[
     c!("theta_z", theta_z, "rad", "load angle"),
     c!("omega_z", omega_z, "rad/s", "load speed"),
     c!("theta", theta, "rad", "gear deflection θj/N − θz"),
-    c!("z", z, "N·m", "hysteresis memory torque"),
+    c!("z", z, "N·m", "hysteretic torque (memory z, Bouc–Wen α·w, or the slip elements' Σkᵢeᵢ)"),
     c!("s", s, "rad", "LuGre mean bristle deflection"),
     c!("Tb", tb, "N·m", "transmitted torque"),
     c!("Tf", tf, "N·m", "friction torque"),

@@ -18,7 +18,8 @@ fn linear_variant_free_oscillation_has_the_two_inertia_frequency() {
         FrictionKind::None,
         Input::Constant { amplitude: 0.0 },
         FrictionVelocity::Motor,
-    );
+    )
+    .unwrap();
     let wn = (p.kbar * (1.0 / (p.jj * p.n * p.n) + 1.0 / p.jz)).sqrt();
     let mut y0 = State::zeros();
     y0[THETA] = 1e-5;
@@ -145,13 +146,28 @@ fn analytic_jacobian_matches_finite_differences() {
         (StiffnessKind::Hysteretic, FrictionKind::Lugre, FrictionVelocity::Deflection, 0.0, -3.0),
         (StiffnessKind::Linear, FrictionKind::Viscous, FrictionVelocity::Motor, 0.0, 0.2),
         (StiffnessKind::Cubic, FrictionKind::None, FrictionVelocity::Deflection, 1e-3, 0.2),
+        // Bouc–Wen inside (w = 5e-6 rad) and beyond (−7.5e-5 rad) its saturation.
+        (StiffnessKind::BoucWen, FrictionKind::Lugre, FrictionVelocity::Motor, 0.0, 0.2),
+        (StiffnessKind::BoucWen, FrictionKind::Lugre, FrictionVelocity::Deflection, 1e-3, -3.0),
+        (StiffnessKind::MaxwellSlip, FrictionKind::Lugre, FrictionVelocity::Motor, 0.0, 0.0),
+        (StiffnessKind::Catalogue, FrictionKind::Lugre, FrictionVelocity::Motor, 1e-3, 0.0),
     ] {
         p.l = l;
-        let sys = DriveSystem::new(&p, sk, fk, Input::Sine { amplitude: 24.0, freq: 50.0 }, fv);
+        p.cat_loss = 2e-4;
+        let input = Input::Sine { amplitude: 24.0, freq: 50.0 };
+        let sys = DriveSystem::new(&p, sk, fk, input, fv).unwrap();
         let mut y = State::zeros();
         let vals = [0.3, 5.0, 2e-5, 0.04, z, 0.1, 1.5, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0];
         for (k, v) in vals.iter().enumerate() {
             y[k] = *v;
+        }
+        // Slip elements: every other one sticking half-way to its yield deflection, the
+        // rest slipping (θ = 2e-5 rad lies beyond their yield deflections).
+        if let Some(set) = sys.stiffness.slips() {
+            for (i, e) in set.as_slice().iter().enumerate() {
+                let d = e.yield_deflection();
+                y[SLIP + i] = if i % 2 == 0 { 0.5 * d - y[THETA] } else { 1.5 * d.copysign(1.0) };
+            }
         }
         let t = 0.0123;
         let (jac, dfdt) = sys.jacobian(t, &y);

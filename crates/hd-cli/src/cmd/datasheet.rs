@@ -25,7 +25,7 @@ to ±rated torque) is realised by 4 Maxwell-slip elements whose yield deflection
 the rated deflection; their stiffness is taken off the curve so that a first loading still follows\n\
 the catalogue. Lost motion (catalogues: the width at zero torque between ±4 % of rated torque) is\n\
 compared with the model's own; the model has no backlash, so it does not fit it.\n\n\
-Outputs (in --out DIR):\n  catalogue.toml    the catalogue law: cat_K1..cat_K3 [N·m/rad], cat_T1, cat_T2, rated_torque [N·m],\n                    cat_loss [rad] and the slip elements ms_k<i> [N·m/rad], ms_f<i> [N·m]\n  seed-params.toml  a, b, c of the seed law matched over ±rated deflection (a params file for\n                    hdw simulate / hdw synth --params), with the match error in a comment\n  datasheet.json    all of the above, the deflection at the rated torque, the match's RMS and\n                    largest torque error [N·m], the model's hysteresis loss and lost motion [arcmin]\n  curves.svg        torque against deflection: catalogue curve, matched cubic, and the loop\n\n\
+Outputs (in --out DIR):\n  catalogue.toml    the catalogue law: cat_K1..cat_K3 [N·m/rad], cat_T1, cat_T2, cat_rated [N·m],\n                    cat_loss [rad] and the slip elements ms_k<i> [N·m/rad], ms_f<i> [N·m]\n  seed-params.toml  a, b, c of the seed law matched over ±rated deflection (a params file for\n                    hdw simulate / hdw synth --params), with the match error in a comment\n  datasheet.json    all of the above, the deflection at the rated torque, the match's RMS and\n                    largest torque error [N·m], the model's hysteresis loss and lost motion [arcmin]\n  curves.svg        torque against deflection: catalogue curve, matched cubic, and the loop\n\n\
 Example (the worked example of data/catalogue/README.md):\n  hdw datasheet --k1 6.7e4 --k2 1.1e5 --k3 1.2e5 --t1 29 --t2 108 --hysteresis-loss 1 --out out/datasheet"
 )]
 pub struct DatasheetArgs {
@@ -91,14 +91,14 @@ pub fn run(a: DatasheetArgs) -> Result<()> {
 
     let mut cat =
         String::from("# Catalogue stiffness law written by hdw datasheet; units in brackets.\n");
-    let _ = writeln!(cat, "law = \"catalogue\"");
+    let _ = writeln!(cat, "stiffness = \"catalogue\"");
     for (k, v, u) in [
         ("cat_K1", a.k1, "N·m/rad"),
         ("cat_K2", a.k2, "N·m/rad"),
         ("cat_K3", a.k3, "N·m/rad"),
         ("cat_T1", a.t1, "N·m"),
         ("cat_T2", a.t2, "N·m"),
-        ("rated_torque", rated, "N·m"),
+        ("cat_rated", rated, "N·m"),
         ("cat_loss", loss_arcmin * ARCMIN, "rad"),
     ] {
         let _ = writeln!(cat, "{k} = {v:e}  # [{u}]");

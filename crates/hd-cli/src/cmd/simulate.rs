@@ -4,10 +4,11 @@ use super::common::{ensure_dir, load_params, write_json};
 use super::control_args::ControlArgs;
 use anyhow::{Context, Result, bail};
 use clap::{Args, ValueEnum};
-use hd_model::params_file::controller_from_toml;
+use hd_model::params_file::{controller_from_toml, stiffness_from_toml};
 use hd_model::simulate::input_from_kind;
 use hd_model::{
-    FrictionVelocity, Input, Method, MetricSettings, SimConfig, SolverOptions, Variant, simulate,
+    FrictionVelocity, HystLaw, Input, Method, MetricSettings, SimConfig, SolverOptions, Variant,
+    simulate,
 };
 use serde_json::json;
 use std::path::{Path, PathBuf};
@@ -15,7 +16,7 @@ use std::path::{Path, PathBuf};
 /// Simulate one run of the motor–harmonic-drive–load system.
 #[derive(Args, Debug)]
 #[command(
-    after_help = "Outputs (in --out DIR):\n  trace.parquet  t, u, i, theta_j, omega_j, theta_z, omega_z, theta, z, s, Tb, Tf, K, C0 (SI units)\n  metrics.json   every metric, the parameters used, solver statistics and wall time\n  response.svg   load angle over time and the Tb–θ loop\nClosed loop (--controller pid) adds the trace columns ref, error, u_ff, tf_hat, tb_hat and the\nmetrics track_rms, track_max, reversal_peak, u_rms, saturation_fraction, torque_est_rms, ….\n\nExample:\n  hdw simulate --out out/demo\n  hdw simulate --variant damped --set Kbar=5e5 --input step --voltage 12 --t-end 0.1 --out out/step\n  hdw simulate --controller pid --kp 2000 --ki 20000 --kd 0 --feedback load --reference sine \\\n      --ref-amplitude 1e-3 --ref-freq 0.2 --t-end 12 --set Tc=1.5 --set Ts=2.5 --compensation friction --out out/pid\n  hdw simulate --controller pid --reference step --ref-amplitude 1e-3 --load-torque 5 --t-end 2 --out out/reg"
+    after_help = "Outputs (in --out DIR):\n  trace.parquet  t, u, i, theta_j, omega_j, theta_z, omega_z, theta, z, s, Tb, Tf, K, C0 (SI units)\n  metrics.json   every metric, the parameters used, solver statistics and wall time\n  response.svg   load angle over time and the Tb–θ loop\nClosed loop (--controller pid) adds the trace columns ref, error, u_ff, tf_hat, tb_hat and the\nmetrics track_rms, track_max, reversal_peak, u_rms, saturation_fraction, torque_est_rms, ….\n\nExample:\n  hdw simulate --out out/demo\n  hdw simulate --stiffness maxwell-slip --set ms_n=10 --set ms_delta=3e-5 --out out/slip\n  hdw datasheet --k1 6.7e4 --k2 1.1e5 --k3 1.2e5 --t1 29 --t2 108 --hysteresis-loss 1 --out out/ds\n  hdw simulate --params out/ds/catalogue.toml --out out/catalogue   (the file says stiffness = \"catalogue\")\n  hdw simulate --variant damped --set Kbar=5e5 --input step --voltage 12 --t-end 0.1 --out out/step\n  hdw simulate --controller pid --kp 2000 --ki 20000 --kd 0 --feedback load --reference sine \\\n      --ref-amplitude 1e-3 --ref-freq 0.2 --t-end 12 --set Tc=1.5 --set Ts=2.5 --compensation friction --out out/pid\n  hdw simulate --controller pid --reference step --ref-amplitude 1e-3 --load-torque 5 --t-end 2 --out out/reg"
 )]
 pub struct SimulateArgs {
     /// Parameter file (TOML, registry names as keys, e.g. `c = 6e4`).
@@ -27,6 +28,11 @@ pub struct SimulateArgs {
     /// Model variant.
     #[arg(long, default_value = "full")]
     pub variant: VariantArg,
+    /// Hysteretic stiffness law of the full variant (parameters: memory mem_A, mem_B;
+    /// maxwell-slip ms_n, ms_k, ms_delta or ms_k<i>, ms_f<i>; bouc-wen bw_*; catalogue cat_*)
+    /// [default: the params file's `stiffness = "…"`, else memory].
+    #[arg(long)]
+    pub stiffness: Option<StiffnessArg>,
     /// Input: sine, step, constant, chirp, or a CSV/Parquet file with columns t [s], u [V].
     #[arg(long, default_value = "sine", value_name = "KIND|FILE")]
     pub input: String,
@@ -87,6 +93,30 @@ impl From<VariantArg> for Variant {
     }
 }
 
+/// Stiffness-law names on the command line.
+#[derive(Clone, Copy, Debug, ValueEnum)]
+pub enum StiffnessArg {
+    /// Cubic spring plus fading memory (the seed's law; its loop vanishes at slow rates).
+    Memory,
+    /// Cubic spring plus elastoplastic elements (rate-independent).
+    MaxwellSlip,
+    /// Cubic spring plus a Bouc–Wen element (rate-independent).
+    BoucWen,
+    /// The catalogue's three spring rates, with slip elements for its hysteresis loss.
+    Catalogue,
+}
+
+impl From<StiffnessArg> for HystLaw {
+    fn from(s: StiffnessArg) -> Self {
+        match s {
+            StiffnessArg::Memory => HystLaw::Memory,
+            StiffnessArg::MaxwellSlip => HystLaw::MaxwellSlip,
+            StiffnessArg::BoucWen => HystLaw::BoucWen,
+            StiffnessArg::Catalogue => HystLaw::Catalogue,
+        }
+    }
+}
+
 /// Method names on the command line.
 #[derive(Clone, Copy, Debug, ValueEnum)]
 pub enum MethodArg {
@@ -132,17 +162,20 @@ pub fn parse_input(kind: &str, voltage: f64, freq: f64) -> Result<Input> {
 pub fn config(args: &SimulateArgs) -> Result<SimConfig> {
     let params = load_params(args.params.as_deref(), &args.set)?;
     let input = parse_input(&args.input, args.voltage, args.freq)?;
-    let from_file = match &args.params {
+    let (from_file, law_in_file) = match &args.params {
         Some(path) => {
             let text = std::fs::read_to_string(path)
                 .with_context(|| format!("cannot read params file {}", path.display()))?;
-            controller_from_toml(&text, &path.display().to_string())?
+            let name = path.display().to_string();
+            (controller_from_toml(&text, &name)?, stiffness_from_toml(&text, &name)?)
         }
-        None => None,
+        None => (None, None),
     };
+    let stiffness = args.stiffness.map(HystLaw::from).or(law_in_file).unwrap_or_default();
     let cfg = SimConfig {
         params,
         variant: args.variant.into(),
+        stiffness,
         input,
         t_end: args.t_end,
         dt_out: args.dt_out,
@@ -182,6 +215,7 @@ pub fn run(args: SimulateArgs) -> Result<()> {
         cfg.params.to_pairs().into_iter().map(|(k, v)| (k.to_string(), json!(v))).collect();
     let doc = json!({
         "variant": cfg.variant.name(),
+        "stiffness": cfg.stiffness.name(),
         "input": cfg.input,
         "t_end": cfg.t_end,
         "friction_velocity": cfg.friction_velocity,

@@ -5,7 +5,7 @@
 use super::{ControllerConfig, Feedback, Hold, Reference};
 use crate::error::ConfigError;
 use crate::laws::friction::{Friction, FrictionLaw};
-use crate::laws::stiffness::{Stiffness, StiffnessLaw};
+use crate::laws::stiffness::Stiffness;
 use crate::params::Params;
 use crate::variant::{FrictionKind, StiffnessKind, friction_law, stiffness_law};
 
@@ -92,7 +92,7 @@ impl Controller {
             jz: m.jz,
             cz: m.cz,
             friction: friction_law(friction, &m),
-            stiffness: stiffness_law(stiffness, &m),
+            stiffness: stiffness_law(stiffness, &m)?,
         })
     }
 
@@ -112,9 +112,9 @@ impl Controller {
     /// law `K̄·θ̂ = T_req`). Newton's method on the law's own torque and slope.
     pub fn predicted_deflection(&self, ref_speed: f64, ref_accel: f64, q: f64) -> f64 {
         let t_req = self.jz * ref_accel + self.cz * ref_speed;
-        let a = self.stiffness.eval(0.0, 0.0, 0.0).z_rate_d_thetadot;
+        let a = self.stiffness.eval(0.0, 0.0, 0.0, &[]).z_rate_d_thetadot;
         let g = |th: f64| {
-            let e = self.stiffness.eval(th, 0.0, 0.0);
+            let e = self.stiffness.eval(th, 0.0, 0.0, &[]);
             (e.torque + a * th + q - t_req, e.d_theta + a)
         };
         let mut th = (t_req - q) / g(0.0).1;
@@ -132,7 +132,7 @@ impl Controller {
     /// Rate of the compliance pre-filter, `q̇ = −B·(q + A·θ̂)` [N·m/s] (the model's memory
     /// `ż = A·θ̂̇ − B·ẑ` rewritten for q = ẑ − A·θ̂, which stays continuous where θ̂ jumps).
     fn prefilter_rate(&self, q: f64, theta_pred: f64) -> f64 {
-        let e = self.stiffness.eval(0.0, 0.0, 0.0);
+        let e = self.stiffness.eval(0.0, 0.0, 0.0, &[]);
         let (a, b) = (e.z_rate_d_thetadot, -e.z_rate_d_z);
         -b * (q + a * theta_pred)
     }

@@ -13,17 +13,7 @@
 //! with α/s, A·s, β/sⁿ, γ/sⁿ); fits hold A = 1.
 
 use super::stiffness::{CubicSpring, ElasticCurve};
-use crate::schema::ColumnDoc;
 use serde::{Deserialize, Serialize};
-
-/// Parameter names of the law in outputs, with units; the spring keeps a, b, c.
-pub static PARAMS: &[ColumnDoc] = &[
-    ColumnDoc { name: "bw_alpha", unit: "N·m/rad", doc: "Bouc–Wen hysteretic stiffness α" },
-    ColumnDoc { name: "bw_A", unit: "-", doc: "Bouc–Wen rate gain A (fits hold it at 1)" },
-    ColumnDoc { name: "bw_beta", unit: "rad^-n", doc: "Bouc–Wen shape constant β" },
-    ColumnDoc { name: "bw_gamma", unit: "rad^-n", doc: "Bouc–Wen shape constant γ" },
-    ColumnDoc { name: "bw_n", unit: "-", doc: "Bouc–Wen smoothness exponent n" },
-];
 
 /// The Bouc–Wen hysteretic element.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]

@@ -8,23 +8,9 @@
 //! sharp curve's, so outside the bands the rounded curve *is* the three-segment curve.
 
 use super::maxwell_slip::{MaxwellSlip, SlipElement};
+use super::slip_set::SlipSet;
 use super::stiffness::ElasticCurve;
-use crate::schema::ColumnDoc;
 use serde::{Deserialize, Serialize};
-
-/// Parameter names of the law in outputs, with units.
-pub static PARAMS: &[ColumnDoc] = &[
-    ColumnDoc { name: "cat_K1", unit: "N·m/rad", doc: "catalogue spring rate below T1" },
-    ColumnDoc { name: "cat_K2", unit: "N·m/rad", doc: "catalogue spring rate from T1 to T2" },
-    ColumnDoc { name: "cat_K3", unit: "N·m/rad", doc: "catalogue spring rate above T2" },
-    ColumnDoc { name: "cat_T1", unit: "N·m", doc: "catalogue torque at the first corner" },
-    ColumnDoc { name: "cat_T2", unit: "N·m", doc: "catalogue torque at the second corner" },
-    ColumnDoc {
-        name: "cat_loss",
-        unit: "rad",
-        doc: "catalogue hysteresis loss: loop width at zero torque after ±rated torque",
-    },
-];
 
 /// Share of the shorter segment (in deflection) over which each corner is rounded.
 pub const DEFAULT_SMOOTHING: f64 = 0.1;
@@ -156,27 +142,27 @@ impl ElasticCurve for CatalogueCurve {
 
 /// The catalogue curve less the first-loading torque of the slip elements, so that the
 /// complete law (this plus the elements) loads along the catalogue curve from rest.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub struct CatalogueSpring {
     /// The catalogue curve.
     pub curve: CatalogueCurve,
     /// The slip elements whose first-loading torque is taken off.
-    pub virgin: Vec<SlipElement>,
+    pub virgin: SlipSet,
 }
 
 impl ElasticCurve for CatalogueSpring {
     fn spring_torque(&self, theta: f64) -> f64 {
         self.curve.spring_torque(theta)
-            - self.virgin.iter().map(|e| e.virgin_torque(theta)).sum::<f64>()
+            - self.virgin.as_slice().iter().map(|e| e.virgin_torque(theta)).sum::<f64>()
     }
     fn spring_slope(&self, theta: f64) -> f64 {
         let yielded = |e: &&SlipElement| theta.abs() < e.yield_deflection();
         self.curve.spring_slope(theta)
-            - self.virgin.iter().filter(yielded).map(|e| e.k).sum::<f64>()
+            - self.virgin.as_slice().iter().filter(yielded).map(|e| e.k).sum::<f64>()
     }
     fn spring_energy(&self, theta: f64) -> f64 {
         self.curve.spring_energy(theta)
-            - self.virgin.iter().map(|e| e.virgin_work(theta)).sum::<f64>()
+            - self.virgin.as_slice().iter().map(|e| e.virgin_work(theta)).sum::<f64>()
     }
 }
 
@@ -186,7 +172,10 @@ pub type CatalogueLaw = MaxwellSlip<CatalogueSpring>;
 
 /// The catalogue law without hysteresis.
 pub fn without_loss(curve: CatalogueCurve) -> CatalogueLaw {
-    MaxwellSlip { spring: CatalogueSpring { curve, virgin: Vec::new() }, elements: Vec::new() }
+    MaxwellSlip {
+        spring: CatalogueSpring { curve, virgin: SlipSet::default() },
+        elements: Vec::new(),
+    }
 }
 
 /// Width at zero torque [rad] of the loop the law traces between ±`theta_max` [rad],
@@ -238,7 +227,9 @@ pub fn with_loss(curve: CatalogueCurve, loss: f64, rated: f64) -> Result<Catalog
                 SlipElement { k: f_total / m / delta, f: f_total / m }
             })
             .collect();
-        MaxwellSlip { spring: CatalogueSpring { curve, virgin: elements.clone() }, elements }
+        // LOSS_ELEMENTS (4) non-negative elements always fit a set.
+        let virgin = SlipSet::new(&elements).unwrap_or_default();
+        MaxwellSlip { spring: CatalogueSpring { curve, virgin }, elements }
     };
     let f_max = 0.9 * k_min * theta_r / (2.0 * harmonic);
     let widest = loop_width(&build(f_max), theta_r);

@@ -1,13 +1,15 @@
-//! The physical laws, each behind a small trait: stiffness (with optional memory),
-//! friction, motor and voltage input. The rate-independent stiffness laws (Maxwell-slip,
-//! Bouc–Wen, catalogue) are used by the identifier and the data synthesis. Variants are combinations of these
-//! (see [`crate::variant`]).
+//! The physical laws, each behind a small type: stiffness (an elastic curve plus a
+//! hysteretic part: fading memory, Bouc–Wen or Maxwell-slip elements, see [`composed`]),
+//! friction, motor, load torque and voltage input. Simulator, identifier, controller model
+//! and data synthesis share them. Variants are combinations of these (see [`crate::variant`]).
 
 pub mod bouc_wen;
 pub mod catalogue;
+pub mod composed;
 pub mod friction;
 pub mod input;
 pub mod load;
 pub mod maxwell_slip;
 pub mod motor;
+pub mod slip_set;
 pub mod stiffness;

@@ -19,6 +19,16 @@ pub struct StiffnessEval {
     pub z_rate_d_thetadot: f64,
     /// ∂ż/∂z [1/s].
     pub z_rate_d_z: f64,
+    /// The hysteretic part of the torque (z for the memory and Bouc–Wen laws, Σkᵢeᵢ for
+    /// slip elements) [N·m].
+    pub hyst: f64,
+    /// Power dissipated inside the hysteretic part's rate law [W] (slip elements dissipate
+    /// at step acceptance instead; see `laws::slip_set`).
+    pub dissipation: f64,
+    /// ∂(dissipation)/∂z [W/(N·m)].
+    pub diss_d_z: f64,
+    /// ∂(dissipation)/∂θ̇ [W·s/rad].
+    pub diss_d_thetadot: f64,
 }
 
 /// A stiffness law: transmitted torque from the deflection θ [rad], its rate θ̇ [rad/s]
@@ -187,6 +197,14 @@ impl StiffnessLaw for Hysteretic {
             z_rate: self.memory.rate(theta_dot, z),
             z_rate_d_thetadot: self.memory.a,
             z_rate_d_z: -self.memory.b,
+            hyst: z,
+            dissipation: self.memory_dissipation(z),
+            diss_d_z: if self.memory.a > 0.0 {
+                2.0 * self.memory.b * z / self.memory.a
+            } else {
+                0.0
+            },
+            diss_d_thetadot: 0.0,
         }
     }
     fn potential(&self, theta: f64) -> f64 {
@@ -206,49 +224,7 @@ impl StiffnessLaw for Hysteretic {
     }
 }
 
-/// The stiffness laws the workbench offers, as one type (enum dispatch keeps the system
-/// a plain, `Send + Sync`, allocation-free value).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum Stiffness {
-    /// `K̄·θ`.
-    Linear(LinearSpring),
-    /// `f(θ)`.
-    Cubic(CubicSpring),
-    /// `f(θ) + z`.
-    Hysteretic(Hysteretic),
-}
-
-macro_rules! each {
-    ($self:ident, $law:ident => $e:expr) => {
-        match $self {
-            Stiffness::Linear($law) => $e,
-            Stiffness::Cubic($law) => $e,
-            Stiffness::Hysteretic($law) => $e,
-        }
-    };
-}
-
-impl StiffnessLaw for Stiffness {
-    #[inline]
-    fn eval(&self, theta: f64, theta_dot: f64, z: f64) -> StiffnessEval {
-        each!(self, l => l.eval(theta, theta_dot, z))
-    }
-    fn potential(&self, theta: f64) -> f64 {
-        each!(self, l => l.potential(theta))
-    }
-    fn memory_energy(&self, z: f64) -> f64 {
-        each!(self, l => l.memory_energy(z))
-    }
-    fn memory_dissipation(&self, z: f64) -> f64 {
-        each!(self, l => l.memory_dissipation(z))
-    }
-    fn reference_stiffness(&self) -> f64 {
-        each!(self, l => l.reference_stiffness())
-    }
-    fn has_memory(&self) -> bool {
-        each!(self, l => l.has_memory())
-    }
-}
+pub use super::composed::Stiffness;
 
 #[cfg(test)]
 mod tests {

@@ -272,9 +272,10 @@ impl Collector {
         let d_diss = y[Q_DISS] - self.y_start[Q_DISS];
         let d_fric = y[Q_FRIC] - self.y_start[Q_FRIC];
         let d_load = y[Q_LOAD] - self.y_start[Q_LOAD];
-        let out = stored.abs() + d_diss.abs() + d_fric.abs() + d_load.abs();
+        let d_slip = y[Q_SLIP] - self.y_start[Q_SLIP];
+        let out = stored.abs() + d_diss.abs() + d_fric.abs() + d_load.abs() + d_slip.abs();
         let turned_over = d_in.abs().max(out);
-        let residual = d_in - stored - d_diss - d_fric - d_load;
+        let residual = d_in - stored - d_diss - d_fric - d_load - d_slip;
         if turned_over > 0.0 { residual.abs() / turned_over } else { 0.0 }
     }
 }

@@ -58,7 +58,7 @@ pub static METRICS: &[MetricColumn] = &[
         "hyst_loss_per_cycle",
         hyst_loss_per_cycle,
         "J",
-        "energy dissipated per cycle by the hysteresis memory, ∮ z dθ"
+        "energy dissipated per cycle by the hysteretic part of the stiffness, ∮ z dθ"
     ),
     m!(
         "friction_loss_per_cycle",

@@ -91,7 +91,7 @@ pub fn solve<const D: usize, S: OdeSystem<D>>(
                 return Err(SolverError::StepSizeTooSmall { time: t, step: h });
             }
             let mut stiffness = None;
-            let (y1, f1, err_norm) = match method {
+            let (mut y1, f1, err_norm) = match method {
                 Method::Dopri5 | Method::Auto => {
                     let trial = dopri5::step(sys, t, &y, &f, h);
                     stats.rhs_evals += 6;
@@ -141,6 +141,7 @@ pub fn solve<const D: usize, S: OdeSystem<D>>(
                     }
                 };
                 check_finite(&f1, t1)?;
+                sys.commit(t, t1, &y, &f, &mut y1, &f1);
                 observer(&Step { t0: t, t1, y0: &y, y1: &y1, f0: &f, f1: &f1 });
                 stats.steps += 1;
                 if method == Method::Rodas4 {

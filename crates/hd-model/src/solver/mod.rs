@@ -42,6 +42,21 @@ pub trait OdeSystem<const D: usize>: Sync {
     /// The Jacobian ∂f/∂y and the time derivative ∂f/∂t at (t, y).
     fn jacobian(&self, t: f64, y: &SVector<f64, D>) -> (SMatrix<f64, D, D>, SVector<f64, D>);
 
+    /// Called once per accepted step from `(t0, y0)` to `(t1, y1)` (with the rates `f0`,
+    /// `f1` at both ends), before the observer sees it: lets the system advance states it
+    /// keeps outside the ODE (constant within a step, zero rate), such as the slip
+    /// elements of a Maxwell-slip law. The default changes nothing.
+    fn commit(
+        &self,
+        _t0: f64,
+        _t1: f64,
+        _y0: &SVector<f64, D>,
+        _f0: &SVector<f64, D>,
+        _y1: &mut SVector<f64, D>,
+        _f1: &SVector<f64, D>,
+    ) {
+    }
+
     /// Scale of each state's absolute tolerance: component i is held to
     /// `atol·abs_scale[i] + rtol·|y_i|`.
     fn abs_scale(&self) -> SVector<f64, D> {
