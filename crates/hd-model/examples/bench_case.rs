@@ -46,6 +46,7 @@ fn main() {
         None | Some("auto") => Method::Auto,
         Some("rodas4") => Method::Rodas4,
         Some("dopri5") => Method::Dopri5,
+        Some("imex") => Method::Imex,
         Some(other) => panic!("bad method '{other}': expected auto, rodas4 or dopri5"),
     };
 

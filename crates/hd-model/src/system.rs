@@ -115,6 +115,14 @@ impl DriveSystem {
         })
     }
 
+    /// Whether all of the system's stiffness is the bristle term that
+    /// [`OdeSystem::stiff_split`] hands to the implicit–explicit method (no inductance,
+    /// no friction observer).
+    pub fn split_covers_stiffness(&self) -> bool {
+        let observer = self.ctl.as_ref().is_some_and(|c| c.friction.has_state());
+        !self.motor.has_inductance() && !observer
+    }
+
     /// Whether the system has a stiff part that calls for the implicit method.
     pub fn is_stiff(&self) -> bool {
         let observer = self.ctl.as_ref().is_some_and(|c| c.friction.has_state());
@@ -309,6 +317,18 @@ impl OdeSystem<DIM> for DriveSystem {
             }
         }
         (jac, dfdt)
+    }
+
+    fn stiff_split(&self, _t: f64, y: &State) -> Option<(usize, f64)> {
+        // ẇ = σ0·v − (σ0·|v|/G(v, Tb))·w: v and Tb do not depend on w.
+        if !self.friction.has_state() {
+            return None;
+        }
+        let theta_dot = y[OMEGA_J] / self.n - y[OMEGA_Z];
+        let (a, b) = self.v_coeffs();
+        let v = a * y[OMEGA_J] + b * y[OMEGA_Z];
+        let tb = self.stiffness.eval(y[THETA], theta_dot, y[Z], slots(y)).torque;
+        Some((W, self.friction.eval_loaded(v, y[W], tb).w_rate_d_w))
     }
 
     fn commit(&self, t0: f64, t1: f64, y0: &State, f0: &State, y1: &mut State, f1: &State) {

@@ -127,6 +127,8 @@ pub enum MethodArg {
     Dopri5,
     /// Rosenbrock Rodas4.
     Rodas4,
+    /// Additive Runge–Kutta 4(3): the LuGre bristle term implicit, the rest explicit.
+    Imex,
 }
 
 impl From<MethodArg> for Method {
@@ -135,6 +137,7 @@ impl From<MethodArg> for Method {
             MethodArg::Auto => Method::Auto,
             MethodArg::Dopri5 => Method::Dopri5,
             MethodArg::Rodas4 => Method::Rodas4,
+            MethodArg::Imex => Method::Imex,
         }
     }
 }

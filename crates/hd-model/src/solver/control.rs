@@ -28,6 +28,13 @@ pub const DOPRI5_PI: (f64, f64) = (0.17, 0.04);
 /// Rodas4's controller: exponent 1/4 on the error (order 3 embedded, 4 main), no memory.
 pub const RODAS4_EXPONENT: f64 = 0.25;
 
+/// The IMEX pair's PI controller (order 3 embedded): 0.7/4 on the current error, 0.4/4
+/// on the previous one.
+pub const IMEX_PI: (f64, f64) = (0.175, 0.1);
+
+/// The IMEX pair's exponent after a rejection: 1/(3 + 1).
+pub const IMEX_EXPONENT: f64 = 0.25;
+
 /// Dopri5's exponent after a rejection: 1/(order of the error estimate + 1) = 1/5.
 pub const DOPRI5_REJECT_EXPONENT: f64 = 0.2;
 

@@ -2,7 +2,9 @@
 //! observer callback and solver statistics.
 
 use super::switching::Switcher;
-use super::{Method, OdeSystem, SolverOptions, SolverStats, control, dopri5, error_norm, rodas4};
+use super::{
+    Method, OdeSystem, SolverOptions, SolverStats, control, dopri5, error_norm, imex, rodas4,
+};
 use crate::error::SolverError;
 use nalgebra::SVector;
 
@@ -99,6 +101,21 @@ pub fn solve<const D: usize, S: OdeSystem<D>>(
                     let e = error_norm(&trial.err, &y, &trial.y1, &scale, opts, sys.coupled());
                     (trial.y1, Some(trial.f1), e)
                 }
+                Method::Imex => match sys.stiff_split(t, &y) {
+                    Some((k, d0)) => {
+                        let trial = imex::step(sys, t, &y, &f, k, d0, h);
+                        stats.rhs_evals += 1 + trial.evals;
+                        let e = error_norm(&trial.err, &y, &trial.y1, &scale, opts, sys.coupled());
+                        (trial.y1, None, e)
+                    }
+                    None => {
+                        // No stiff split here: an explicit step (Dopri5) does.
+                        let trial = dopri5::step(sys, t, &y, &f, h);
+                        stats.rhs_evals += 6;
+                        let e = error_norm(&trial.err, &y, &trial.y1, &scale, opts, sys.coupled());
+                        (trial.y1, Some(trial.f1), e)
+                    }
+                },
                 Method::Rodas4 => {
                     let (jac, dfdt) = match jac_cache {
                         Some(c) => c,
@@ -121,15 +138,10 @@ pub fn solve<const D: usize, S: OdeSystem<D>>(
                     }
                 }
             };
-            let order_exp = if method == Method::Rodas4 {
-                control::RODAS4_EXPONENT
-            } else {
-                control::DOPRI5_REJECT_EXPONENT
-            };
-            let (alpha, beta) = if method == Method::Rodas4 {
-                (control::RODAS4_EXPONENT, 0.0)
-            } else {
-                control::DOPRI5_PI
+            let (order_exp, (alpha, beta)) = match method {
+                Method::Rodas4 => (control::RODAS4_EXPONENT, (control::RODAS4_EXPONENT, 0.0)),
+                Method::Imex => (control::IMEX_EXPONENT, control::IMEX_PI),
+                _ => (control::DOPRI5_REJECT_EXPONENT, control::DOPRI5_PI),
             };
             if err_norm <= 1.0 && y1.iter().all(|v| v.is_finite()) {
                 let t1 = if last { seg_end } else { t + h };
@@ -200,7 +212,7 @@ fn initial_step<const D: usize, S: OdeSystem<D>>(
     method: Method,
     stats: &mut SolverStats,
 ) -> f64 {
-    let order = if method == Method::Rodas4 { 4.0 } else { 5.0 };
+    let order = if matches!(method, Method::Rodas4 | Method::Imex) { 4.0 } else { 5.0 };
     let sc = |i: usize| opts.atol * scale[i] + opts.rtol * y[i].abs();
     let m = sys.coupled();
     let norm = |v: &SVector<f64, D>| {

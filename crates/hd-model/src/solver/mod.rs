@@ -1,10 +1,13 @@
 //! Adaptive integrators for small, fixed-size ODE systems.
 //!
-//! Two embedded methods with error control share one driver:
+//! Three embedded methods with error control share one driver:
 //! - [`Method::Dopri5`]: Dormand–Prince 5(4), explicit, for non-stiff systems;
 //! - [`Method::Rodas4`]: the stiffly accurate, L-stable Rosenbrock method of order 4(3) of
 //!   Hairer and Wanner, which uses the analytic Jacobian and copes with the stiff friction
-//!   and inductance cases.
+//!   and inductance cases;
+//! - [`Method::Imex`]: an additive Runge–Kutta pair of order 4(3) that integrates the one
+//!   stiff diagonal term of the drive (the LuGre bristle relaxation) implicitly and the
+//!   rest explicitly, so that neither stability nor a Jacobian limits it.
 //!
 //! States beyond [`OdeSystem::COUPLED`] are *quadratures*: their rates depend on the other
 //! states but nothing depends on them. The Rosenbrock solve exploits that block structure,
@@ -15,6 +18,7 @@
 pub mod control;
 mod dopri5;
 mod driver;
+mod imex;
 mod lu;
 mod rodas4;
 pub mod switching;
@@ -41,6 +45,14 @@ pub trait OdeSystem<const D: usize>: Sync {
 
     /// The Jacobian ∂f/∂y and the time derivative ∂f/∂t at (t, y).
     fn jacobian(&self, t: f64, y: &SVector<f64, D>) -> (SMatrix<f64, D, D>, SVector<f64, D>);
+
+    /// A stiff component that is linear in itself, for the implicit–explicit method
+    /// ([`Method::Imex`]): `Some((k, d))` when component k's rate is `g(t, y) + d·y_k`
+    /// with g and d independent of `y_k`, d evaluated at (t, y). `None` (the default):
+    /// no such split.
+    fn stiff_split(&self, _t: f64, _y: &SVector<f64, D>) -> Option<(usize, f64)> {
+        None
+    }
 
     /// Called once per accepted step from `(t0, y0)` to `(t1, y1)` (with the rates `f0`,
     /// `f1` at both ends), before the observer sees it: lets the system advance states it
@@ -75,6 +87,9 @@ pub enum Method {
     Dopri5,
     /// Linearly implicit Rosenbrock Rodas4.
     Rodas4,
+    /// Additive Runge–Kutta ARK4(3)6L: the system's one stiff diagonal term (the LuGre
+    /// bristle) implicit, the rest explicit; no Jacobian, no matrix.
+    Imex,
 }
 
 impl Method {
@@ -84,6 +99,7 @@ impl Method {
             Method::Auto => "auto",
             Method::Dopri5 => "dopri5",
             Method::Rodas4 => "rodas4",
+            Method::Imex => "imex",
         }
     }
 }
