@@ -3,8 +3,8 @@
 //! are built by `hd_sweep::tables` and written by [`crate::parquet_out`]. Sweeps merge with
 //! [`merge_runs`] and [`concat_files`], which hold one window of rows at a time.
 
-use crate::error::IoError;
 use crate::atomic::write_atomically;
+use crate::error::IoError;
 use crate::parquet_out::write_frame;
 use polars::prelude::*;
 use std::collections::HashSet;
@@ -216,7 +216,8 @@ pub fn concat_files(files: &[PathBuf], out: &Path) -> Result<usize, IoError> {
             df.rechunk_mut();
             written += df.height();
             if let Some(bw) = writer.as_mut() {
-                bw.write_batch(&df).map_err(IoError::polars(f, "columns differ from the other parts"))?;
+                bw.write_batch(&df)
+                    .map_err(IoError::polars(f, "columns differ from the other parts"))?;
             }
         }
         match writer {

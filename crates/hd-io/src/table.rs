@@ -91,8 +91,7 @@ pub fn read_table_columns(path: &Path, names: &[&str]) -> Result<Table, IoError>
     let mut lf = LazyFrame::scan_parquet(pl_path, ScanArgsParquet::default())
         .map_err(IoError::polars(path, "cannot read Parquet"))?;
     let schema = lf.collect_schema().map_err(IoError::polars(path, "cannot read Parquet"))?;
-    let present: Vec<Expr> =
-        names.iter().filter(|n| schema.contains(n)).map(|n| col(*n)).collect();
+    let present: Vec<Expr> = names.iter().filter(|n| schema.contains(n)).map(|n| col(*n)).collect();
     let df = lf.select(present).collect().map_err(IoError::polars(path, "cannot read Parquet"))?;
     frame_to_table(&df, path)
 }

@@ -19,7 +19,7 @@ pub mod tables;
 pub use error::StudyError;
 pub use manifest::StudyManifest;
 pub use parse::{load_study, parse_study};
+pub use plan::{MAX_RUNS, RunPlan, TooManyRuns};
 pub use row::{RunRow, RunStatus};
 pub use runner::run_batch;
-pub use plan::{MAX_RUNS, RunPlan, TooManyRuns};
 pub use study::{RunSpec, Study};

@@ -40,6 +40,9 @@ pub struct StudyManifest {
     pub parts: Vec<PartManifest>,
     /// Number of runs of the whole study.
     pub run_count: u64,
+    /// `(run_index, run_id)` of up to 65 runs spread over the study ([`RunPlan::id_sample`]),
+    /// to tell whether the study file still gives the planned runs.
+    pub id_sample: Vec<(u64, String)>,
     /// Every run of the whole study, in index order, when there are at most
     /// [`LISTED_RUNS_MAX`] (empty otherwise).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
@@ -167,6 +170,7 @@ impl StudyManifest {
                 })
                 .collect(),
             run_count: plan.len(),
+            id_sample: plan.id_sample(),
             runs: if plan.len() <= LISTED_RUNS_MAX {
                 (0..plan.len())
                     .map(|i| {

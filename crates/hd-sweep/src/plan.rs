@@ -149,6 +149,18 @@ impl<'a> RunPlan<'a> {
         self.parts.iter().map(|p| (p.start, p.grid * p.sampled)).collect()
     }
 
+    /// `(index, run_id)` of up to 65 runs spread evenly over the study (first and last
+    /// included): a fingerprint that tells whether a study file still gives the runs a
+    /// sweep planned, at the cost of 65 runs' ids whatever the study's size.
+    pub fn id_sample(&self) -> Vec<(u64, String)> {
+        if self.total == 0 {
+            return Vec::new();
+        }
+        let mut idx: Vec<u64> = (0..=64u64).map(|k| (self.total - 1) * k / 64).collect();
+        idx.dedup();
+        idx.into_iter().map(|i| (i, self.spec(i).run_id)).collect()
+    }
+
     /// The study planned.
     pub fn study(&self) -> &Study {
         self.study
@@ -156,11 +168,7 @@ impl<'a> RunPlan<'a> {
 
     /// Number of runs in shard `k` of `n` (1-based k): the runs `k − 1, k − 1 + n, …`.
     pub fn shard_len(&self, k: u64, n: u64) -> u64 {
-        if k > self.total {
-            0
-        } else {
-            (self.total - k) / n + 1
-        }
+        if k > self.total { 0 } else { (self.total - k) / n + 1 }
     }
 
     /// The point of run `index` (< [`RunPlan::len`]) with its part and design place.
@@ -177,14 +185,17 @@ impl<'a> RunPlan<'a> {
             picks[k] = (g % len) as usize;
             g /= len;
         }
-        let mut point: Point = Vec::with_capacity(part.axes.len() + plan.units.first().map_or(0, Vec::len));
+        let mut point: Point =
+            Vec::with_capacity(part.axes.len() + plan.units.first().map_or(0, Vec::len));
         for (group, &pick) in plan.groups.iter().zip(&picks) {
             point.extend(group.iter().map(|&a| (part.axes[a].knob, part.axes[a].values[pick])));
         }
         let mut design = None;
         if let Some(sample) = &part.sample {
             let unit = &plan.units[s];
-            point.extend(sample.bounds.iter().zip(unit).map(|(b, &u)| (b.knob, Value::Num(b.map(u)))));
+            point.extend(
+                sample.bounds.iter().zip(unit).map(|(b, &u)| (b.knob, Value::Num(b.map(u)))),
+            );
             if let Some(points) = sample.design_points() {
                 design = Some(RunDesign {
                     tag: points[s].tag,

@@ -128,15 +128,23 @@ fn load_planned_study(dir: &Path, plan: &StudyPlan, given: Option<&Path>) -> Res
     }
     study.parts.retain(|p| plan.parts.contains(&p.name));
     study.compare.retain(|c| plan.parts.contains(&c.part));
-    let count = RunPlan::new(&study)?.len();
-    if count != plan.run_count {
+    let run_plan = RunPlan::new(&study)?;
+    let count = run_plan.len();
+    let differ = if count == plan.run_count {
+        plan.ids.iter().filter(|(i, id)| *i >= count || run_plan.spec(*i).run_id != *id).count()
+    } else {
+        plan.ids.len().max(1)
+    };
+    if differ > 0 {
         bail!(
-            "{} gives {count} runs, {}/study.json plans {}: the study file changed since the sweep; pass the file it ran with as --study",
+            "{} gives {count} runs, {}/study.json plans {} ({differ} of {} checked run ids differ): the study file changed since the sweep; pass the file it ran with as --study",
             file.display(),
             dir.display(),
-            plan.run_count
+            plan.run_count,
+            plan.ids.len()
         );
     }
+    drop(run_plan);
     Ok(study)
 }
 

@@ -88,7 +88,8 @@ pub fn run(args: StudyArgs) -> Result<()> {
             dir.display()
         );
     }
-    let done = if args.resume { committed(&mut store, &plan, k, n, &dir)? } else { Done::default() };
+    let done =
+        if args.resume { committed(&mut store, &plan, k, n, &dir)? } else { Done::default() };
     write_study_json(&dir, &plan, shard_kn)?;
 
     let threads =

@@ -47,6 +47,9 @@ pub struct StudyPlan {
     pub parts: Vec<String>,
     /// Number of planned runs (the runs themselves are generated from the study file).
     pub run_count: u64,
+    /// `(run_index, run_id)` the study file must still give: every run of a small study,
+    /// a spread sample of a large one.
+    pub ids: Vec<(u64, String)>,
 }
 
 /// What `hdw report` needs from `DIR/study.json`.
@@ -56,5 +59,10 @@ pub fn read_study_plan(dir: &Path) -> Result<StudyPlan> {
         file: PathBuf::from(&m.file),
         parts: m.parts.iter().map(|p| p.name.clone()).collect(),
         run_count: m.run_count,
+        ids: if m.runs.is_empty() {
+            m.id_sample
+        } else {
+            m.runs.into_iter().map(|r| (r.run_index as u64, r.run_id)).collect()
+        },
     })
 }
