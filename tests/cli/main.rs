@@ -13,3 +13,4 @@ mod sensitivity_cli;
 mod shipped_studies;
 mod simulate_cli;
 mod study_cli;
+mod sweep_scale;
