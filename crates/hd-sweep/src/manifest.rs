@@ -178,8 +178,8 @@ impl StudyManifest {
                         RunEntry {
                             run_id: r.run_id,
                             run_index: r.index,
-                            part: r.part,
-                            swept: r.swept,
+                            part: r.part.to_string(),
+                            swept: r.swept.iter().map(|(n, v)| (n.to_string(), *v)).collect(),
                         }
                     })
                     .collect()

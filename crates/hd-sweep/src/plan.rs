@@ -223,7 +223,7 @@ impl<'a> RunPlan<'a> {
             cfg.t_end = n / f;
         }
         cfg.record_trace = self.study.traces.keep;
-        let swept = point.iter().map(|(k, v)| (k.name().to_string(), *v)).collect();
+        let swept = point.iter().map(|(k, v)| (k.name(), *v)).collect();
         let run_id = match &design {
             None => run_id(&part.name, &cfg),
             // Morris points on a coarse grid can repeat: the tag keeps ids unique.
@@ -232,7 +232,7 @@ impl<'a> RunPlan<'a> {
         RunSpec {
             run_id,
             index: index as usize,
-            part: self.parts[p].name.to_string(),
+            part: self.parts[p].name.clone(),
             swept,
             config: cfg,
             design,

@@ -61,10 +61,11 @@ pub struct RunSpec {
     pub run_id: String,
     /// Position in the expanded study (0-based).
     pub index: usize,
-    /// Part name.
-    pub part: String,
+    /// Part name (shared by the part's runs).
+    #[serde(serialize_with = "shared_str")]
+    pub part: Arc<str>,
     /// The swept names and values.
-    pub swept: Vec<(String, Value)>,
+    pub swept: Vec<(&'static str, Value)>,
     /// The configuration to simulate.
     pub config: SimConfig,
     /// The point's place in a sobol or morris design, if the part has one.
@@ -153,13 +154,42 @@ impl Study {
     }
 }
 
+/// Serialize a shared string as a plain string.
+pub(crate) fn shared_str<S: serde::Serializer>(v: &Arc<str>, s: S) -> Result<S::Ok, S::Error> {
+    s.serialize_str(v)
+}
+
 /// 16 hex digits of the 64-bit FNV-1a hash of the part name and the configuration's JSON.
+/// The JSON is hashed as it is written, never held as text.
 pub fn run_id(part: &str, cfg: &SimConfig) -> String {
-    let json = serde_json::to_string(cfg).unwrap_or_default();
-    let mut h: u64 = 0xcbf2_9ce4_8422_2325;
-    for b in part.bytes().chain([0u8]).chain(json.bytes()) {
-        h ^= u64::from(b);
-        h = h.wrapping_mul(0x0100_0000_01b3);
+    let mut h = Fnv(0xcbf2_9ce4_8422_2325);
+    h.feed(part.as_bytes());
+    h.feed(&[0]);
+    // Writing into the hash cannot fail; a configuration that cannot be written as JSON
+    // hashes as what was written of it (as the text form gave the empty string's hash).
+    let _ = serde_json::to_writer(&mut h, cfg);
+    format!("{:016x}", h.0)
+}
+
+/// The 64-bit FNV-1a hash, fed by `io::Write`.
+struct Fnv(u64);
+
+impl Fnv {
+    fn feed(&mut self, bytes: &[u8]) {
+        for &b in bytes {
+            self.0 ^= u64::from(b);
+            self.0 = self.0.wrapping_mul(0x0100_0000_01b3);
+        }
     }
-    format!("{h:016x}")
+}
+
+impl std::io::Write for Fnv {
+    fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
+        self.feed(buf);
+        Ok(buf.len())
+    }
+
+    fn flush(&mut self) -> std::io::Result<()> {
+        Ok(())
+    }
 }

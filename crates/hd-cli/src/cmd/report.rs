@@ -101,7 +101,7 @@ fn planned_runs(plan: &RunPlan) -> Vec<PlannedRun> {
     (0..plan.len())
         .map(|i| {
             let r = plan.spec(i);
-            PlannedRun { run_id: r.run_id, index: r.index, part: r.part }
+            PlannedRun { run_id: r.run_id, index: r.index, part: r.part.to_string() }
         })
         .collect()
 }
