@@ -14,3 +14,4 @@ mod shipped_studies;
 mod simulate_cli;
 mod stiffness_cli;
 mod study_cli;
+mod sweep_scale;

@@ -55,7 +55,7 @@ pub fn write_out_table(path: &Path, t: &OutTable) -> Result<(), IoError> {
 }
 
 /// The Arrow schema (with field metadata) and the `hdw.columns` document of `df`.
-fn metadata(df: &DataFrame) -> KeyValueMetadata {
+pub(crate) fn metadata(df: &DataFrame) -> KeyValueMetadata {
     let mut arrow = df.schema().to_arrow(CompatLevel::newest());
     let mut doc = serde_json::Map::new();
     for (name, field) in arrow.iter_mut() {

@@ -1,7 +1,9 @@
 //! Run tables on disk: the run ids already written, and the one routine that stacks
 //! shards and part files into one table (one row per run, sorted). The tables themselves
-//! are built by `hd_sweep::tables` and written by [`crate::parquet_out`].
+//! are built by `hd_sweep::tables` and written by [`crate::parquet_out`]. Sweeps merge with
+//! [`merge_runs`] and [`concat_files`], which hold one window of rows at a time.
 
+use crate::atomic::write_atomically;
 use crate::error::IoError;
 use crate::parquet_out::write_frame;
 use polars::prelude::*;
@@ -12,12 +14,42 @@ use std::path::{Path, PathBuf};
 pub fn read_run_ids(files: &[PathBuf]) -> Result<HashSet<String>, IoError> {
     let mut ids = HashSet::new();
     for f in files {
-        let df = crate::columns::read_frame(f)?;
-        let col = df.column("run_id").map_err(IoError::polars(f, "no run_id column"))?;
-        let ca = col.str().map_err(IoError::polars(f, "run_id is not text"))?;
-        ids.extend(ca.iter().flatten().map(str::to_string));
+        for_each_run(f, &mut |_, id| {
+            ids.insert(id.to_string());
+        })?;
     }
     Ok(ids)
+}
+
+/// Call `visit(run_index, run_id)` for every row of the runs table `file`, reading only
+/// those two columns.
+pub fn for_each_run(file: &Path, visit: &mut dyn FnMut(u64, &str)) -> Result<(), IoError> {
+    let df = read_columns_of(file, &["run_index", "run_id"])?;
+    let index = u64_column(&df, file, "run_index")?;
+    let ids = df.column("run_id").map_err(IoError::polars(file, "no run_id column"))?;
+    let ids = ids.str().map_err(IoError::polars(file, "run_id is not text"))?;
+    for (i, id) in index.iter().zip(ids.iter()) {
+        visit(*i, id.unwrap_or(""));
+    }
+    Ok(())
+}
+
+/// Only the named columns of a Parquet file.
+pub fn read_columns_of(file: &Path, names: &[&str]) -> Result<DataFrame, IoError> {
+    let f = std::fs::File::open(file).map_err(|e| IoError::fs(file, e))?;
+    ParquetReader::new(f)
+        .with_columns(Some(names.iter().map(|n| n.to_string()).collect()))
+        .finish()
+        .map_err(IoError::polars(file, format!("cannot read the columns {}", names.join(", "))))
+}
+
+fn u64_column(df: &DataFrame, file: &Path, name: &str) -> Result<Vec<u64>, IoError> {
+    let col = df.column(name).map_err(IoError::polars(file, format!("no {name} column")))?;
+    let cast = col
+        .cast(&DataType::UInt64)
+        .map_err(IoError::polars(file, format!("{name} is not a count")))?;
+    let ca = cast.u64().map_err(IoError::polars(file, format!("{name} is not a count")))?;
+    Ok(ca.iter().map(|v| v.unwrap_or(0)).collect())
 }
 
 /// Stack Parquet files that share one schema; with `dedupe_runs`, keep only the first row
@@ -57,6 +89,150 @@ pub fn stack_files(
     }
     df.rechunk_mut();
     Ok(Some(df))
+}
+
+/// Rows per row group of a merged runs table, and the most rows a merge holds at once.
+pub const MERGE_WINDOW_ROWS: u64 = 32_768;
+
+/// Merge runs tables into `out` atomically in bounded memory: every row once per `run_id`
+/// (the first in file order is kept), sorted by `run_index`, written one row group per
+/// window of run indices. Only the rows of one window (about [`MERGE_WINDOW_ROWS`]) are
+/// held at a time: each file's rows of the window are read with a filter on `run_index`,
+/// which Parquet's row-group statistics turn into reading the row groups that hold them.
+/// Returns the number of rows written.
+pub fn merge_runs(files: &[PathBuf], out: &Path) -> Result<usize, IoError> {
+    // Each file's index range, from its run_index column alone.
+    let mut ranges = Vec::with_capacity(files.len());
+    let (mut lo, mut hi, mut rows) = (u64::MAX, 0u64, 0u64);
+    for f in files {
+        let df = read_columns_of(f, &["run_index"])?;
+        let idx = u64_column(&df, f, "run_index")?;
+        let r = (idx.iter().copied().min(), idx.iter().copied().max());
+        if let (Some(a), Some(b)) = r {
+            lo = lo.min(a);
+            hi = hi.max(b);
+            rows += idx.len() as u64;
+            ranges.push(Some((a, b)));
+        } else {
+            ranges.push(None);
+        }
+    }
+    if rows == 0 {
+        return Ok(0);
+    }
+    let span = hi - lo + 1;
+    let width = (span as u128 * MERGE_WINDOW_ROWS as u128 / rows as u128).max(1) as u64;
+    write_atomically(out, |file| {
+        let mut writer = None;
+        let mut written = 0usize;
+        let mut a = lo;
+        while a <= hi {
+            let b = a.saturating_add(width);
+            let mut window: Option<DataFrame> = None;
+            for (f, r) in files.iter().zip(&ranges) {
+                let Some((fa, fb)) = *r else { continue };
+                if fb < a || fa >= b {
+                    continue;
+                }
+                let part = read_window(f, a, b)?;
+                match window.as_mut() {
+                    None => window = Some(part),
+                    Some(w) => {
+                        w.vstack_mut(&part)
+                            .map_err(IoError::polars(f, "columns differ from the other parts"))?;
+                    }
+                }
+            }
+            if let Some(w) = window {
+                let mut w = dedupe_and_sort(w, out)?;
+                if w.height() > 0 {
+                    if writer.is_none() {
+                        let meta = crate::parquet_out::metadata(&w);
+                        let bw = ParquetWriter::new(&mut *file)
+                            .with_key_value_metadata(Some(meta))
+                            .batched(&w.schema().clone())
+                            .map_err(IoError::polars(out, "cannot write Parquet"))?;
+                        writer = Some(bw);
+                    }
+                    w.rechunk_mut();
+                    written += w.height();
+                    if let Some(bw) = writer.as_mut() {
+                        bw.write_batch(&w).map_err(IoError::polars(out, "cannot write Parquet"))?;
+                    }
+                }
+            }
+            if b > hi {
+                break;
+            }
+            a = b;
+        }
+        if let Some(bw) = writer {
+            bw.finish().map_err(IoError::polars(out, "cannot write Parquet"))?;
+        }
+        Ok(written)
+    })
+}
+
+/// The rows of `file` with `a <= run_index < b`.
+fn read_window(file: &Path, a: u64, b: u64) -> Result<DataFrame, IoError> {
+    let path = PlRefPath::try_from_path(file)
+        .map_err(|e| IoError::format(file, format!("not a usable path: {e}")))?;
+    let idx = col("run_index").cast(DataType::UInt64);
+    LazyFrame::scan_parquet(path, ScanArgsParquet::default())
+        .and_then(|lf| lf.filter(idx.clone().gt_eq(lit(a)).and(idx.lt(lit(b)))).collect())
+        .map_err(IoError::polars(file, "cannot read Parquet"))
+}
+
+/// Drop repeated run ids (first kept) and sort by run_index.
+fn dedupe_and_sort(df: DataFrame, out: &Path) -> Result<DataFrame, IoError> {
+    let ids = df.column("run_id").map_err(IoError::polars(out, "no run_id column"))?;
+    let ca = ids.str().map_err(IoError::polars(out, "run_id is not text"))?;
+    let mut seen = HashSet::new();
+    let mask: BooleanChunked = ca.iter().map(|id| Some(seen.insert(id.unwrap_or("")))).collect();
+    let df = df.filter(&mask).map_err(IoError::polars(out, "cannot drop repeated runs"))?;
+    df.sort(["run_index"], SortMultipleOptions::default())
+        .map_err(IoError::polars(out, "cannot sort by run_index"))
+}
+
+/// Stack files (traces) into `out` one file at a time, in order: rows of one part file
+/// are held at once, never the whole table. Returns the number of rows.
+pub fn concat_files(files: &[PathBuf], out: &Path) -> Result<usize, IoError> {
+    write_atomically(out, |file| {
+        let mut writer = None;
+        let mut written = 0usize;
+        for f in files {
+            let mut df = crate::columns::read_frame(f)?;
+            if df.height() == 0 {
+                continue;
+            }
+            if writer.is_none() {
+                let meta = crate::parquet_out::metadata(&df);
+                let bw = ParquetWriter::new(&mut *file)
+                    .with_key_value_metadata(Some(meta))
+                    .batched(&df.schema().clone())
+                    .map_err(IoError::polars(out, "cannot write Parquet"))?;
+                writer = Some(bw);
+            }
+            df.rechunk_mut();
+            written += df.height();
+            if let Some(bw) = writer.as_mut() {
+                bw.write_batch(&df)
+                    .map_err(IoError::polars(f, "columns differ from the other parts"))?;
+            }
+        }
+        match writer {
+            Some(bw) => {
+                bw.finish().map_err(IoError::polars(out, "cannot write Parquet"))?;
+            }
+            None => {
+                let mut empty = DataFrame::empty();
+                ParquetWriter::new(&mut *file)
+                    .finish(&mut empty)
+                    .map_err(IoError::polars(out, "cannot write Parquet"))?;
+            }
+        }
+        Ok(written)
+    })
 }
 
 /// [`stack_files`] written atomically to `out`. Returns the number of rows.

@@ -11,7 +11,7 @@
 
 use crate::error::IoError;
 use crate::parquet_out::write_out_table;
-use crate::runs::{merge_files, read_run_ids};
+use crate::runs::{concat_files, for_each_run, merge_runs, read_run_ids};
 use hd_model::OutTable;
 use std::collections::HashSet;
 use std::path::{Path, PathBuf};
@@ -77,6 +77,30 @@ impl RunStore {
         Ok(self.runs_path().exists() || !self.part_files("runs")?.is_empty())
     }
 
+    /// Call `visit(run_index, run_id)` for every run already committed (final table and
+    /// parts), one file at a time. Part files whose runs are all in the final table were
+    /// merged before an interruption and are removed here.
+    pub fn committed_runs(&mut self, visit: &mut dyn FnMut(u64, &str)) -> Result<(), IoError> {
+        let final_ids = if self.runs_path().exists() {
+            for_each_run(&self.runs_path(), visit)?;
+            read_run_ids(&[self.runs_path()])?
+        } else {
+            HashSet::new()
+        };
+        for f in self.part_files("runs")? {
+            let part_ids = read_run_ids(std::slice::from_ref(&f))?;
+            if !final_ids.is_empty() && part_ids.is_subset(&final_ids) {
+                let traces = self.traces_twin(&f);
+                let _ = std::fs::remove_file(&traces);
+                std::fs::remove_file(&f).map_err(|e| IoError::fs(&f, e))?;
+            } else {
+                for_each_run(&f, visit)?;
+            }
+        }
+        self.next_seq = self.next_seq.max(self.part_files("runs")?.len());
+        Ok(())
+    }
+
     /// Run ids already committed (final table and parts). Part files whose runs are all in
     /// the final table were merged before an interruption and are removed here.
     pub fn committed_ids(&mut self) -> Result<HashSet<String>, IoError> {
@@ -138,14 +162,14 @@ impl RunStore {
             run_inputs.push(self.runs_path());
         }
         run_inputs.extend(run_parts.iter().cloned());
-        let n = merge_files(&run_inputs, &self.runs_path(), true, Some("run_index"))?;
+        let n = merge_runs(&run_inputs, &self.runs_path())?;
         if !trace_parts.is_empty() {
             let mut trace_inputs = Vec::new();
             if self.traces_path().exists() {
                 trace_inputs.push(self.traces_path());
             }
             trace_inputs.extend(trace_parts.iter().cloned());
-            merge_files(&trace_inputs, &self.traces_path(), false, None)?;
+            concat_files(&trace_inputs, &self.traces_path())?;
         }
         for f in run_parts.iter().chain(&trace_parts) {
             std::fs::remove_file(f).map_err(|e| IoError::fs(f, e))?;

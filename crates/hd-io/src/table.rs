@@ -82,3 +82,16 @@ pub fn read_table(path: &Path) -> Result<Table, IoError> {
     let df = read_frame(path)?;
     frame_to_table(&df, path)
 }
+
+/// Only the named columns of a Parquet file (those it has), read with a polars scan that
+/// decodes nothing else: a report needs a few columns of a table of millions of rows.
+pub fn read_table_columns(path: &Path, names: &[&str]) -> Result<Table, IoError> {
+    let pl_path = PlRefPath::try_from_path(path)
+        .map_err(|e| IoError::format(path, format!("not a usable path: {e}")))?;
+    let mut lf = LazyFrame::scan_parquet(pl_path, ScanArgsParquet::default())
+        .map_err(IoError::polars(path, "cannot read Parquet"))?;
+    let schema = lf.collect_schema().map_err(IoError::polars(path, "cannot read Parquet"))?;
+    let present: Vec<Expr> = names.iter().filter(|n| schema.contains(n)).map(|n| col(*n)).collect();
+    let df = lf.select(present).collect().map_err(IoError::polars(path, "cannot read Parquet"))?;
+    frame_to_table(&df, path)
+}

@@ -1,4 +1,5 @@
-//! Heatmaps: one coloured cell per grid point, with a colour bar.
+//! Heatmaps: one coloured cell per grid point, with a colour bar. Grids of more than
+//! [`raster::RASTER_CELLS`] cells are drawn as one image of the plotting area.
 
 use std::path::Path;
 
@@ -13,6 +14,7 @@ use crate::error::PlotError;
 use crate::grid;
 use crate::output::{self, DrawError, Figure};
 use crate::ranges;
+use crate::raster;
 use crate::style;
 
 /// Width of the colour-bar strip at the right of the canvas [px].
@@ -47,6 +49,22 @@ impl Figure for Heatmap<'_> {
         let x = Axis::new(self.x_edges[0], self.x_edges[nx], self.log_x);
         let y = Axis::new(self.y_edges[0], self.y_edges[ny], self.log_y);
         let mut chart = chart::framed(&main, Frame::new(self.x_label, self.y_label), x, y)?;
+        if nx * ny > raster::RASTER_CELLS {
+            // One image of the plotting area: the file's size is set by pixels, not cells.
+            let plot = chart.plotting_area().strip_coord_spec();
+            let size = plot.dim_in_pixel();
+            let pixels = raster::cells_image(
+                size,
+                &self.x_edges,
+                &self.y_edges,
+                self.log_x,
+                self.log_y,
+                self.values,
+                self.scale,
+            );
+            raster::blit(&plot, size, pixels)?;
+            return colorbar::draw(&bar, self.scale, &self.bar_label);
+        }
         chart.draw_series((0..ny).flat_map(|iy| {
             (0..nx).map(move |ix| {
                 let corners = [

@@ -7,6 +7,7 @@ use plotters::prelude::*;
 
 use crate::axis::Axis;
 use crate::chart::{self, Chart, Frame};
+use crate::decimate;
 use crate::error::PlotError;
 use crate::output::{self, DrawError, Figure};
 use crate::ranges;
@@ -14,7 +15,8 @@ use crate::series::{self, Drawable, Runs, Series};
 use crate::style;
 
 /// Draw broken-line `runs` in `color`; a run of one point is drawn as a dot. With a
-/// `label`, the curve gets a legend entry.
+/// `label`, the curve gets a legend entry. Long runs are decimated to the plot's pixels
+/// first ([`crate::decimate`]), so the file's size does not grow with the data's.
 pub(crate) fn draw_runs<DB: DrawingBackend>(
     chart: &mut Chart<'_, DB>,
     runs: &[Vec<(f64, f64)>],
@@ -22,9 +24,13 @@ pub(crate) fn draw_runs<DB: DrawingBackend>(
     label: Option<&str>,
 ) -> Result<(), DrawError> {
     let line = color.stroke_width(2);
-    let drawn = chart.draw_series(
-        runs.iter().filter(|r| r.len() > 1).map(|r| PathElement::new(r.clone(), line)),
-    )?;
+    let mut lines: Vec<Vec<(f64, f64)>> = runs
+        .iter()
+        .filter(|r| r.len() > 1)
+        .map(|r| decimate::envelope(r, |p| chart.backend_coord(p)))
+        .collect();
+    decimate::cap(&mut lines, decimate::MAX_VERTICES);
+    let drawn = chart.draw_series(lines.into_iter().map(|r| PathElement::new(r, line)))?;
     if let Some(label) = label {
         drawn.label(label).legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 24, y)], line));
     }

@@ -9,7 +9,7 @@ fn damped_grid(c: &mut Criterion) {
     let file = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../studies/table4.toml");
     let loader = |_: &Path| Err("no recorded inputs here".to_string());
     let study = load_study(&file, &loader).expect("table4.toml");
-    let runs: Vec<_> = study.expand().into_iter().filter(|r| r.part == "damped-sine").collect();
+    let runs: Vec<_> = study.expand().into_iter().filter(|r| &*r.part == "damped-sine").collect();
     assert_eq!(runs.len(), 1600);
     let mut group = c.benchmark_group("table4 damped-sine, 1600 runs");
     group.sample_size(10);

@@ -86,6 +86,12 @@ pub struct Sample {
 }
 
 impl Sample {
+    /// Number of points the design gives: n for lhs and random, n·(d + 2) for sobol and
+    /// n·(d + 1) for morris.
+    pub fn n_points(&self) -> usize {
+        self.design.as_ref().map_or(self.n, |d| d.points.len())
+    }
+
     /// The tagged unit-cube points of a sobol or morris design, in generator order.
     pub fn design_points(&self) -> Option<&[DesignPoint]> {
         self.design.as_ref().map(|d| d.points.as_slice())
@@ -128,11 +134,18 @@ pub fn grid_points(axes: &[Axis]) -> Vec<Point> {
 
 /// The points of a sampled design (for sobol and morris, in the design's order).
 pub fn sample_points(s: &Sample) -> Vec<Point> {
-    let to_point = |row: &[f64]| -> Point {
-        s.bounds.iter().zip(row).map(|(b, &u)| (b.knob, Value::Num(b.map(u)))).collect()
-    };
+    sample_units(s)
+        .iter()
+        .map(|row| s.bounds.iter().zip(row).map(|(b, &u)| (b.knob, Value::Num(b.map(u)))).collect())
+        .collect()
+}
+
+/// The unit-cube coordinates of a sampled design, one row of `bounds.len()` values per
+/// point (for sobol and morris, in the design's order). Held once per part while a study
+/// runs: n · d numbers, whatever the size of the grid it is combined with.
+pub fn sample_units(s: &Sample) -> Vec<Vec<f64>> {
     if let Some(points) = s.design_points() {
-        return points.iter().map(|p| to_point(&p.unit)).collect();
+        return points.iter().map(|p| p.unit.clone()).collect();
     }
     let mut rng = ChaCha8Rng::seed_from_u64(s.seed.unwrap_or(0));
     let d = s.bounds.len();
@@ -160,7 +173,7 @@ pub fn sample_points(s: &Sample) -> Vec<Point> {
             }
         }
     }
-    unit.iter().map(|row| to_point(row)).collect()
+    unit
 }
 
 #[cfg(test)]

@@ -1,5 +1,5 @@
-//! The sweep engine: study files (`studies/*.toml`) checked into a [`Study`], expanded into
-//! [`RunSpec`]s, and run in parallel with rayon into [`RunRow`]s.
+//! The sweep engine: study files (`studies/*.toml`) checked into a [`Study`], generated run by
+//! run as [`RunSpec`]s ([`RunPlan`]), and run in parallel with rayon into [`RunRow`]s.
 //!
 //! Main items: [`load_study`], [`Study::expand`], [`run_batch`], [`RunRow`], [`StudyError`].
 
@@ -8,6 +8,7 @@ pub mod design;
 pub mod error;
 pub mod manifest;
 pub mod parse;
+pub mod plan;
 pub mod row;
 pub mod runner;
 pub mod sensitivity;
@@ -18,6 +19,7 @@ pub mod tables;
 pub use error::StudyError;
 pub use manifest::StudyManifest;
 pub use parse::{load_study, parse_study};
+pub use plan::{MAX_RUNS, RunPlan, TooManyRuns};
 pub use row::{RunRow, RunStatus};
 pub use runner::run_batch;
-pub use study::{RunSpec, Study, shard};
+pub use study::{RunSpec, Study};

@@ -33,12 +33,13 @@ pub struct RunRow {
     pub run_id: String,
     /// Position in the expanded study.
     pub run_index: usize,
-    /// Part name.
-    pub part: String,
+    /// Part name (shared by the part's runs).
+    #[serde(serialize_with = "crate::study::shared_str")]
+    pub part: Arc<str>,
     /// Variant simulated.
     pub variant: Variant,
     /// Swept names and values.
-    pub swept: Vec<(String, Value)>,
+    pub swept: Vec<(&'static str, Value)>,
     /// Every parameter used.
     pub params: Params,
     /// Input amplitude [V] (NaN for recorded inputs).

@@ -1,7 +1,8 @@
 //! A checked study and its expansion into runs.
 
-use crate::axis::{Knob, Value};
-use crate::design::{Axis, Point, Sample, grid_points, sample_points};
+use crate::axis::Value;
+use crate::design::{Axis, Sample};
+use crate::plan::RunPlan;
 use crate::sensitivity::PointTag;
 use crate::spec::CompareSpec;
 use hd_model::SimConfig;
@@ -60,10 +61,11 @@ pub struct RunSpec {
     pub run_id: String,
     /// Position in the expanded study (0-based).
     pub index: usize,
-    /// Part name.
-    pub part: String,
+    /// Part name (shared by the part's runs).
+    #[serde(serialize_with = "shared_str")]
+    pub part: Arc<str>,
     /// The swept names and values.
-    pub swept: Vec<(String, Value)>,
+    pub swept: Vec<(&'static str, Value)>,
     /// The configuration to simulate.
     pub config: SimConfig,
     /// The point's place in a sobol or morris design, if the part has one.
@@ -93,41 +95,6 @@ impl RunDesign {
 }
 
 impl Part {
-    /// The points of this part: grid × random design.
-    pub fn points(&self) -> Vec<Point> {
-        let grid = grid_points(&self.axes);
-        match &self.sample {
-            None => grid,
-            Some(s) => {
-                let sampled = sample_points(s);
-                grid.iter()
-                    .flat_map(|g| sampled.iter().map(move |p| g.iter().chain(p).cloned().collect()))
-                    .collect()
-            }
-        }
-    }
-
-    /// Each point with its place in the part's sobol or morris design (`None` for grid and
-    /// random points), in run order.
-    pub fn points_with_design(&self) -> Vec<(Point, Option<RunDesign>)> {
-        let points = self.points();
-        match self.sample.as_ref().and_then(|s| s.design_points().map(|d| (s, d))) {
-            None => points.into_iter().map(|p| (p, None)).collect(),
-            Some((s, design)) => {
-                let names: Vec<&'static str> = s.bounds.iter().map(|b| b.knob.name()).collect();
-                points
-                    .into_iter()
-                    .zip(design)
-                    .map(|(p, d)| {
-                        let run =
-                            RunDesign { tag: d.tag, names: names.clone(), unit: d.unit.clone() };
-                        (p, Some(run))
-                    })
-                    .collect()
-            }
-        }
-    }
-
     /// Names of the parameters of the part's sobol or morris design (empty without one).
     pub fn design_names(&self) -> Vec<&'static str> {
         match &self.sample {
@@ -147,41 +114,14 @@ impl Part {
 }
 
 impl Study {
-    /// Expand every part into runs, in order; `index` counts across parts.
+    /// Every run, in order; `index` counts across parts. For small studies and tests: a
+    /// sweep generates its runs by index with [`RunPlan`] instead.
+    ///
+    /// # Panics
+    /// If the study has more than [`crate::plan::MAX_RUNS`] runs.
     pub fn expand(&self) -> Vec<RunSpec> {
-        let mut runs = Vec::new();
-        let design_names: Arc<[&'static str]> = self.design_names().into();
-        for part in &self.parts {
-            for (point, design) in part.points_with_design() {
-                let mut cfg = part.base.clone();
-                // Scales act on the base values, so apply parameters first, then scales.
-                let mut ordered = point.clone();
-                ordered.sort_by_key(|(k, _)| matches!(k, Knob::FrictionScale));
-                for (knob, value) in &ordered {
-                    knob.apply(&mut cfg, *value);
-                }
-                if let (Some(n), Some(f)) = (part.t_end_cycles, cfg.drive_frequency()) {
-                    cfg.t_end = n / f;
-                }
-                cfg.record_trace = self.traces.keep;
-                let swept = point.iter().map(|(k, v)| (k.name().to_string(), *v)).collect();
-                let run_id = match &design {
-                    None => run_id(&part.name, &cfg),
-                    // Morris points on a coarse grid can repeat: the tag keeps ids unique.
-                    Some(d) => run_id(&format!("{}\0{}", part.name, d.tag), &cfg),
-                };
-                runs.push(RunSpec {
-                    run_id,
-                    index: runs.len(),
-                    part: part.name.clone(),
-                    swept,
-                    config: cfg,
-                    design,
-                    design_names: design_names.clone(),
-                });
-            }
-        }
-        runs
+        let plan = RunPlan::new(self).unwrap_or_else(|e| panic!("{e}"));
+        (0..plan.len()).map(|i| plan.spec(i)).collect()
     }
 
     /// Parameters of all sobol and morris designs, without repeats, in order of appearance.
@@ -214,18 +154,42 @@ impl Study {
     }
 }
 
-/// 16 hex digits of the 64-bit FNV-1a hash of the part name and the configuration's JSON.
-pub fn run_id(part: &str, cfg: &SimConfig) -> String {
-    let json = serde_json::to_string(cfg).unwrap_or_default();
-    let mut h: u64 = 0xcbf2_9ce4_8422_2325;
-    for b in part.bytes().chain([0u8]).chain(json.bytes()) {
-        h ^= u64::from(b);
-        h = h.wrapping_mul(0x0100_0000_01b3);
-    }
-    format!("{h:016x}")
+/// Serialize a shared string as a plain string.
+pub(crate) fn shared_str<S: serde::Serializer>(v: &Arc<str>, s: S) -> Result<S::Ok, S::Error> {
+    s.serialize_str(v)
 }
 
-/// The runs of shard `k` of `n` (1-based k): every n-th run starting at k−1.
-pub fn shard(runs: Vec<RunSpec>, k: usize, n: usize) -> Vec<RunSpec> {
-    runs.into_iter().filter(|r| r.index % n == k - 1).collect()
+/// 16 hex digits of the 64-bit FNV-1a hash of the part name and the configuration's JSON.
+/// The JSON is hashed as it is written, never held as text.
+pub fn run_id(part: &str, cfg: &SimConfig) -> String {
+    let mut h = Fnv(0xcbf2_9ce4_8422_2325);
+    h.feed(part.as_bytes());
+    h.feed(&[0]);
+    // Writing into the hash cannot fail; a configuration that cannot be written as JSON
+    // hashes as what was written of it (as the text form gave the empty string's hash).
+    let _ = serde_json::to_writer(&mut h, cfg);
+    format!("{:016x}", h.0)
+}
+
+/// The 64-bit FNV-1a hash, fed by `io::Write`.
+struct Fnv(u64);
+
+impl Fnv {
+    fn feed(&mut self, bytes: &[u8]) {
+        for &b in bytes {
+            self.0 ^= u64::from(b);
+            self.0 = self.0.wrapping_mul(0x0100_0000_01b3);
+        }
+    }
+}
+
+impl std::io::Write for Fnv {
+    fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
+        self.feed(buf);
+        Ok(buf.len())
+    }
+
+    fn flush(&mut self) -> std::io::Result<()> {
+        Ok(())
+    }
 }

@@ -22,7 +22,7 @@ pub fn runs_table(rows: &[RunRow], swept: &[&str], metrics: &[&str]) -> OutTable
     let count = |f: &dyn Fn(&RunRow) -> u64| Cells::U64(rows.iter().map(f).collect());
     t.push("run_id", text(&|r| r.run_id.clone()));
     t.push("run_index", count(&|r| r.run_index as u64));
-    t.push("part", text(&|r| r.part.clone()));
+    t.push("part", text(&|r| r.part.to_string()));
     t.push("variant", text(&|r| r.variant.name().to_string()));
     t.push("status", text(&|r| r.status.as_str().to_string()));
     t.push("error", Cells::OptText(rows.iter().map(|r| r.error.clone()).collect()));
@@ -96,7 +96,7 @@ fn push_design_columns(t: &mut OutTable, rows: &[RunRow]) {
 }
 
 fn swept_value(r: &RunRow, name: &str) -> f64 {
-    r.swept.iter().find(|(n, _)| n == name).map_or(f64::NAN, |(_, v)| match v {
+    r.swept.iter().find(|(n, _)| *n == name).map_or(f64::NAN, |(_, v)| match v {
         Value::Num(x) => *x,
         _ => f64::NAN,
     })

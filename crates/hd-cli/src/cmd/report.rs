@@ -5,11 +5,11 @@
 
 use super::report_check::{Check, check, list_runs, missing_note, shards_of};
 use super::report_inputs::{Sources, find_sources, move_merged_shards, shard_count};
-use super::study_json::{StudyPlan, read_study_plan, write_study_json};
+use super::study_json::{PlannedRun, StudyPlan, read_study_plan, write_study_json};
 use crate::report;
 use anyhow::{Result, bail};
 use clap::Args;
-use hd_sweep::{RunSpec, Study, load_study};
+use hd_sweep::{RunPlan, Study, load_study};
 use std::collections::HashSet;
 use std::path::{Path, PathBuf};
 
@@ -37,7 +37,9 @@ pub fn run(args: ReportArgs) -> Result<()> {
         bail!("{}: no such folder (expected the --out folder of a study's shards)", dir.display());
     }
     let plan = read_study_plan(dir)?;
-    let (study, expanded) = load_planned_study(dir, &plan, args.study.as_deref())?;
+    let study = load_planned_study(dir, &plan, args.study.as_deref())?;
+    let run_plan = RunPlan::new(&study)?;
+    let planned = planned_runs(&run_plan);
     let sources = find_sources(dir, "runs")?;
     let inputs = sources.all();
     if inputs.is_empty() {
@@ -48,9 +50,10 @@ pub fn run(args: ReportArgs) -> Result<()> {
         );
     }
     let merged = read_first_rows(&inputs)?;
-    let result = check(&plan.runs, &merged.ids, &merged.status, &merged.error);
+    let result = check(&planned, &merged.ids, &merged.status, &merged.error);
     refuse_foreign(dir, &result, &merged)?;
-    let note = missing_runs(dir, &plan, &result, &sources, args.allow_missing)?;
+    let note = missing_runs(dir, &plan, planned.len(), &result, &sources, args.allow_missing)?;
+    drop(planned);
     eprintln!(
         "{} runs tables ({} shard, {} part files): {} rows, {} duplicate rows of a run_id dropped{}",
         inputs.len(),
@@ -71,21 +74,21 @@ pub fn run(args: ReportArgs) -> Result<()> {
         );
     }
     let runs_path = dir.join("runs.parquet");
-    let n = hd_io::runs::merge_files(&inputs, &runs_path, true, Some("run_index"))?;
+    let n = hd_io::runs::merge_runs(&inputs, &runs_path)?;
     let traces = find_sources(dir, "traces")?;
     let traces_path = dir.join("traces.parquet");
     if !traces.shards.is_empty() || !traces.parts.is_empty() {
-        hd_io::runs::merge_files(&traces.all(), &traces_path, false, None)?;
+        hd_io::runs::concat_files(&traces.all(), &traces_path)?;
     }
     let moved = move_merged_shards(dir, &sources)? + move_merged_shards(dir, &traces)?;
     if moved > 0 {
         eprintln!("{moved} merged shard tables moved to {}", dir.join("shards").display());
     }
-    write_study_json(dir, &study, &expanded, None)?;
+    write_study_json(dir, &run_plan, None)?;
     report::write_study_outputs(dir, &study, &runs_path, &traces_path, note.as_deref())?;
     eprintln!(
         "{n} of {} planned runs in {}, {} missing, {} failed",
-        plan.runs.len(),
+        run_plan.len(),
         runs_path.display(),
         result.missing.len(),
         result.failed.len()
@@ -93,13 +96,20 @@ pub fn run(args: ReportArgs) -> Result<()> {
     Ok(())
 }
 
+/// Every planned run's id, index and part, generated from the study file.
+fn planned_runs(plan: &RunPlan) -> Vec<PlannedRun> {
+    (0..plan.len())
+        .map(|i| {
+            let r = plan.spec(i);
+            PlannedRun { run_id: r.run_id, index: r.index, part: r.part.to_string() }
+        })
+        .collect()
+}
+
 /// Load the study file the plan was made from (or `--study`), keep the parts that were
-/// run, and check that it still expands into exactly the planned runs.
-fn load_planned_study(
-    dir: &Path,
-    plan: &StudyPlan,
-    given: Option<&Path>,
-) -> Result<(Study, Vec<RunSpec>)> {
+/// run, and check that it still gives the planned number of runs (rows whose run ids the
+/// study no longer gives are refused as foreign by the check).
+fn load_planned_study(dir: &Path, plan: &StudyPlan, given: Option<&Path>) -> Result<Study> {
     let file = given.unwrap_or(&plan.file);
     if !file.is_file() {
         bail!(
@@ -118,19 +128,24 @@ fn load_planned_study(
     }
     study.parts.retain(|p| plan.parts.contains(&p.name));
     study.compare.retain(|c| plan.parts.contains(&c.part));
-    let expanded = study.expand();
-    let differ = expanded.len().max(plan.runs.len())
-        - expanded.iter().zip(&plan.runs).filter(|(e, p)| e.run_id == p.run_id).count();
+    let run_plan = RunPlan::new(&study)?;
+    let count = run_plan.len();
+    let differ = if count == plan.run_count {
+        plan.ids.iter().filter(|(i, id)| *i >= count || run_plan.spec(*i).run_id != *id).count()
+    } else {
+        plan.ids.len().max(1)
+    };
     if differ > 0 {
         bail!(
-            "{} expands into {} runs, {}/study.json plans {} ({differ} run ids differ): the study file changed since the sweep; pass the file it ran with as --study",
+            "{} gives {count} runs, {}/study.json plans {} ({differ} of {} checked run ids differ): the study file changed since the sweep; pass the file it ran with as --study",
             file.display(),
-            expanded.len(),
             dir.display(),
-            plan.runs.len()
+            plan.run_count,
+            plan.ids.len()
         );
     }
-    Ok((study, expanded))
+    drop(run_plan);
+    Ok(study)
 }
 
 /// The rows of all runs tables, first row per run id kept (as the merge keeps them).
@@ -157,7 +172,7 @@ fn read_first_rows(inputs: &[PathBuf]) -> Result<FirstRows> {
     };
     let mut seen = HashSet::new();
     for f in inputs {
-        let t = hd_io::read_table(f)?;
+        let t = hd_io::table::read_table_columns(f, &["run_id", "status", "error"])?;
         let (Some(ids), Some(status), Some(error)) =
             (t.text("run_id"), t.text("status"), t.text("error"))
         else {
@@ -206,6 +221,7 @@ fn refuse_foreign(dir: &Path, result: &Check, merged: &FirstRows) -> Result<()> 
 fn missing_runs(
     dir: &Path,
     plan: &StudyPlan,
+    planned: usize,
     result: &Check,
     sources: &Sources,
     allow: bool,
@@ -232,12 +248,12 @@ fn missing_runs(
     let what = format!(
         "{} of {} planned runs are missing: {}; {rerun}",
         result.missing.len(),
-        plan.runs.len(),
+        planned,
         list_runs(&result.missing)
     );
     if !allow {
         bail!("{what}; or pass --allow-missing to report on the runs present");
     }
     eprintln!("warning: {what}");
-    Ok(Some(missing_note(&result.missing, plan.runs.len())))
+    Ok(Some(missing_note(&result.missing, planned)))
 }

@@ -4,19 +4,14 @@
 
 use super::common::write_json;
 use anyhow::{Context, Result};
-use hd_sweep::{RunSpec, Study, StudyManifest};
+use hd_sweep::{RunPlan, StudyManifest};
 use std::path::{Path, PathBuf};
 
 /// Write `DIR/study.json` ([`StudyManifest`]): the study, the tool version, the parameter
-/// defaults and every run's id, index, part and swept values. `shard` is the slice this
-/// process runs, if any.
-pub fn write_study_json(
-    dir: &Path,
-    study: &Study,
-    runs: &[RunSpec],
-    shard: Option<(usize, usize)>,
-) -> Result<()> {
-    let manifest = StudyManifest::new(study, runs, shard, env!("CARGO_PKG_VERSION"));
+/// defaults, the run counts and, for small studies, every run's id, index, part and swept
+/// values. `shard` is the slice this process runs, if any.
+pub fn write_study_json(dir: &Path, plan: &RunPlan, shard: Option<(usize, usize)>) -> Result<()> {
+    let manifest = StudyManifest::new(plan, shard, env!("CARGO_PKG_VERSION"));
     write_json(&dir.join("study.json"), &serde_json::to_value(manifest)?)
 }
 
@@ -50,8 +45,11 @@ pub struct StudyPlan {
     pub file: PathBuf,
     /// Names of the parts that were run (all, or those chosen with `--part`), in order.
     pub parts: Vec<String>,
-    /// Every planned run, in index order.
-    pub runs: Vec<PlannedRun>,
+    /// Number of planned runs (the runs themselves are generated from the study file).
+    pub run_count: u64,
+    /// `(run_index, run_id)` the study file must still give: every run of a small study,
+    /// a spread sample of a large one.
+    pub ids: Vec<(u64, String)>,
 }
 
 /// What `hdw report` needs from `DIR/study.json`.
@@ -60,10 +58,11 @@ pub fn read_study_plan(dir: &Path) -> Result<StudyPlan> {
     Ok(StudyPlan {
         file: PathBuf::from(&m.file),
         parts: m.parts.iter().map(|p| p.name.clone()).collect(),
-        runs: m
-            .runs
-            .into_iter()
-            .map(|r| PlannedRun { run_id: r.run_id, index: r.run_index, part: r.part })
-            .collect(),
+        run_count: m.run_count,
+        ids: if m.runs.is_empty() {
+            m.id_sample
+        } else {
+            m.runs.into_iter().map(|r| (r.run_index as u64, r.run_id)).collect()
+        },
     })
 }

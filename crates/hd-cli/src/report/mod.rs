@@ -36,6 +36,21 @@ pub fn write_study_outputs(
     Ok(path)
 }
 
+/// The columns of `runs.parquet` the report reads (a scan decodes only these): identity,
+/// input, the swept names, the kept metrics and the compared quantities.
+fn report_columns(study: &Study) -> Vec<&str> {
+    let mut cols: Vec<&str> =
+        vec!["run_id", "run_index", "part", "variant", "status", "error", "voltage", "freq"];
+    cols.extend(study.swept_names());
+    cols.extend(study.keep_metrics.iter().copied());
+    for c in &study.compare {
+        cols.extend([c.axis.as_str(), c.metric.as_str()]);
+    }
+    cols.sort_unstable();
+    cols.dedup();
+    cols
+}
+
 /// Write `DIR/report.md` and its plots; returns the report's path.
 fn write_report(
     dir: &Path,
@@ -44,7 +59,7 @@ fn write_report(
     traces: &Path,
     note: Option<&str>,
 ) -> Result<PathBuf> {
-    let table = hd_io::read_table(runs)?;
+    let table = hd_io::table::read_table_columns(runs, &report_columns(study))?;
     let trace_table = if traces.exists() { Some(hd_io::read_table(traces)?) } else { None };
     let mut md = String::new();
     writeln!(md, "# Study `{}`\n", study.name)?;

@@ -171,7 +171,14 @@ fn trace_overlay(dir: &Path, study: &str, d: &PartData, t: &Table) -> Result<Str
 }
 
 fn index_of(grid: &[f64], x: f64) -> Option<usize> {
-    grid.iter().position(|g| (g - x).abs() <= 1e-9 * g.abs().max(1e-300))
+    // The grid is sorted: look at the two values around x (a 1000 × 1000 grid has a
+    // million rows to place).
+    let k = grid.partition_point(|g| *g < x);
+    [k.checked_sub(1), Some(k)]
+        .into_iter()
+        .flatten()
+        .filter(|&j| j < grid.len())
+        .find(|&j| (grid[j] - x).abs() <= 1e-9 * grid[j].abs().max(1e-300))
 }
 
 /// Axis label with its unit from the schema (`name [unit]`).

@@ -50,24 +50,21 @@ pub fn design_parts(
     {
         bail!("--metrics: '{bad}' is not a metric of this study (it keeps: {})", kept.join(", "));
     }
-    let row_of: HashMap<&str, usize> = table
-        .text("run_id")
-        .context("runs table has no run_id column")?
+    // Rows by run index: the part's runs are indices first_run .. first_run + run_count.
+    let row_of: HashMap<u64, usize> = table
+        .num("run_index")
+        .context("runs table has no run_index column")?
         .iter()
         .enumerate()
-        .filter_map(|(i, id)| id.as_deref().map(|id| (id, i)))
+        .filter(|(_, i)| i.is_finite())
+        .map(|(k, &i)| (i as u64, k))
         .collect();
     let mut out = Vec::new();
     for part in &study.parts {
         let name = part.name.as_str();
-        let mut ids: Vec<(usize, &str)> = study
-            .runs
-            .iter()
-            .filter(|r| r.part == name)
-            .map(|r| (r.run_index, r.run_id.as_str()))
+        let rows: Vec<Option<usize>> = (part.first_run..part.first_run + part.run_count)
+            .map(|i| row_of.get(&i).copied())
             .collect();
-        ids.sort_unstable();
-        let rows: Vec<Option<usize>> = ids.iter().map(|(_, id)| row_of.get(id).copied()).collect();
         let Some(method) = part_method(table, &rows)? else { continue };
         let parameters: Vec<String> = part.swept.clone();
         let wanted: Vec<String> = match metrics {
