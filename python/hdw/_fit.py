@@ -70,8 +70,9 @@ def fit_hysteresis(
             (memory law only).
 
     Returns:
-        :class:`FitResult` (one law), or with ``law="all"`` a dict ``{"comparison":
-        comparison.json as a dict, "fits": {law: FitResult}}``.
+        :class:`FitResult` (one law), or with ``law="all"`` a dict ``{"comparison": the
+        entries of comparison.json (best BIC first: law, rms, aic, bic, delta_bic,
+        parameters), "fits": {law: FitResult}}``.
 
     Raises:
         ValueError: bad data (lengths, non-finite values, time not increasing) or settings.

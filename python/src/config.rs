@@ -199,7 +199,9 @@ pub fn config_from_options(
         "dopri5" => Method::Dopri5,
         "rodas4" => Method::Rodas4,
         other => {
-            return Err(value_error(format!("method = '{other}': expected auto, dopri5 or rodas4")));
+            return Err(value_error(format!(
+                "method = '{other}': expected auto, dopri5 or rodas4"
+            )));
         }
     };
     let friction_velocity = match text_option(opts, "friction_velocity", "motor")?.as_str() {

@@ -58,18 +58,20 @@ pub fn fit_hysteresis(
     offset: bool,
     fix: Option<&Bound<'_, PyDict>>,
 ) -> PyResult<Py<PyDict>> {
+    // Settings first (as `hdw fit` reads its options before the file), then the data.
+    let law = if law == "all" { None } else { Some(Law::parse(law).map_err(fit_error)?) };
+    let opts = LawOptions {
+        offset,
+        elements: elements.unwrap_or(LawOptions::default().elements),
+        fixed: fixed(fix)?,
+    };
     let data = HysteresisData::new(
         t.as_array().to_vec(),
         theta.as_array().to_vec(),
         torque.as_array().to_vec(),
     )
     .map_err(|e| fit_error(e.into()))?;
-    let opts = LawOptions {
-        offset,
-        elements: elements.unwrap_or(LawOptions::default().elements),
-        fixed: fixed(fix)?,
-    };
-    if law == "all" {
+    let Some(law) = law else {
         let cmp = py.detach(|| compare_laws(&data, &opts));
         let d = PyDict::new(py);
         d.set_item("comparison", cmp.to_json())?;
@@ -79,8 +81,7 @@ pub fn fit_hysteresis(
         }
         d.set_item("fits", fits)?;
         return Ok(d.unbind());
-    }
-    let law = Law::parse(law).map_err(fit_error)?;
+    };
     let fit = py.detach(|| fit_law(&data, law, &opts)).map_err(fit_error)?;
     law_dict(py, fit)
 }
