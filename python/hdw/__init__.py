@@ -11,9 +11,9 @@ DataFrames when polars is installed (dicts of numpy arrays otherwise).
     >>> runs = hdw.simulate_many([{"c": 4e4}, {"c": 6e4}])
 
 Functions: :func:`parameters`, :func:`metrics`, :func:`simulate`, :func:`simulate_many`,
-:func:`run_study`, :func:`fit_hysteresis`, :func:`fit_friction`. Errors: ``ValueError``
-for bad input (naming the field and what was expected), :class:`SimulationError` when the
-integrator cannot finish a run.
+:func:`run_study`, :func:`fit_hysteresis`, :func:`fit_friction`, :func:`sobol_indices`.
+Errors: ``ValueError`` for bad input (naming the field and what was expected),
+:class:`SimulationError` when the integrator cannot finish a run.
 """
 
 from __future__ import annotations
@@ -23,6 +23,7 @@ from typing import Any, List
 from . import _hdw
 from ._fit import FitResult, fit_friction, fit_hysteresis
 from ._run import SimResult, simulate, simulate_many
+from ._sensitivity import sobol_indices
 from ._study import run_study
 from ._tables import table as _table
 
@@ -40,6 +41,7 @@ __all__ = [
     "run_study",
     "simulate",
     "simulate_many",
+    "sobol_indices",
 ]
 
 

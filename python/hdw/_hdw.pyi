@@ -60,3 +60,6 @@ def fit_friction(
     asymmetric: bool = False,
     offset: bool = False,
 ) -> Dict[str, Any]: ...
+def sobol_indices(
+    y: npt.ArrayLike, dims: int, bootstrap: int = 1000, confidence: float = 0.95, seed: int = 0
+) -> Dict[str, Any]: ...

@@ -8,6 +8,7 @@ mod config;
 mod errors;
 mod fit;
 mod registry;
+mod sensitivity;
 mod sim;
 mod study;
 mod table;
@@ -26,6 +27,7 @@ fn _hdw(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(batch::simulate_dicts, m)?)?;
     m.add_function(wrap_pyfunction!(batch::simulate_array, m)?)?;
     m.add_function(wrap_pyfunction!(study::run_study, m)?)?;
+    m.add_function(wrap_pyfunction!(sensitivity::sobol_indices, m)?)?;
     m.add_function(wrap_pyfunction!(fit::fit_hysteresis, m)?)?;
     m.add_function(wrap_pyfunction!(fit::fit_friction, m)?)?;
     Ok(())
