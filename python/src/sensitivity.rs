@@ -24,7 +24,7 @@ pub fn sobol_indices(
 ) -> PyResult<Py<PyDict>> {
     let y = y.as_array().to_vec();
     let group = dims + 2;
-    if dims == 0 || y.len() % group != 0 || y.is_empty() {
+    if dims == 0 || !y.len().is_multiple_of(group) || y.is_empty() {
         return Err(value_error(format!(
             "y has {} values: expected a multiple of dims + 2 = {group} (base rows × (A, {dims} × AB, B))",
             y.len()
