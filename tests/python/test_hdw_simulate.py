@@ -99,3 +99,15 @@ def test_closed_loop_controller_from_a_dict():
     assert math.isfinite(r.metrics["track_rms"])
     assert r.metrics["track_rms"] < 1e-3
     assert r.trace["ref"].null_count() == 0
+
+
+def test_without_polars_tables_are_dicts_of_arrays(monkeypatch):
+    import hdw._tables
+
+    monkeypatch.setattr(hdw._tables, "_pl", None)
+    runs = hdw.simulate_many([{"c": 5e4}, {"c": -1.0}], t_end=0.02, cycles=1, metrics=["thz_amp"])
+    assert isinstance(runs, dict)
+    assert isinstance(runs["thz_amp"], np.ndarray) and runs["thz_amp"].dtype == np.float64
+    assert math.isnan(runs["thz_amp"][1]) and runs["status"] == ["ok", "failed"]
+    r = hdw.simulate(t_end=0.02)
+    assert isinstance(r.trace, dict) and r.trace["t"][-1] == 0.02
