@@ -1,0 +1,113 @@
+"""hdw.simulate against `hdw simulate`: the same run gives the same numbers to the last
+digit (metrics, parameters, solver work, every trace sample), and bad input is a
+ValueError that names the field and what was expected."""
+
+import math
+
+import numpy as np
+import polars as pl
+import pytest
+
+import hdw
+from hdw_cli import hdw as run_cli, read_json, same_number
+
+
+def test_seed_case_matches_the_cli_to_the_last_digit(tmp_path):
+    run_cli("simulate", "--out", tmp_path)
+    doc = read_json(tmp_path / "metrics.json")
+    r = hdw.simulate()
+    assert r.metrics.keys() == doc["metrics"].keys()
+    for name, value in doc["metrics"].items():
+        assert same_number(value, r.metrics[name]), name
+    assert r.parameters == doc["parameters"]
+    for key in ("method", "steps", "rejected_steps", "rhs_evaluations", "method_switches"):
+        assert r.solver[key] == doc["solver"][key], key
+    cli_trace = pl.read_parquet(tmp_path / "trace.parquet")
+    assert r.trace.columns == cli_trace.columns
+    assert r.trace.equals(cli_trace, null_equal=True)
+
+
+def test_step_input_and_variant_match_the_cli(tmp_path):
+    run_cli("simulate", "--variant", "damped", "--input", "step", "--voltage", "12",
+            "--t-end", "0.05", "--set", "Kbar=5e5", "--out", tmp_path)
+    doc = read_json(tmp_path / "metrics.json")
+    r = hdw.simulate({"Kbar": 5e5}, variant="damped",
+                     input={"kind": "step", "voltage": 12}, t_end=0.05)
+    for name, value in doc["metrics"].items():
+        assert same_number(value, r.metrics[name]), name
+    assert r.config["variant"] == "damped"
+
+
+def test_recorded_input_from_arrays_follows_the_samples():
+    # A recorded ramp is linear between samples: u(t) on the trace is the ramp itself.
+    t = np.array([0.0, 0.01, 0.02])
+    u = np.array([0.0, 10.0, 4.0])
+    r = hdw.simulate(input={"kind": "recorded", "t": t, "u": u}, t_end=0.02, dt_out=1e-3)
+    tr = r.trace
+    expected = np.interp(tr["t"].to_numpy(), t, u)
+    assert np.max(np.abs(tr["u"].to_numpy() - expected)) < 1e-12
+
+
+def test_aliases_and_registry():
+    reg = hdw.parameters()
+    assert "sigma0" in reg["name"].to_list()
+    row = reg.filter(pl.col("name") == "mem_A")
+    assert row["aliases"][0] == "A" and row["default"][0] == 40000.0
+    # The seed's letter A is the same parameter as mem_A.
+    a = hdw.simulate({"A": 3e4}, t_end=0.02, trace=False)
+    b = hdw.simulate({"mem_A": 3e4}, t_end=0.02, trace=False)
+    assert a.metrics["thz_amp"] == b.metrics["thz_amp"]
+    assert a.trace is None
+    assert "thz_amp" in hdw.metrics()
+
+
+@pytest.mark.parametrize(
+    "kwargs, words",
+    [
+        ({"params": {"sigm0": 1e5}}, ["unknown parameter 'sigm0'", "sigma0"]),
+        ({"params": {"c": -5.0}}, ["parameter 'c' = -5", "> 0", "N·m/rad"]),
+        ({"params": {"Tc": float("nan")}}, ["parameter 'Tc'", "finite"]),
+        ({"params": {"c": "stiff"}}, ["parameter 'c'", "expected a number"]),
+        ({"variant": "ful"}, ["variant = 'ful'", "linear, damped or full"]),
+        ({"input": {"kind": "sin"}}, ["input.kind = 'sin'", "did you mean 'sine'"]),
+        ({"input": {"kind": "sine", "volts": 3}}, ["unknown key 'volts'", "voltage"]),
+        ({"input": {"kind": "chirp", "f0": 1}}, ["chirp", "needs 'f1'"]),
+        ({"input": {"kind": "recorded", "t": [0, 0], "u": [1, 2]}}, ["strictly increasing"]),
+        ({"t_end": -1.0}, ["t_end = -1", "> 0"]),
+        ({"rtol": 2.0}, ["rtol = 2", "[1e-14, 1)"]),
+        ({"controller": {"kp": 1.0, "gain": 2}}, ["controller", "gain"]),
+        ({"method": "euler"}, ["method = 'euler'", "dopri5"]),
+    ],
+)
+def test_bad_input_is_a_value_error_naming_the_field(kwargs, words):
+    with pytest.raises(ValueError) as e:
+        hdw.simulate(**kwargs)
+    for w in words:
+        assert w in str(e.value), (w, str(e.value))
+
+
+def test_solver_failure_is_a_simulation_error():
+    with pytest.raises(hdw.SimulationError, match=r"more than 50 steps"):
+        hdw.simulate(max_steps=50)
+    assert issubclass(hdw.SimulationError, RuntimeError)
+
+
+def test_closed_loop_controller_from_a_dict():
+    ctl = {"kp": 2000.0, "ki": 20000.0, "kd": 0.0, "feedback": "load",
+           "reference": {"kind": "sine", "amplitude": 1e-3, "freq": 5.0}}
+    r = hdw.simulate(controller=ctl, t_end=0.4)
+    assert math.isfinite(r.metrics["track_rms"])
+    assert r.metrics["track_rms"] < 1e-3
+    assert r.trace["ref"].null_count() == 0
+
+
+def test_without_polars_tables_are_dicts_of_arrays(monkeypatch):
+    import hdw._tables
+
+    monkeypatch.setattr(hdw._tables, "_pl", None)
+    runs = hdw.simulate_many([{"c": 5e4}, {"c": -1.0}], t_end=0.02, cycles=1, metrics=["thz_amp"])
+    assert isinstance(runs, dict)
+    assert isinstance(runs["thz_amp"], np.ndarray) and runs["thz_amp"].dtype == np.float64
+    assert math.isnan(runs["thz_amp"][1]) and runs["status"] == ["ok", "failed"]
+    r = hdw.simulate(t_end=0.02)
+    assert isinstance(r.trace, dict) and r.trace["t"][-1] == 0.02
