@@ -8,7 +8,6 @@ import os
 import re
 
 import capped
-from capped import MIB
 
 MB = 1_000_000
 PLOT_EXT = (".svg", ".png")

@@ -85,7 +85,7 @@ def run(hdw: str, reps: int, reps_py: int, rtols_py, log=print) -> dict:
 def report(out: dict, log=print) -> dict:
     w = out["walls"]
     h1, h2 = w["hdw 1 thread(s)"], w["hdw 2 thread(s)"]
-    log(f"\nTable 4 `full-sine` (1600 runs, full model, 0.2 s each), whole processes, best of N:")
+    log("\nTable 4 `full-sine` (1600 runs, full model, 0.2 s each), whole processes, best of N:")
     log(f"{'':44s} {'wall':>8s} {'runs/s':>8s} {'vs hdw (2 threads)':>19s}")
     for k, v in w.items():
         log(f"{k:44s} {v:7.2f}s {1600 / v:8.0f} {v / h2:18.1f}×")
