@@ -26,6 +26,7 @@ fn every_shipped_study_parses_and_expands_to_its_documented_size() {
         ("hunting", 48),
         ("closed-loop-bode", 45),
         ("efficiency-map", 28),
+        ("stiffness-laws", 12),
     ];
     let loader = |p: &Path| hd_io::read_profile(p).map_err(|e| e.to_string());
     let mut files: Vec<PathBuf> = std::fs::read_dir(studies_dir())

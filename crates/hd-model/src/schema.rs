@@ -34,6 +34,11 @@ pub static RUN_ID_COLUMNS: &[ColumnDoc] = &[
     col("run_index", "-", "position of the run in the expanded study"),
     col("part", "", "study part the run belongs to"),
     col("variant", "", "model variant: linear, damped or full"),
+    col(
+        "stiffness",
+        "",
+        "hysteretic stiffness law of the full variant: memory, maxwell-slip, bouc-wen or catalogue",
+    ),
     col("status", "", "ok or failed"),
     col("error", "", "error message of a failed run, null otherwise"),
 ];

@@ -2,14 +2,15 @@
 //! value is applied to a run's configuration.
 
 use hd_model::registry::{ParamInfo, REGISTRY, lookup, nearest_of};
-use hd_model::{Compensation, Feedback, Input, SimConfig, Variant};
+use hd_model::{Compensation, Feedback, HystLaw, Input, SimConfig, Variant};
 use serde::{Deserialize, Serialize};
 
 /// Names that are not registry parameters but can be swept.
-pub const SPECIAL: [&str; 12] = [
+pub const SPECIAL: [&str; 13] = [
     "voltage",
     "freq",
     "variant",
+    "stiffness",
     "friction_scale",
     "load_torque",
     "ctl_kp",
@@ -36,6 +37,8 @@ pub enum Knob {
     FrictionScale,
     /// Model variant.
     Variant,
+    /// Hysteretic stiffness law of the full variant (names).
+    Stiffness,
     /// Controller gains kp [V/rad], ki [V/(rad·s)], kd [V·s/rad].
     CtlKp,
     /// See [`Knob::CtlKp`].
@@ -60,6 +63,8 @@ pub enum Value {
     Num(f64),
     /// A variant.
     Variant(Variant),
+    /// A stiffness law.
+    Stiffness(HystLaw),
     /// A compensation setting.
     Compensation(Compensation),
     /// A fed-back angle.
@@ -75,6 +80,7 @@ impl Knob {
             "friction_scale" => Ok(Knob::FrictionScale),
             "load_torque" => Ok(Knob::LoadTorque),
             "variant" => Ok(Knob::Variant),
+            "stiffness" => Ok(Knob::Stiffness),
             "ctl_kp" => Ok(Knob::CtlKp),
             "ctl_ki" => Ok(Knob::CtlKi),
             "ctl_kd" => Ok(Knob::CtlKd),
@@ -105,6 +111,7 @@ impl Knob {
             Knob::FrictionScale => "friction_scale",
             Knob::LoadTorque => "load_torque",
             Knob::Variant => "variant",
+            Knob::Stiffness => "stiffness",
             Knob::CtlKp => "ctl_kp",
             Knob::CtlKi => "ctl_ki",
             Knob::CtlKd => "ctl_kd",
@@ -129,6 +136,10 @@ impl Knob {
                 Err(format!("friction_scale = {v}: expected a finite factor > 0"))
             }
             Knob::Variant => Err("variant takes names (linear, damped, full), not numbers".into()),
+            Knob::Stiffness => Err(
+                "stiffness takes names (memory, maxwell-slip, bouc-wen, catalogue), not numbers"
+                    .into(),
+            ),
             Knob::CtlKp | Knob::CtlKi | Knob::CtlKd | Knob::CtlPeriod
                 if v.is_finite() && v >= 0.0 =>
             {
@@ -224,6 +235,7 @@ impl Knob {
                     hd_model::laws::load::LoadTorque::new(Input::Constant { amplitude: v });
             }
             (Knob::Variant, Value::Variant(v)) => cfg.variant = v,
+            (Knob::Stiffness, Value::Stiffness(s)) => cfg.stiffness = s,
             (k, v) if k.is_controller() => {
                 if let Some(c) = cfg.controller.as_mut() {
                     match (k, v) {

@@ -38,6 +38,8 @@ pub struct RunRow {
     pub part: Arc<str>,
     /// Variant simulated.
     pub variant: Variant,
+    /// Stiffness law of the full variant.
+    pub stiffness: hd_model::HystLaw,
     /// Swept names and values.
     pub swept: Vec<(&'static str, Value)>,
     /// Every parameter used.
@@ -89,6 +91,7 @@ impl RunRow {
             run_index: spec.index,
             part: spec.part.clone(),
             variant: cfg.variant,
+            stiffness: cfg.stiffness,
             swept: spec.swept.clone(),
             params: cfg.params.clone(),
             voltage,

@@ -51,6 +51,9 @@ pub struct StudySpec {
 pub struct BaseSpec {
     /// Variant: linear, damped or full (default full).
     pub variant: Option<Spanned<String>>,
+    /// Stiffness law of the full variant: memory (default), maxwell-slip, bouc-wen or
+    /// catalogue.
+    pub stiffness: Option<Spanned<String>>,
     /// Parameter file (TOML), relative to the study file.
     pub params_file: Option<Spanned<String>>,
     /// Parameter overrides by registry name.
@@ -222,6 +225,8 @@ pub struct PartSpec {
     pub name: Spanned<String>,
     /// Variant for this part.
     pub variant: Option<Spanned<String>>,
+    /// Stiffness law for this part.
+    pub stiffness: Option<Spanned<String>>,
     /// Extra parameter overrides for this part.
     #[serde(default)]
     pub set: BTreeMap<Spanned<String>, Spanned<f64>>,

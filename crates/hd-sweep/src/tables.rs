@@ -24,6 +24,7 @@ pub fn runs_table(rows: &[RunRow], swept: &[&str], metrics: &[&str]) -> OutTable
     t.push("run_index", count(&|r| r.run_index as u64));
     t.push("part", text(&|r| r.part.to_string()));
     t.push("variant", text(&|r| r.variant.name().to_string()));
+    t.push("stiffness", text(&|r| r.stiffness.name().to_string()));
     t.push("status", text(&|r| r.status.as_str().to_string()));
     t.push("error", Cells::OptText(rows.iter().map(|r| r.error.clone()).collect()));
     for p in REGISTRY {
@@ -34,7 +35,9 @@ pub fn runs_table(rows: &[RunRow], swept: &[&str], metrics: &[&str]) -> OutTable
     // Swept settings that are not parameters or input columns (e.g. friction_scale).
     let control: Vec<&str> = RUN_CONTROL_COLUMNS.iter().map(|c| c.name).collect();
     for name in swept.iter().filter(|n| {
-        lookup(n).is_err() && !["voltage", "freq", "variant"].contains(n) && !control.contains(n)
+        lookup(n).is_err()
+            && !["voltage", "freq", "variant", "stiffness"].contains(n)
+            && !control.contains(n)
     }) {
         t.push(*name, num(&|r| swept_value(r, name)));
     }

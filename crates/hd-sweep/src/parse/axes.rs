@@ -70,13 +70,16 @@ impl Checker<'_> {
                 key,
                 format!("{other}: expected a variant name (linear, damped, full)"),
             )),
+            (Knob::Stiffness, toml::Value::String(s)) => {
+                s.parse().map(Value::Stiffness).map_err(|e: String| self.err(at, key, e))
+            }
             (Knob::Compensation, toml::Value::String(s)) => {
                 s.parse().map(Value::Compensation).map_err(|e: String| self.err(at, key, e))
             }
             (Knob::Feedback, toml::Value::String(s)) => {
                 s.parse().map(Value::Feedback).map_err(|e: String| self.err(at, key, e))
             }
-            (Knob::Compensation | Knob::Feedback, other) => {
+            (Knob::Compensation | Knob::Feedback | Knob::Stiffness, other) => {
                 Err(self.err(at, key, format!("{other}: expected a name, not a number")))
             }
             (_, toml::Value::Float(x)) => {

@@ -141,6 +141,9 @@ impl Checker<'_> {
                 if let Some(v) = &p.variant {
                     cfg.variant = self.variant(v)?;
                 }
+                if let Some(v) = &p.stiffness {
+                    cfg.stiffness = self.stiffness(v)?;
+                }
                 self.apply_set(&p.set, &mut cfg, "part.set")?;
                 if let Some(i) = &p.input {
                     cfg.input = self.input(i)?;
@@ -171,6 +174,9 @@ impl Checker<'_> {
     fn apply_base(&self, b: &BaseSpec, cfg: &mut SimConfig) -> Result<(), StudyError> {
         if let Some(v) = &b.variant {
             cfg.variant = self.variant(v)?;
+        }
+        if let Some(v) = &b.stiffness {
+            cfg.stiffness = self.stiffness(v)?;
         }
         if let Some(f) = &b.params_file {
             let p = self.dir.join(f.get_ref());
@@ -219,6 +225,10 @@ impl Checker<'_> {
             info.set_unchecked(&mut cfg.params, *v.get_ref());
         }
         Ok(())
+    }
+
+    fn stiffness(&self, v: &Spanned<String>) -> Result<hd_model::HystLaw, StudyError> {
+        v.get_ref().parse().map_err(|e: String| self.err(v.span().start, "stiffness", e))
     }
 
     fn variant(&self, v: &Spanned<String>) -> Result<Variant, StudyError> {

@@ -106,11 +106,11 @@ impl Checker<'_> {
         let bp = b.get_ref();
         let key = format!("sample.param '{}'", bp.name.get_ref());
         let knob = self.knob(&bp.name, "sample.param.name", input)?;
-        if matches!(knob, Knob::Variant) {
+        if matches!(knob, Knob::Variant | Knob::Stiffness) {
             return Err(self.err(
                 bp.name.span().start,
                 &key,
-                "variant cannot be sampled; use an axis",
+                format!("{} cannot be sampled; use an axis", knob.name()),
             ));
         }
         let (lo, hi) = (*bp.lo.get_ref(), *bp.hi.get_ref());
