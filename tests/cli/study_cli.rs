@@ -41,7 +41,9 @@ fn a_small_study_has_the_documented_schema_and_one_row_per_run() {
     let t = hd_io::read_table(&out_dir.join("runs.parquet")).unwrap();
     assert_eq!(t.height, 6);
     let mut expected: Vec<String> =
-        ["run_id", "run_index", "part", "variant", "status", "error"].map(String::from).to_vec();
+        ["run_id", "run_index", "part", "variant", "stiffness", "status", "error"]
+            .map(String::from)
+            .to_vec();
     expected.extend(hd_model::registry::REGISTRY.iter().map(|p| p.name.to_string()));
     expected.extend(
         [

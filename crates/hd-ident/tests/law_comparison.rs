@@ -76,9 +76,12 @@ fn memory_law_data_rank_the_memory_law_first() {
     // The shipped data/hysteresis-paper-range.csv is this record (same settings and seed).
     let p = Params::default();
     let schedule = Schedule::Sines(HysteresisExcitation::default());
-    let s =
-        synth_stiffness(&StiffnessTruth::Memory(p), &schedule, &Noise { relative: 0.01, seed: 1 })
-            .unwrap();
+    let s = synth_stiffness(
+        &StiffnessTruth::Memory(Box::new(p)),
+        &schedule,
+        &Noise { relative: 0.01, seed: 1 },
+    )
+    .unwrap();
     let [t, th, tb] = [&s.columns[0], &s.columns[1], &s.columns[2]].map(|c| c.to_vec());
     let d = HysteresisData::new(t, th, tb).unwrap();
     let cmp = compare_laws(&d, &LawOptions::default());

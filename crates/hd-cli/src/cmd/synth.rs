@@ -258,7 +258,7 @@ fn synth_hysteresis_cmd(a: HysteresisSynthArgs) -> Result<()> {
                     "--set {name}: a parameter of another law; --law memory takes registry names (a, b, c, A, B)"
                 );
             }
-            StiffnessTruth::Memory(p)
+            StiffnessTruth::Memory(Box::new(p))
         }
         "maxwell-slip" => StiffnessTruth::MaxwellSlip(maxwell_slip_truth(
             &p,

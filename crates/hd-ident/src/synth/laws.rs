@@ -20,7 +20,7 @@ use hd_model::solver::{Method, SolverOptions};
 #[derive(Clone, Debug, PartialEq)]
 pub enum StiffnessTruth {
     /// Cubic spring and fading memory, parameters a, b, c, mem_A, mem_B of `Params`.
-    Memory(Params),
+    Memory(Box<Params>),
     /// Cubic spring and elastoplastic elements.
     MaxwellSlip(MaxwellSlip),
     /// Cubic spring and a Bouc–Wen element.
