@@ -43,9 +43,11 @@ def _options(
     cycles: int,
     load_torque: Optional[float],
     max_steps: Optional[int],
+    stiffness: str = "memory",
 ) -> Dict[str, Any]:
     return {
         "variant": variant,
+        "stiffness": stiffness,
         "input": _input_dict(input),
         "t_end": t_end,
         "rtol": rtol,
@@ -108,6 +110,7 @@ def simulate(
     load_torque: Optional[float] = None,
     max_steps: Optional[int] = None,
     trace: bool = True,
+    stiffness: str = "memory",
 ) -> SimResult:
     """Simulate one run of the motor–harmonic-drive–load system from rest, as
     ``hdw simulate`` does (same defaults: the full model, 24 V sine at 50 Hz, 0.2 s).
@@ -116,6 +119,8 @@ def simulate(
         params: parameters that differ from the defaults, ``{name: value}`` by registry
             name or alias (see :func:`parameters`), e.g. ``{"c": 6e4, "A": 3e4}``.
         variant: ``"linear"``, ``"damped"`` or ``"full"``.
+        stiffness: the full variant's hysteretic law, ``"memory"`` (default),
+            ``"maxwell-slip"``, ``"bouc-wen"`` or ``"catalogue"`` (docs/model.md §2.11–2.14).
         input: the armature voltage, as a study file's ``[input]`` table:
             ``{"kind": "sine", "voltage": 24, "freq": 50}``, ``{"kind": "step",
             "voltage": 12, "t0": 0}``, ``{"kind": "constant", "voltage": 5}``,
@@ -146,7 +151,7 @@ def simulate(
     """
     opts = _options(
         variant, input, t_end, rtol, atol, dt_out, controller, method, friction_velocity,
-        cycles, load_torque, max_steps,
+        cycles, load_torque, max_steps, stiffness,
     )
     return SimResult(_hdw.simulate(opts, None if params is None else dict(params), trace))
 
@@ -169,6 +174,7 @@ def simulate_many(
     max_steps: Optional[int] = None,
     metrics: Optional[Sequence[str]] = None,
     threads: Optional[int] = None,
+    stiffness: str = "memory",
 ) -> Any:
     """Simulate many parameter sets in parallel (rayon, all cores by default, the GIL
     released) and return one row per run, as a sweep's ``runs.parquet``.
@@ -197,7 +203,7 @@ def simulate_many(
     """
     opts = _options(
         variant, input, t_end, rtol, atol, 0.0, controller, method, friction_velocity,
-        cycles, load_torque, max_steps,
+        cycles, load_torque, max_steps, stiffness,
     )
     base_d = None if base is None else dict(base)
     keep = None if metrics is None else list(metrics)

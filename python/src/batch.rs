@@ -45,8 +45,8 @@ fn spec(base: &SimConfig, index: usize, values: &[(&'static ParamInfo, f64)]) ->
     RunSpec {
         run_id: run_id(PART, &config),
         index,
-        part: PART.to_string(),
-        swept: values.iter().map(|(i, v)| (i.name.to_string(), Value::Num(*v))).collect(),
+        part: PART.into(),
+        swept: values.iter().map(|(i, v)| (i.name, Value::Num(*v))).collect(),
         config,
         design: None,
         design_names: Arc::from(Vec::<&'static str>::new()),

@@ -158,6 +158,7 @@ fn text_option(dict: &Bound<'_, PyDict>, key: &str, default: &str) -> PyResult<S
 }
 
 /// A run's configuration from the options dict the Python wrappers build (keys: variant,
+/// stiffness,
 /// input, t_end, rtol, atol, dt_out, method, friction_velocity, cycles, max_steps,
 /// controller (JSON text), load_torque) and the parameters (checked).
 pub fn config_from_options(
@@ -167,6 +168,7 @@ pub fn config_from_options(
 ) -> PyResult<SimConfig> {
     let keys = [
         "variant",
+        "stiffness",
         "input",
         "t_end",
         "rtol",
@@ -188,6 +190,8 @@ pub fn config_from_options(
     let variant = Variant::from_str(&variant_text).map_err(|_| {
         value_error(format!("variant = '{variant_text}': expected linear, damped or full"))
     })?;
+    let stiffness_text = text_option(opts, "stiffness", "memory")?;
+    let stiffness = hd_model::HystLaw::from_str(&stiffness_text).map_err(value_error)?;
     let input = match opts.get_item("input")? {
         Some(d) if !d.is_none() => {
             input_from_dict(d.cast::<PyDict>().map_err(|_| value_error("input: expected a dict"))?)?
@@ -237,6 +241,7 @@ pub fn config_from_options(
     let cfg = SimConfig {
         params: p,
         variant,
+        stiffness,
         input,
         t_end: get_f64(opts, "t_end", "options")?.unwrap_or(0.2),
         dt_out: get_f64(opts, "dt_out", "options")?.unwrap_or(0.0),

@@ -131,3 +131,14 @@ fn help_ends_with_a_worked_example() {
         );
     }
 }
+
+#[test]
+fn no_trace_writes_the_metrics_only() {
+    let dir = scratch("no-trace");
+    let out = dir.join("run");
+    hdw_ok(&["simulate", "--no-trace", "--t-end", "0.05", "--out", out.to_str().unwrap()]);
+    assert!(out.join("metrics.json").is_file());
+    assert!(!out.join("trace.parquet").exists() && !out.join("response.svg").exists());
+    let m = json(&out.join("metrics.json"));
+    assert!(m["metrics"]["thz_amp"].as_f64().unwrap() > 0.0);
+}

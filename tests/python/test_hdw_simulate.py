@@ -111,3 +111,11 @@ def test_without_polars_tables_are_dicts_of_arrays(monkeypatch):
     assert math.isnan(runs["thz_amp"][1]) and runs["status"] == ["ok", "failed"]
     r = hdw.simulate(t_end=0.02)
     assert isinstance(r.trace, dict) and r.trace["t"][-1] == 0.02
+
+
+def test_every_stiffness_law_runs_and_a_bad_name_is_a_value_error():
+    for law in ["memory", "maxwell-slip", "bouc-wen", "catalogue"]:
+        r = hdw.simulate(t_end=0.05, stiffness=law, trace=False)
+        assert r.metrics["energy_residual"] < 1e-8, law
+    with pytest.raises(ValueError, match="stiffness"):
+        hdw.simulate(stiffness="elastic", trace=False)

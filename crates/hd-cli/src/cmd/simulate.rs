@@ -2,7 +2,7 @@
 
 use super::common::{ensure_dir, load_params, write_json};
 use super::control_args::ControlArgs;
-use anyhow::{Context, Result, bail};
+use anyhow::{Context, Result};
 use clap::{Args, ValueEnum};
 use hd_model::params_file::{controller_from_toml, stiffness_from_toml};
 use hd_model::simulate::input_from_kind;
@@ -16,7 +16,7 @@ use std::path::{Path, PathBuf};
 /// Simulate one run of the motor–harmonic-drive–load system.
 #[derive(Args, Debug)]
 #[command(
-    after_help = "Outputs (in --out DIR):\n  trace.parquet  t, u, i, theta_j, omega_j, theta_z, omega_z, theta, z, s, Tb, Tf, K, C0 (SI units)\n  metrics.json   every metric, the parameters used, solver statistics and wall time\n  response.svg   load angle over time and the Tb–θ loop\nClosed loop (--controller pid) adds the trace columns ref, error, u_ff, tf_hat, tb_hat and the\nmetrics track_rms, track_max, reversal_peak, u_rms, saturation_fraction, torque_est_rms, ….\n\nExample:\n  hdw simulate --out out/demo\n  hdw simulate --stiffness maxwell-slip --set ms_n=10 --set ms_delta=3e-5 --out out/slip\n  hdw datasheet --k1 6.7e4 --k2 1.1e5 --k3 1.2e5 --t1 29 --t2 108 --hysteresis-loss 1 --out out/ds\n  hdw simulate --params out/ds/catalogue.toml --out out/catalogue   (the file says stiffness = \"catalogue\")\n  hdw simulate --variant damped --set Kbar=5e5 --input step --voltage 12 --t-end 0.1 --out out/step\n  hdw simulate --controller pid --kp 2000 --ki 20000 --kd 0 --feedback load --reference sine \\\n      --ref-amplitude 1e-3 --ref-freq 0.2 --t-end 12 --set Tc=1.5 --set Ts=2.5 --compensation friction --out out/pid\n  hdw simulate --controller pid --reference step --ref-amplitude 1e-3 --load-torque 5 --t-end 2 --out out/reg"
+    after_help = "Outputs (in --out DIR):\n  trace.parquet  t, u, i, theta_j, omega_j, theta_z, omega_z, theta, z, s, Tb, Tf, K, C0 (SI units)\n  metrics.json   every metric, the parameters used, solver statistics and wall time\n  response.svg   load angle over time and the Tb–θ loop\n(--no-trace writes metrics.json only.)\nClosed loop (--controller pid) adds the trace columns ref, error, u_ff, tf_hat, tb_hat and the\nmetrics track_rms, track_max, reversal_peak, u_rms, saturation_fraction, torque_est_rms, ….\n\nExample:\n  hdw simulate --out out/demo\n  hdw simulate --stiffness maxwell-slip --set ms_n=10 --set ms_delta=3e-5 --out out/slip\n  hdw datasheet --k1 6.7e4 --k2 1.1e5 --k3 1.2e5 --t1 29 --t2 108 --hysteresis-loss 1 --out out/ds\n  hdw simulate --params out/ds/catalogue.toml --out out/catalogue   (the file says stiffness = \"catalogue\")\n  hdw simulate --variant damped --set Kbar=5e5 --input step --voltage 12 --t-end 0.1 --out out/step\n  hdw simulate --controller pid --kp 2000 --ki 20000 --kd 0 --feedback load --reference sine \\\n      --ref-amplitude 1e-3 --ref-freq 0.2 --t-end 12 --set Tc=1.5 --set Ts=2.5 --compensation friction --out out/pid\n  hdw simulate --controller pid --reference step --ref-amplitude 1e-3 --load-torque 5 --t-end 2 --out out/reg"
 )]
 pub struct SimulateArgs {
     /// Parameter file (TOML, registry names as keys, e.g. `c = 6e4`).
@@ -64,6 +64,10 @@ pub struct SimulateArgs {
     /// Whole cycles at the end of the run used for the periodic metrics.
     #[arg(long, default_value_t = 5)]
     pub cycles: usize,
+    /// Metrics only: no trace.parquet and no response.svg (nothing is sampled, so memory
+    /// does not grow with the simulated time).
+    #[arg(long)]
+    pub no_trace: bool,
     /// Closed-loop control and load torque.
     #[command(flatten)]
     pub control: ControlArgs,
@@ -193,7 +197,7 @@ pub fn config(args: &SimulateArgs) -> Result<SimConfig> {
             FrictionVelocityArg::Deflection => FrictionVelocity::Deflection,
         },
         metrics: MetricSettings { cycles: args.cycles, ..Default::default() },
-        record_trace: true,
+        record_trace: !args.no_trace,
         load_torque: args.control.load_torque(),
         controller: args.control.controller(from_file)?,
     };
@@ -206,8 +210,9 @@ pub fn run(args: SimulateArgs) -> Result<()> {
     let cfg = config(&args)?;
     let out = simulate(&cfg).context("simulation failed")?;
     let dir = ensure_dir(&args.out)?;
-    let Some(trace) = out.trace.as_ref() else { bail!("no trace recorded") };
-    hd_io::write_trace(&dir.join("trace.parquet"), trace)?;
+    if let Some(trace) = out.trace.as_ref() {
+        hd_io::write_trace(&dir.join("trace.parquet"), trace)?;
+    }
     let metrics: serde_json::Map<String, serde_json::Value> = out
         .metrics
         .to_pairs()
@@ -246,7 +251,9 @@ pub fn run(args: SimulateArgs) -> Result<()> {
         Some(c) => format!("{} variant, PID, {} compensation", cfg.variant, c.compensation),
         None => format!("{} variant, {}", cfg.variant, input_label(&cfg.input)),
     };
-    hd_plot::response_plot(&dir.join("response.svg"), trace, &title)?;
+    if let Some(trace) = out.trace.as_ref() {
+        hd_plot::response_plot(&dir.join("response.svg"), trace, &title)?;
+    }
     if cfg.controller.is_some() {
         let m = &out.metrics;
         eprintln!(
