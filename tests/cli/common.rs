@@ -63,3 +63,22 @@ max_steps = 20000
 name = "Jz"
 values = [0.024, 1e-12, 0.05]
 "#;
+
+/// `hdw datasheet` with the worked example of issue #17 (data/catalogue/README.md); append
+/// the remaining flags.
+pub fn datasheet_example(more: &[&str]) -> Vec<String> {
+    let base = [
+        "datasheet",
+        "--k1",
+        "6.7e4",
+        "--k2",
+        "1.1e5",
+        "--k3",
+        "1.2e5",
+        "--t1",
+        "29",
+        "--t2",
+        "108",
+    ];
+    base.iter().chain(more).map(|s| s.to_string()).collect()
+}

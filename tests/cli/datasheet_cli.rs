@@ -8,23 +8,8 @@ fn worked_example_writes_the_catalogue_law_and_a_usable_seed_spring() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("ds");
     let o = out.to_str().unwrap();
-    let args = [
-        "datasheet",
-        "--k1",
-        "6.7e4",
-        "--k2",
-        "1.1e5",
-        "--k3",
-        "1.2e5",
-        "--t1",
-        "29",
-        "--t2",
-        "108",
-        "--hysteresis-loss",
-        "1",
-        "--out",
-        o,
-    ];
+    let args = datasheet_example(&["--hysteresis-loss", "1", "--out", o]);
+    let args: Vec<&str> = args.iter().map(String::as_str).collect();
     let run = hdw_ok(&args);
     assert!(String::from_utf8_lossy(&run.stdout).contains("seed spring"));
     for f in ["catalogue.toml", "seed-params.toml", "datasheet.json", "curves.svg"] {
@@ -70,20 +55,7 @@ fn bad_catalogue_values_name_the_flag() {
         "20",
     ]);
     assert_one_line_error(&out, &["--t2", "expected a torque above T1"]);
-    let out = hdw(&[
-        "datasheet",
-        "--k1",
-        "6.7e4",
-        "--k2",
-        "1.1e5",
-        "--k3",
-        "1.2e5",
-        "--t1",
-        "29",
-        "--t2",
-        "108",
-        "--hysteresis-loss",
-        "30",
-    ]);
+    let args = datasheet_example(&["--hysteresis-loss", "30"]);
+    let out = hdw(&args.iter().map(String::as_str).collect::<Vec<_>>());
     assert_one_line_error(&out, &["--hysteresis-loss", "expected at most"]);
 }

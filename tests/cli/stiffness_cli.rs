@@ -21,23 +21,8 @@ fn every_stiffness_law_simulates_and_is_recorded() {
 fn a_datasheet_params_file_selects_the_catalogue_law() {
     let dir = scratch("stiffness-datasheet");
     let ds = dir.join("ds");
-    let args = [
-        "datasheet",
-        "--k1",
-        "6.7e4",
-        "--k2",
-        "1.1e5",
-        "--k3",
-        "1.2e5",
-        "--t1",
-        "29",
-        "--t2",
-        "108",
-        "--hysteresis-loss",
-        "1",
-        "--out",
-        ds.to_str().unwrap(),
-    ];
+    let args = datasheet_example(&["--hysteresis-loss", "1", "--out", ds.to_str().unwrap()]);
+    let args: Vec<&str> = args.iter().map(String::as_str).collect();
     hdw_ok(&args);
     let sim = dir.join("sim");
     let p = ds.join("catalogue.toml");
