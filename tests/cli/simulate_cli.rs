@@ -142,3 +142,19 @@ fn no_trace_writes_the_metrics_only() {
     let m = json(&out.join("metrics.json"));
     assert!(m["metrics"]["thz_amp"].as_f64().unwrap() > 0.0);
 }
+
+#[test]
+fn a_long_trace_streams_in_row_groups_and_its_plot_stays_small() {
+    // 250 001 samples: four row groups of trace.parquet, and the plot from the envelope.
+    let dir = scratch("streamed");
+    let out = dir.join("run");
+    let o = out.to_str().unwrap();
+    hdw_ok(&["simulate", "--t-end", "0.5", "--dt-out", "2e-6", "--out", o]);
+    let t = hd_io::read_table(&out.join("trace.parquet")).unwrap();
+    assert_eq!(t.height, 250_001);
+    let time = t.num("t").unwrap();
+    assert!(time.windows(2).all(|w| w[1] > w[0]));
+    assert!((time[250_000] - 0.5).abs() < 1e-12);
+    let svg = std::fs::metadata(out.join("response.svg")).unwrap().len();
+    assert!(svg < 2_000_000, "response.svg {svg} bytes");
+}

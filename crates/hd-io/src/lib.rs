@@ -21,5 +21,5 @@ pub use columns::{read_columns, read_frame, read_profile};
 pub use error::IoError;
 pub use parquet_out::{write_frame, write_out_table};
 pub use table::{ColumnData, Table, read_table};
-pub use trace::write_trace;
+pub use trace::{stream_trace, write_trace};
 pub use write_columns::write_columns;

@@ -39,7 +39,7 @@ pub use laws::input::{Input, Profile};
 pub use metrics::{METRICS, MetricSettings, Metrics};
 pub use out_table::{Cells, OutColumn, OutTable};
 pub use params::Params;
-pub use simulate::{SimConfig, SimError, SimOutput, simulate};
+pub use simulate::{SimConfig, SimError, SimOutput, simulate, simulate_streaming};
 pub use solver::{Method, SolverOptions, SolverStats};
 pub use system::{DriveSystem, FrictionVelocity};
 pub use trace::{TRACE_COLUMNS, Trace, TraceColumn};

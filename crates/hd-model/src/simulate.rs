@@ -7,7 +7,7 @@ use crate::laws::input::Input;
 use crate::laws::load::LoadTorque;
 use crate::metrics::{Collector, MetricSettings, Metrics};
 use crate::params::Params;
-use crate::signals::Thresholds;
+use crate::signals::{Sample, Thresholds};
 use crate::solver::{Method, SolverOptions, SolverStats, Step, solve};
 use crate::state::{CMP_Q, DIM, State};
 use crate::system::{DriveSystem, FrictionVelocity};
@@ -213,6 +213,23 @@ impl SimConfig {
 
 /// Run one simulation from rest.
 pub fn simulate(cfg: &SimConfig) -> Result<SimOutput, SimError> {
+    let mut trace = cfg.record_trace.then(Trace::default);
+    let mut out = match trace.as_mut() {
+        Some(tr) => simulate_streaming(cfg, Some(&mut |s: &Sample| tr.push(s)))?,
+        None => simulate_streaming(cfg, None)?,
+    };
+    out.trace = trace;
+    Ok(out)
+}
+
+/// Run one simulation from rest, handing each trace sample (on the grid of
+/// [`SimConfig::output_interval`]) to `sink` as soon as the solve passes it, so a caller
+/// can write a long run without holding it (`record_trace` is ignored; the output's
+/// trace is `None`). With no sink nothing is sampled.
+pub fn simulate_streaming(
+    cfg: &SimConfig,
+    mut sink: Option<&mut dyn FnMut(&Sample)>,
+) -> Result<SimOutput, SimError> {
     cfg.validate()?;
     let mut sys = cfg.system()?;
     let mut opts = cfg.solver;
@@ -230,9 +247,9 @@ pub fn simulate(cfg: &SimConfig) -> Result<SimOutput, SimError> {
     }
     let dt = cfg.output_interval();
     let eps = Thresholds::default();
-    let mut trace = cfg.record_trace.then(Trace::default);
-    if let Some(tr) = trace.as_mut() {
-        tr.push(&sys.sample(0.0, &y0, &eps));
+    let mut last_t = 0.0;
+    if let Some(f) = sink.as_mut() {
+        f(&sys.sample(0.0, &y0, &eps));
     }
     let mut collector = Collector::new(&sys, cfg.metrics, y0, cfg.t_end);
     let mut next_k: u64 = 1;
@@ -261,14 +278,15 @@ pub fn simulate(cfg: &SimConfig) -> Result<SimOutput, SimError> {
         let sys_ref = &sys;
         let mut observer = |s: &Step<DIM>| {
             collector.on_step(sys_ref, s);
-            if let Some(tr) = trace.as_mut() {
+            if let Some(f) = sink.as_mut() {
                 loop {
                     let tk = (next_k as f64 * dt).min(cfg.t_end);
-                    if tk > s.t1 || (tk <= *tr.t.last().unwrap_or(&-1.0)) {
+                    if tk > s.t1 || tk <= last_t {
                         break;
                     }
                     let y = if tk == s.t1 { *s.y1 } else { s.interpolate(tk) };
-                    tr.push(&sys_ref.sample(tk, &y, &eps));
+                    f(&sys_ref.sample(tk, &y, &eps));
+                    last_t = tk;
                     next_k += 1;
                 }
             }
@@ -279,7 +297,7 @@ pub fn simulate(cfg: &SimConfig) -> Result<SimOutput, SimError> {
     }
     let wall_time = start.elapsed().as_secs_f64();
     let metrics = collector.finish(&sys, &y);
-    Ok(SimOutput { trace, metrics, stats, wall_time, final_state: y })
+    Ok(SimOutput { trace: None, metrics, stats, wall_time, final_state: y })
 }
 
 /// A run's configuration as `Input` for a constant, step or sine voltage — a helper for

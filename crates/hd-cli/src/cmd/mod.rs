@@ -3,6 +3,7 @@
 pub mod common;
 pub mod control_args;
 pub mod datasheet;
+pub mod envelope;
 pub mod explore;
 pub mod fit;
 pub mod fit_hysteresis;

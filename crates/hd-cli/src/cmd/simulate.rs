@@ -2,16 +2,21 @@
 
 use super::common::{ensure_dir, load_params, write_json};
 use super::control_args::ControlArgs;
+use super::envelope::Envelope;
 use anyhow::{Context, Result};
 use clap::{Args, ValueEnum};
 use hd_model::params_file::{controller_from_toml, stiffness_from_toml};
+use hd_model::signals::Sample;
 use hd_model::simulate::input_from_kind;
 use hd_model::{
     FrictionVelocity, HystLaw, Input, Method, MetricSettings, SimConfig, SolverOptions, Variant,
-    simulate,
 };
+use hd_model::{Trace, simulate_streaming};
 use serde_json::json;
 use std::path::{Path, PathBuf};
+
+/// Runs with at most this many trace samples are plotted from every sample.
+const FULL_PLOT_SAMPLES: f64 = 200_000.0;
 
 /// Simulate one run of the motor–harmonic-drive–load system.
 #[derive(Args, Debug)]
@@ -208,11 +213,30 @@ pub fn config(args: &SimulateArgs) -> Result<SimConfig> {
 /// Run `hdw simulate`.
 pub fn run(args: SimulateArgs) -> Result<()> {
     let cfg = config(&args)?;
-    let out = simulate(&cfg).context("simulation failed")?;
     let dir = ensure_dir(&args.out)?;
-    if let Some(trace) = out.trace.as_ref() {
-        hd_io::write_trace(&dir.join("trace.parquet"), trace)?;
-    }
+    // The trace streams to trace.parquet in row groups while the solve runs; the plot gets
+    // every sample of a short run and the per-bucket envelope of a long one.
+    let expected = cfg.t_end / cfg.output_interval();
+    let (out, plot_trace) = if cfg.record_trace {
+        let mut full = (expected <= FULL_PLOT_SAMPLES).then(Trace::default);
+        let mut env = Envelope::new(cfg.t_end);
+        let out = hd_io::stream_trace(&dir.join("trace.parquet"), |sink| {
+            simulate_streaming(
+                &cfg,
+                Some(&mut |s: &Sample| {
+                    sink(s);
+                    match full.as_mut() {
+                        Some(t) => t.push(s),
+                        None => env.push(s),
+                    }
+                }),
+            )
+        })?
+        .context("simulation failed")?;
+        (out, Some(full.unwrap_or_else(|| env.finish())))
+    } else {
+        (simulate_streaming(&cfg, None).context("simulation failed")?, None)
+    };
     let metrics: serde_json::Map<String, serde_json::Value> = out
         .metrics
         .to_pairs()
@@ -251,7 +275,7 @@ pub fn run(args: SimulateArgs) -> Result<()> {
         Some(c) => format!("{} variant, PID, {} compensation", cfg.variant, c.compensation),
         None => format!("{} variant, {}", cfg.variant, input_label(&cfg.input)),
     };
-    if let Some(trace) = out.trace.as_ref() {
+    if let Some(trace) = plot_trace.as_ref() {
         hd_plot::response_plot(&dir.join("response.svg"), trace, &title)?;
     }
     if cfg.controller.is_some() {
