@@ -13,6 +13,7 @@ pub mod report;
 pub mod report_check;
 pub mod report_inputs;
 pub mod sensitivity;
+pub mod sim_progress;
 pub mod simulate;
 pub mod study;
 pub mod study_json;

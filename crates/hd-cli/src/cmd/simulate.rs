@@ -3,6 +3,7 @@
 use super::common::{ensure_dir, load_params, write_json};
 use super::control_args::ControlArgs;
 use super::envelope::Envelope;
+use super::sim_progress::SimProgress;
 use anyhow::{Context, Result};
 use clap::{Args, ValueEnum};
 use hd_model::params_file::{controller_from_toml, stiffness_from_toml};
@@ -220,11 +221,13 @@ pub fn run(args: SimulateArgs) -> Result<()> {
     let (out, plot_trace) = if cfg.record_trace {
         let mut full = (expected <= FULL_PLOT_SAMPLES).then(Trace::default);
         let mut env = Envelope::new(cfg.t_end);
+        let mut progress = SimProgress::new(cfg.t_end);
         let out = hd_io::stream_trace(&dir.join("trace.parquet"), |sink| {
             simulate_streaming(
                 &cfg,
                 Some(&mut |s: &Sample| {
                     sink(s);
+                    progress.at(s.t);
                     match full.as_mut() {
                         Some(t) => t.push(s),
                         None => env.push(s),
@@ -233,6 +236,7 @@ pub fn run(args: SimulateArgs) -> Result<()> {
             )
         })?
         .context("simulation failed")?;
+        progress.finish();
         (out, Some(full.unwrap_or_else(|| env.finish())))
     } else {
         (simulate_streaming(&cfg, None).context("simulation failed")?, None)
