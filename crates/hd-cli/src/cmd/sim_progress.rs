@@ -35,7 +35,7 @@ impl SimProgress {
     /// The run has reached simulated time `t` [s].
     pub fn at(&mut self, t: f64) {
         self.count += 1;
-        if self.count % EVERY != 0 {
+        if !self.count.is_multiple_of(EVERY) {
             return;
         }
         if !self.shown && self.start.elapsed() > Duration::from_secs(1) {
