@@ -36,3 +36,26 @@ def without(doc, keys):
     if isinstance(doc, list):
         return [without(v, keys) for v in doc]
     return doc
+
+
+def sobol_study(name, t_end, n, seed, params):
+    """A small Sobol' study file of the full model (24 V, 50 Hz) keeping thz_amp and
+    efficiency; ``params`` is a list of (name, lo, hi)."""
+    head = f"""name = "{name}"
+[base]
+variant = "full"
+t_end = {t_end}
+[input]
+kind = "sine"
+voltage = 24.0
+freq = 50.0
+[metrics]
+keep = ["thz_amp", "efficiency"]
+cycles = 1
+[sample]
+method = "sobol"
+n = {n}
+seed = {seed}
+"""
+    dims = "".join(f'[[sample.param]]\nname = "{p}"\nlo = {lo}\nhi = {hi}\n' for p, lo, hi in params)
+    return head + dims

@@ -7,37 +7,9 @@ import polars as pl
 import pytest
 
 import hdw
-from hdw_cli import hdw as run_cli
+from hdw_cli import hdw as run_cli, sobol_study
 
-SOBOL_STUDY = """
-name = "py-sobol"
-[base]
-variant = "full"
-t_end = 0.04
-[input]
-kind = "sine"
-voltage = 24.0
-freq = 50.0
-[metrics]
-keep = ["thz_amp", "efficiency"]
-cycles = 1
-[sample]
-method = "sobol"
-n = 32
-seed = 3
-[[sample.param]]
-name = "c"
-lo = 40000
-hi = 60000
-[[sample.param]]
-name = "Tc"
-lo = 0.1
-hi = 0.2
-[[sample.param]]
-name = "Jz"
-lo = 0.02
-hi = 0.03
-"""
+SOBOL_STUDY = sobol_study("py-sobol", 0.04, 32, 3, [("c", 40000, 60000), ("Tc", 0.1, 0.2), ("Jz", 0.02, 0.03)])
 
 
 def test_same_indices_as_hdw_sensitivity_on_a_study(tmp_path):

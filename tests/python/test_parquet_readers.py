@@ -19,6 +19,8 @@ import polars as pl
 import pyarrow.parquet as pq
 import pytest
 
+from hdw_cli import sobol_study
+
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 HDW = os.environ.get("HDW", str(ROOT / "target" / "debug" / "hdw"))
 
@@ -49,31 +51,7 @@ name = "B"
 values = [200.0, 300.0, 400.0]
 """
 
-SOBOL = """
-name = "readers-sobol"
-[base]
-variant = "full"
-t_end = 0.02
-[input]
-kind = "sine"
-voltage = 24.0
-freq = 50.0
-[metrics]
-keep = ["thz_amp", "efficiency"]
-cycles = 1
-[sample]
-method = "sobol"
-n = 8
-seed = 1
-[[sample.param]]
-name = "A"
-lo = 30000
-hi = 50000
-[[sample.param]]
-name = "c"
-lo = 40000
-hi = 60000
-"""
+SOBOL = sobol_study("readers-sobol", 0.02, 8, 1, [("A", 30000, 50000), ("c", 40000, 60000)])
 
 
 def hdw(*args):
