@@ -50,6 +50,10 @@ pub const Q_DISS: usize = 16;
 /// ∫ T_L·ωz dt: work the load does against the external load torque [J].
 pub const Q_LOAD: usize = 17;
 
+/// Number of leading states with a rate (plant, controller and quadratures); the states
+/// from here on change only when a step is accepted.
+pub const LIVE: usize = Q_LOAD + 1;
+
 /// ∫ slip dissipation: energy the slip elements' sliders have turned into heat [J],
 /// advanced when a step is accepted (not by a rate).
 pub const Q_SLIP: usize = 18;

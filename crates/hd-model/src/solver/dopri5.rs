@@ -1,6 +1,6 @@
 //! One step of the Dormand–Prince 5(4) pair (first-same-as-last).
 
-use super::OdeSystem;
+use super::{OdeSystem, combine};
 use nalgebra::SVector;
 
 const C: [f64; 7] = [0.0, 1.0 / 5.0, 3.0 / 10.0, 4.0 / 5.0, 8.0 / 9.0, 1.0, 1.0];
@@ -35,7 +35,8 @@ pub(crate) struct Trial<const D: usize> {
     pub stiffness: f64,
 }
 
-/// Take a trial step of size h from (t, y) with f0 = f(t, y); uses 6 evaluations.
+/// Take a trial step of size h from (t, y) with f0 = f(t, y); uses 6 evaluations. Only
+/// the first [`OdeSystem::live`] components are advanced; the rest are copied from y.
 pub(crate) fn step<const D: usize, S: OdeSystem<D>>(
     sys: &S,
     t: f64,
@@ -43,22 +44,24 @@ pub(crate) fn step<const D: usize, S: OdeSystem<D>>(
     f0: &SVector<f64, D>,
     h: f64,
 ) -> Trial<D> {
-    let k1 = *f0;
-    let k2 = sys.rhs(t + C[1] * h, &(y + h * A2[0] * k1));
-    let k3 = sys.rhs(t + C[2] * h, &(y + h * (A3[0] * k1 + A3[1] * k2)));
-    let k4 = sys.rhs(t + C[3] * h, &(y + h * (A4[0] * k1 + A4[1] * k2 + A4[2] * k3)));
-    let k5 = sys.rhs(t + C[4] * h, &(y + h * (A5[0] * k1 + A5[1] * k2 + A5[2] * k3 + A5[3] * k4)));
-    let y6 = y + h * (A6[0] * k1 + A6[1] * k2 + A6[2] * k3 + A6[3] * k4 + A6[4] * k5);
-    let k6 = sys.rhs(t + C[5] * h, &y6);
-    let y1 = y + h * (B[0] * k1 + B[2] * k3 + B[3] * k4 + B[4] * k5 + B[5] * k6);
-    let k7 = sys.rhs(t + h, &y1);
-    let err = h * (E[0] * k1 + E[2] * k3 + E[3] * k4 + E[4] * k5 + E[5] * k6 + E[6] * k7);
+    let n = sys.live();
+    let mut k = [SVector::<f64, D>::zeros(); 7];
+    k[0] = *f0;
+    k[1] = sys.rhs(t + C[1] * h, &combine(y, h, &A2, &k, n));
+    k[2] = sys.rhs(t + C[2] * h, &combine(y, h, &A3, &k, n));
+    k[3] = sys.rhs(t + C[3] * h, &combine(y, h, &A4, &k, n));
+    k[4] = sys.rhs(t + C[4] * h, &combine(y, h, &A5, &k, n));
+    let y6 = combine(y, h, &A6, &k, n);
+    k[5] = sys.rhs(t + C[5] * h, &y6);
+    let y1 = combine(y, h, &B, &k, n);
+    k[6] = sys.rhs(t + h, &y1);
+    let err = combine(&SVector::zeros(), h, &E, &k, n);
     let m = sys.coupled();
     let (mut num, mut den) = (0.0, 0.0);
     for i in 0..m {
-        num += (k7[i] - k6[i]).powi(2);
+        num += (k[6][i] - k[5][i]).powi(2);
         den += (y1[i] - y6[i]).powi(2);
     }
     let stiffness = if den > 0.0 { h * (num / den).sqrt() } else { 0.0 };
-    Trial { y1, f1: k7, err, stiffness }
+    Trial { y1, f1: k[6], err, stiffness }
 }

@@ -181,6 +181,9 @@ pub fn solve<const D: usize, S: OdeSystem<D>>(
                 }
             } else {
                 stats.rejected += 1;
+                if auto {
+                    switcher.rejected();
+                }
                 let fac = if err_norm.is_finite() {
                     control::SAFETY * err_norm.powf(-order_exp)
                 } else {

@@ -40,6 +40,13 @@ pub trait OdeSystem<const D: usize>: Sync {
         Self::COUPLED
     }
 
+    /// Number of leading components whose rates can be non-zero (at most D); the solver
+    /// advances only these and copies the rest, which the system may still rewrite in
+    /// [`OdeSystem::commit`]. Default: all of them.
+    fn live(&self) -> usize {
+        D
+    }
+
     /// The right-hand side f(t, y).
     fn rhs(&self, t: f64, y: &SVector<f64, D>) -> SVector<f64, D>;
 
@@ -168,6 +175,30 @@ impl SolverStats {
         self.implicit_steps += o.implicit_steps;
         self.switches += o.switches;
     }
+}
+
+/// `y + h·Σ_j c_j·k_j` over the first `n` components, the rest copied from `y` (the sum
+/// is formed first and then scaled, term by term in order).
+#[inline(always)]
+pub(crate) fn combine<const D: usize>(
+    y: &SVector<f64, D>,
+    h: f64,
+    c: &[f64],
+    k: &[SVector<f64, D>],
+    n: usize,
+) -> SVector<f64, D> {
+    let mut acc = [0.0; D];
+    for (cj, kj) in c.iter().zip(k) {
+        let kj = &kj.as_slice()[..n];
+        for (a, kv) in acc[..n].iter_mut().zip(kj) {
+            *a += cj * kv;
+        }
+    }
+    let mut out = *y;
+    for (o, a) in out.as_mut_slice()[..n].iter_mut().zip(&acc[..n]) {
+        *o += h * a;
+    }
+    out
 }
 
 /// Weighted RMS norm of `err` over the controlled (coupled) components.

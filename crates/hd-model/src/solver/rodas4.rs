@@ -5,8 +5,8 @@
 //! `W·k_i = f(t + α_i·h, y + Σ_j a_ij·k_j) + Σ_j (c_ij/h)·k_j + γ_i·h·∂f/∂t`,
 //! `y_new = y + Σ_j m_j·k_j`; the error estimate is the last stage `k_6`.
 
-use super::OdeSystem;
 use super::lu::BlockLu;
+use super::{OdeSystem, combine};
 use nalgebra::{SMatrix, SVector};
 
 const GAMMA: f64 = 0.25;
@@ -55,33 +55,28 @@ pub(crate) fn step<const D: usize, S: OdeSystem<D>>(
     dfdt: &SVector<f64, D>,
     h: f64,
 ) -> Result<Trial<D>, Singular> {
-    let mut w = -jac;
-    let d = 1.0 / (h * GAMMA);
-    for i in 0..D {
-        w[(i, i)] += d;
-    }
-    let lu = BlockLu::new(w, sys.coupled()).ok_or(Singular)?;
+    let (m, n) = (sys.coupled(), sys.live());
+    let lu = BlockLu::new(jac, 1.0 / (h * GAMMA), m, n).ok_or(Singular)?;
     let mut k = [SVector::<f64, D>::zeros(); 6];
     for i in 0..6 {
         let f = if i == 0 {
             *f0
         } else {
-            let mut yi = *y;
-            for j in 0..i {
-                yi += A[i][j] * k[j];
-            }
-            sys.rhs(t + ALPHA[i] * h, &yi)
+            sys.rhs(t + ALPHA[i] * h, &combine(y, 1.0, &A[i][..i], &k, n))
         };
-        let mut rhs = f + (GAMMA_I[i] * h) * dfdt;
-        for j in 0..i {
-            rhs += (CC[i][j] / h) * k[j];
+        let mut rhs = f;
+        let g = GAMMA_I[i] * h;
+        for (r, dr) in rhs.as_mut_slice()[..n].iter_mut().zip(dfdt.as_slice()) {
+            *r += g * dr;
         }
-        k[i] = lu.solve(&rhs);
+        for j in 0..i {
+            let c = CC[i][j] / h;
+            for (r, kv) in rhs.as_mut_slice()[..n].iter_mut().zip(k[j].as_slice()) {
+                *r += c * kv;
+            }
+        }
+        k[i] = lu.solve(jac, &rhs);
     }
-    let mut y1 = *y;
-    for j in 0..5 {
-        y1 += A[5][j] * k[j];
-    }
-    y1 += k[5];
+    let y1 = combine(y, 1.0, &[A[5][0], A[5][1], A[5][2], A[5][3], A[5][4], 1.0], &k, n);
     Ok(Trial { y1, err: k[5] })
 }
