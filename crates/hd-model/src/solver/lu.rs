@@ -96,18 +96,12 @@ impl BlockLu {
             z.swap(k, self.piv[k]);
         }
         for r in 1..m {
-            let mut s = z[r];
-            for c in 0..r {
-                s -= self.a[r][c] * z[c];
-            }
-            z[r] = s;
+            let dot: f64 = self.a[r][..r].iter().zip(&z[..r]).map(|(l, zc)| l * zc).sum();
+            z[r] -= dot;
         }
         for r in (0..m).rev() {
-            let mut s = z[r];
-            for c in r + 1..m {
-                s -= self.a[r][c] * z[c];
-            }
-            z[r] = s * self.inv_u[r];
+            let dot: f64 = self.a[r][r + 1..m].iter().zip(&z[r + 1..m]).map(|(u, zc)| u * zc).sum();
+            z[r] = (z[r] - dot) * self.inv_u[r];
         }
         x.as_mut_slice()[..m].copy_from_slice(&z[..m]);
         // Quadrature rows: (d − J_ii)·x_i − Σ_{j<m} J_ij·x_j = b_i.
