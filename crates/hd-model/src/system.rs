@@ -159,6 +159,12 @@ impl DriveSystem {
     /// Evaluate the laws at (t, y).
     #[inline]
     pub fn parts(&self, t: f64, y: &State) -> Parts {
+        self.parts_at_w(t, y, y[W])
+    }
+
+    /// Evaluate the laws at (t, y) with the bristle torque `w` [N·m] in place of `y[W]`.
+    #[inline]
+    fn parts_at_w(&self, t: f64, y: &State, w: f64) -> Parts {
         let ctl =
             self.ctl.as_ref().map(|c| c.eval(t, &self.measured(y), &ctl_states(y), &self.hold));
         let u = ctl.map_or_else(|| self.input.value(t), |c| c.u);
@@ -171,10 +177,48 @@ impl DriveSystem {
         let (a, b) = self.v_coeffs();
         let v = a * y[OMEGA_J] + b * y[OMEGA_Z];
         let st = self.stiffness.eval(y[THETA], theta_dot, y[Z], slots(y));
-        let fr = self.friction.eval_loaded(v, y[W], st.torque);
-        let t_out = st.torque + if self.friction_on_load() { fr.torque } else { 0.0 };
-        let ta = (st.torque + fr.torque) / self.n;
+        let fr = self.friction.eval_loaded(v, w, st.torque);
+        let (t_out, ta) = self.gear_torques(st.torque, fr.torque);
         Parts { u, i, theta_dot, v, st, fr, t_out, ta, tl: self.load.value(t), ctl }
+    }
+
+    /// The torque on the load and on the wave generator [N·m] from the stiffness torque
+    /// Tb and the friction torque Tf [N·m].
+    #[inline]
+    fn gear_torques(&self, tb: f64, tf: f64) -> (f64, f64) {
+        let t_out = tb + if self.friction_on_load() { tf } else { 0.0 };
+        (t_out, (tb + tf) / self.n)
+    }
+
+    /// The state rates from the laws' values `p` at (t, y).
+    #[inline]
+    fn rates(&self, y: &State, p: &Parts) -> State {
+        let m = &self.motor;
+        let (wj, wz) = (y[OMEGA_J], y[OMEGA_Z]);
+        let mut d = State::zeros();
+        d[THETA_J] = wj;
+        d[OMEGA_J] = (m.torque(p.i) - self.cj * wj - p.ta) / self.jj;
+        d[THETA] = p.theta_dot;
+        d[OMEGA_Z] = (p.t_out - self.cz * wz - p.tl) / self.jz;
+        d[Z] = p.st.z_rate;
+        d[W] = p.fr.w_rate;
+        if m.has_inductance() {
+            d[CURRENT] = m.current_rate(p.u, p.i, wj);
+        }
+        if let Some(c) = p.ctl {
+            d[CTL_I] = c.rates[0];
+            d[CTL_D] = c.rates[1];
+            d[OBS_W] = c.rates[2];
+            d[CMP_Q] = c.rates[3];
+        }
+        d[Q_LOAD] = p.tl * wz;
+        d[Q_HYST] = p.st.hyst * p.theta_dot;
+        d[Q_FRIC] = p.fr.torque * p.v;
+        d[Q_OUT] = (p.t_out * wz).max(0.0);
+        d[Q_IN] = (p.ta * wj).max(0.0);
+        d[Q_ELEC] = p.u * p.i;
+        d[Q_DISS] = m.r * p.i * p.i + self.cj * wj * wj + self.cz * wz * wz + p.st.dissipation;
+        d
     }
 
     /// The state at rest with zero current and no stored memory or bristle torque.
@@ -216,33 +260,25 @@ impl OdeSystem<DIM> for DriveSystem {
 
     #[inline]
     fn rhs(&self, t: f64, y: &State) -> State {
-        let p = self.parts(t, y);
-        let m = &self.motor;
-        let (wj, wz) = (y[OMEGA_J], y[OMEGA_Z]);
-        let mut d = State::zeros();
-        d[THETA_J] = wj;
-        d[OMEGA_J] = (m.torque(p.i) - self.cj * wj - p.ta) / self.jj;
-        d[THETA] = p.theta_dot;
-        d[OMEGA_Z] = (p.t_out - self.cz * wz - p.tl) / self.jz;
-        d[Z] = p.st.z_rate;
-        d[W] = p.fr.w_rate;
-        if m.has_inductance() {
-            d[CURRENT] = m.current_rate(p.u, p.i, wj);
+        self.rates(y, &self.parts(t, y))
+    }
+
+    fn implicit_stage(&self, t: f64, y: &mut State, k: usize, c: f64) -> (State, f64) {
+        if k != W {
+            let d = self.stiff_split(t, y).map_or(0.0, |(_, d)| d);
+            y[k] /= 1.0 - c * d;
+            return (self.rhs(t, y), d);
         }
-        if let Some(c) = p.ctl {
-            d[CTL_I] = c.rates[0];
-            d[CTL_D] = c.rates[1];
-            d[OBS_W] = c.rates[2];
-            d[CMP_Q] = c.rates[3];
-        }
-        d[Q_LOAD] = p.tl * wz;
-        d[Q_HYST] = p.st.hyst * p.theta_dot;
-        d[Q_FRIC] = p.fr.torque * p.v;
-        d[Q_OUT] = (p.t_out * wz).max(0.0);
-        d[Q_IN] = (p.ta * wj).max(0.0);
-        d[Q_ELEC] = p.u * p.i;
-        d[Q_DISS] = m.r * p.i * p.i + self.cj * wj * wj + self.cz * wz * wz + p.st.dissipation;
-        d
+        // The friction torque and the bristle rate are affine in w (their slopes in w do
+        // not depend on w): evaluate the laws once at w = 0, solve for w, then shift.
+        let mut p = self.parts_at_w(t, y, 0.0);
+        let d = p.fr.w_rate_d_w;
+        let w = y[W] / (1.0 - c * d);
+        y[W] = w;
+        p.fr.torque += p.fr.d_w * w;
+        p.fr.w_rate += d * w;
+        (p.t_out, p.ta) = self.gear_torques(p.st.torque, p.fr.torque);
+        (self.rates(y, &p), d)
     }
 
     fn jacobian(&self, t: f64, y: &State) -> (SMatrix<f64, DIM, DIM>, State) {
@@ -334,6 +370,15 @@ impl OdeSystem<DIM> for DriveSystem {
         let v = a * y[OMEGA_J] + b * y[OMEGA_Z];
         let tb = self.stiffness.eval(y[THETA], theta_dot, y[Z], slots(y)).torque;
         Some((W, self.friction.eval_loaded(v, y[W], tb).w_rate_d_w))
+    }
+
+    fn switch_value(&self, _t: f64, y: &State) -> Option<f64> {
+        // LuGre's bristle rate has |v| in it: a kink where the sliding speed reverses.
+        if !self.friction.has_state() {
+            return None;
+        }
+        let (a, b) = self.v_coeffs();
+        Some(a * y[OMEGA_J] + b * y[OMEGA_Z])
     }
 
     fn commit(&self, t0: f64, t1: f64, y0: &State, f0: &State, y1: &mut State, f1: &State) {

@@ -3,7 +3,9 @@
 //! quadrature states at the start of the periodic window.
 
 use super::tracking::{TrackingSamples, Windows, tracking_metrics};
-use super::{MetricSettings, Metrics, extrema::cubic_extrema, limit_cycle, periodic, step};
+use super::{
+    MetricSettings, Metrics, buffers, extrema::cubic_extrema, limit_cycle, periodic, step,
+};
 use crate::laws::friction::FrictionLaw;
 use crate::laws::input::Input;
 use crate::solver::OdeSystem;
@@ -85,9 +87,9 @@ impl Collector {
             window_thz: Vec::new(),
             window_drive: Vec::new(),
             run_dt: if run_samples > 0 { t_end / (run_samples - 1) as f64 } else { 0.0 },
-            run_t: Vec::with_capacity(run_samples),
-            run_wz: Vec::with_capacity(run_samples),
-            run_theta: Vec::with_capacity(run_samples),
+            run_t: buffers::take(run_samples),
+            run_wz: buffers::take(run_samples),
+            run_theta: buffers::take(run_samples),
             thz_peak: 0.0,
             tb_peak: 0.0,
             tf_peak: 0.0,
@@ -151,10 +153,14 @@ impl Collector {
                 if self.run_t.len() >= self.settings.run_samples.max(2) || tk > s.t1 {
                     break;
                 }
-                let y = if tk <= s.t0 { *s.y0 } else { s.interpolate(tk) };
+                let [wz, th] = if tk <= s.t0 {
+                    [s.y0[OMEGA_Z], s.y0[THETA]]
+                } else {
+                    s.components(tk, [OMEGA_Z, THETA])
+                };
                 self.run_t.push(tk);
-                self.run_wz.push(y[OMEGA_Z]);
-                self.run_theta.push(y[THETA]);
+                self.run_wz.push(wz);
+                self.run_theta.push(th);
             }
         }
     }
@@ -277,5 +283,14 @@ impl Collector {
         let turned_over = d_in.abs().max(out);
         let residual = d_in - stored - d_diss - d_fric - d_load - d_slip;
         if turned_over > 0.0 { residual.abs() / turned_over } else { 0.0 }
+    }
+}
+
+impl Drop for Collector {
+    /// Hand the sample buffers back for the thread's next run.
+    fn drop(&mut self) {
+        for v in [&mut self.run_t, &mut self.run_wz, &mut self.run_theta] {
+            buffers::give(std::mem::take(v));
+        }
     }
 }

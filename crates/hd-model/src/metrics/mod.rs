@@ -1,6 +1,7 @@
 //! Metrics every run reports (docs/model.md §2.10). Undefined metrics are NaN (null in
 //! JSON), never a made-up zero.
 
+mod buffers;
 mod collector;
 mod extrema;
 mod limit_cycle;

@@ -49,3 +49,8 @@ pub const SLIVER: f64 = 1e-3;
 /// Smallest step relative to the time, in units of machine epsilon, before the solve
 /// gives up with `StepSizeTooSmall` [–].
 pub const MIN_STEP_EPS: f64 = 16.0;
+
+/// A kink crossing closer than this fraction of the step to either end is left inside the
+/// step instead of being landed on [–] (range 1e-4–1e-2): after a landing, the crossing
+/// may sit a hair inside the next step.
+pub const LAND_SLIVER: f64 = 1e-3;

@@ -3,7 +3,8 @@
 
 use super::switching::Switcher;
 use super::{
-    Method, OdeSystem, SolverOptions, SolverStats, control, dopri5, error_norm, imex, rodas4,
+    Method, OdeSystem, SolverOptions, SolverStats, control, dopri5, error_norm, events, imex,
+    rodas4,
 };
 use crate::error::SolverError;
 use nalgebra::SVector;
@@ -34,6 +35,19 @@ impl<const D: usize> Step<'_, D> {
         }
         let [h00, h10, h01, h11] = crate::interp::hermite_basis((t - self.t0) / h);
         h00 * self.y0 + (h10 * h) * self.f0 + h01 * self.y1 + (h11 * h) * self.f1
+    }
+
+    /// The interpolated components `idx` of the state at `t` in `[t0, t1]` (the same
+    /// values as [`Step::interpolate`], without forming the whole state).
+    pub fn components<const K: usize>(&self, t: f64, idx: [usize; K]) -> [f64; K] {
+        let h = self.t1 - self.t0;
+        if h <= 0.0 {
+            return idx.map(|i| self.y1[i]);
+        }
+        let [h00, h10, h01, h11] = crate::interp::hermite_basis((t - self.t0) / h);
+        idx.map(|i| {
+            h00 * self.y0[i] + (h10 * h) * self.f0[i] + h01 * self.y1[i] + (h11 * h) * self.f1[i]
+        })
     }
 }
 
@@ -77,6 +91,13 @@ pub fn solve<const D: usize, S: OdeSystem<D>>(
         }
         let mut jac_cache = None;
         let mut last_rejected = false;
+        // The switching function at the step's start, and the step size a landing on a
+        // kink interrupted (0 when none).
+        let mut s_start = sys.switch_value(t, &y);
+        // The implicit–explicit split at (t, y), when the last evaluation provided it.
+        let mut imex_split: Option<(usize, f64)> = None;
+        let mut imex_next: Option<(usize, f64)> = None;
+        let mut h_resume = 0.0;
         let mut err_prev: f64 = control::ERROR_FLOOR;
         while t < seg_end {
             if stats.steps + stats.rejected >= opts.max_steps {
@@ -101,10 +122,11 @@ pub fn solve<const D: usize, S: OdeSystem<D>>(
                     let e = error_norm(&trial.err, &y, &trial.y1, &scale, opts, sys.coupled());
                     (trial.y1, Some(trial.f1), e)
                 }
-                Method::Imex => match sys.stiff_split(t, &y) {
+                Method::Imex => match imex_split.or_else(|| sys.stiff_split(t, &y)) {
                     Some((k, d0)) => {
+                        imex_split = Some((k, d0));
                         let trial = imex::step(sys, t, &y, &f, k, d0, h);
-                        stats.rhs_evals += 1 + trial.evals;
+                        stats.rhs_evals += trial.evals;
                         let e = error_norm(&trial.err, &y, &trial.y1, &scale, opts, sys.coupled());
                         (trial.y1, None, e)
                     }
@@ -145,15 +167,51 @@ pub fn solve<const D: usize, S: OdeSystem<D>>(
             };
             if err_norm <= 1.0 && y1.iter().all(|v| v.is_finite()) {
                 let t1 = if last { seg_end } else { t + h };
-                let f1 = match f1 {
-                    Some(f1) => f1,
-                    None => {
+                let f1 = match (f1, imex_split) {
+                    (Some(f1), _) => f1,
+                    (None, Some((k, _))) if method == Method::Imex => {
+                        // The rate and the split's d at the new point in one evaluation
+                        // (a zero implicit weight leaves y1 as it is).
+                        stats.rhs_evals += 1;
+                        let mut y1c = y1;
+                        let (f1, d1) = sys.implicit_stage(t1, &mut y1c, k, 0.0);
+                        imex_next = Some((k, d1));
+                        f1
+                    }
+                    (None, _) => {
                         stats.rhs_evals += 1;
                         sys.rhs(t1, &y1)
                     }
                 };
                 check_finite(&f1, t1)?;
+                let s_end = sys.switch_value(t1, &y1);
+                if let (Some(s0), Some(s1)) = (s_start, s_end)
+                    && s0 != 0.0
+                    && s1 != 0.0
+                    && (s0 > 0.0) != (s1 > 0.0)
+                {
+                    // The step straddles a kink: retry it ending on the crossing. A
+                    // crossing within a sliver of either end (after a landing, the next
+                    // step may start a hair before it) is left inside the step.
+                    let step = Step { t0: t, t1, y0: &y, y1: &y1, f0: &f, f1: &f1 };
+                    let hs = events::crossing(sys, &step, s0, s1) - t;
+                    if hs > control::LAND_SLIVER * h && hs < (1.0 - control::LAND_SLIVER) * h {
+                        stats.rejected += 1;
+                        h_resume = h;
+                        h_next = hs;
+                        continue;
+                    }
+                }
                 sys.commit(t, t1, &y, &f, &mut y1, &f1);
+                // The split at the new point; a commit that moved states other than the
+                // coupled ones leaves it valid only when nothing there feeds back into d,
+                // so it is recomputed unless the system has no commit-time states.
+                imex_split = if y1.as_slice()[sys.live()..] == y.as_slice()[sys.live()..] {
+                    imex_next.take()
+                } else {
+                    imex_next = None;
+                    None
+                };
                 observer(&Step { t0: t, t1, y0: &y, y1: &y1, f0: &f, f1: &f1 });
                 stats.steps += 1;
                 if method == Method::Rodas4 {
@@ -171,6 +229,12 @@ pub fn solve<const D: usize, S: OdeSystem<D>>(
                 err_prev = err_norm.max(control::ERROR_FLOOR);
                 let fac = if last_rejected { fac.min(1.0) } else { fac };
                 h_next = h * fac.clamp(control::SHRINK_ACCEPTED_MIN, control::GROW_MAX);
+                if h_resume > 0.0 {
+                    // After landing on a kink, resume with the step it cut short.
+                    h_next = h_next.max(h_resume);
+                    h_resume = 0.0;
+                }
+                s_start = s_end;
                 last_rejected = false;
                 if auto {
                     let next = switcher.accepted(h, stiffness, stats.steps);

@@ -18,6 +18,7 @@
 pub mod control;
 mod dopri5;
 mod driver;
+mod events;
 mod imex;
 mod lu;
 mod rodas4;
@@ -59,6 +60,31 @@ pub trait OdeSystem<const D: usize>: Sync {
     /// no such split.
     fn stiff_split(&self, _t: f64, _y: &SVector<f64, D>) -> Option<(usize, f64)> {
         None
+    }
+
+    /// A switching function whose sign change marks a kink in the right-hand side (a rate
+    /// with |v| in it changes its derivative where v crosses zero). The driver lands a
+    /// step on each crossing, so that no step straddles a kink and every step keeps the
+    /// method's order. `None` (the default): no kinks.
+    fn switch_value(&self, _t: f64, _y: &SVector<f64, D>) -> Option<f64> {
+        None
+    }
+
+    /// One implicit stage of [`Method::Imex`] for the split component k of
+    /// [`OdeSystem::stiff_split`]: `y[k]` holds the stage's explicit base b; replace it by
+    /// the solution of `y_k = b + c·d·y_k`, that is `b/(1 − c·d)` with d at (t, y), and
+    /// return f(t, y) with d. The default uses `stiff_split` and `rhs`; a system whose
+    /// rate is affine in y_k can do both with one evaluation of its laws.
+    fn implicit_stage(
+        &self,
+        t: f64,
+        y: &mut SVector<f64, D>,
+        k: usize,
+        c: f64,
+    ) -> (SVector<f64, D>, f64) {
+        let d = self.stiff_split(t, y).map_or(0.0, |(_, d)| d);
+        y[k] /= 1.0 - c * d;
+        (self.rhs(t, y), d)
     }
 
     /// Called once per accepted step from `(t0, y0)` to `(t1, y1)` (with the rates `f0`,
