@@ -263,17 +263,18 @@ impl OdeSystem<DIM> for DriveSystem {
         self.rates(y, &self.parts(t, y))
     }
 
+    fn split_is_complete(&self) -> bool {
+        self.friction.has_state() && self.split_covers_stiffness()
+    }
+
     fn implicit_stage(&self, t: f64, y: &mut State, k: usize, c: f64) -> (State, f64) {
-        if k != W {
-            let d = self.stiff_split(t, y).map_or(0.0, |(_, d)| d);
-            y[k] /= 1.0 - c * d;
-            return (self.rhs(t, y), d);
-        }
+        assert_eq!(k, W, "the drive's split component is the bristle torque");
         // The friction torque and the bristle rate are affine in w (their slopes in w do
-        // not depend on w): evaluate the laws once at w = 0, solve for w, then shift.
+        // not depend on w): evaluate the laws once at w = 0, where the rate is g, solve
+        // for w, then shift.
         let mut p = self.parts_at_w(t, y, 0.0);
         let d = p.fr.w_rate_d_w;
-        let w = y[W] / (1.0 - c * d);
+        let w = (y[W] + c * p.fr.w_rate) / (1.0 - c * d);
         y[W] = w;
         p.fr.torque += p.fr.d_w * w;
         p.fr.w_rate += d * w;

@@ -65,7 +65,8 @@ pub fn solve<const D: usize, S: OdeSystem<D>>(
     observer: &mut dyn FnMut(&Step<D>),
 ) -> Result<(SVector<f64, D>, SolverStats), SolverError> {
     let auto = opts.method == Method::Auto;
-    let mut switcher = Switcher::new();
+    let mut switcher =
+        Switcher::new(if sys.split_is_complete() { Method::Imex } else { Method::Rodas4 });
     let mut method = if auto { switcher.current } else { opts.method };
     let mut stats = SolverStats { method: opts.method, ..Default::default() };
     let mut stops: Vec<f64> =
@@ -214,7 +215,7 @@ pub fn solve<const D: usize, S: OdeSystem<D>>(
                 };
                 observer(&Step { t0: t, t1, y0: &y, y1: &y1, f0: &f, f1: &f1 });
                 stats.steps += 1;
-                if method == Method::Rodas4 {
+                if matches!(method, Method::Rodas4 | Method::Imex) {
                     stats.implicit_steps += 1;
                 }
                 t = t1;

@@ -70,6 +70,12 @@ pub trait OdeSystem<const D: usize>: Sync {
         None
     }
 
+    /// Whether [`OdeSystem::stiff_split`] holds all of the system's stiffness, so that
+    /// `auto` may use the implicit–explicit pair instead of Rodas4. Default: false.
+    fn split_is_complete(&self) -> bool {
+        false
+    }
+
     /// One implicit stage of [`Method::Imex`] for the split component k of
     /// [`OdeSystem::stiff_split`]: `y[k]` holds the stage's explicit base b; replace it by
     /// the solution of `y_k = b + c·d·y_k`, that is `b/(1 − c·d)` with d at (t, y), and
@@ -184,7 +190,7 @@ pub struct SolverStats {
     pub jac_evals: u64,
     /// LU decompositions.
     pub lu_decomps: u64,
-    /// Accepted steps taken by the implicit method (Rodas4).
+    /// Accepted steps taken by a stiff method (Rodas4 or the implicit–explicit pair).
     pub implicit_steps: u64,
     /// Method switches of an `auto` solve.
     pub switches: u64,

@@ -1,14 +1,17 @@
-//! Automatic choice between the explicit and the implicit method, decided by cost.
+//! Automatic choice between the explicit and the stiff methods, decided by cost.
 //!
 //! The drive's LuGre bristles make the system mildly stiff at the seed's parameters and
-//! very stiff when σ0 is large or ωs small. Dopri5's steps are about 2.9 times cheaper than
-//! Rodas4's (measured on the seed case, rejected steps included: 0.89 µs against 2.55 µs
-//! per step with the 31-entry state), so it wins while its stability-bound step is at
-//! least a third of what Rodas4 advances per attempt. The policy:
-//! run Dopri5; when its stiffness indicator h·ρ stays above 3.25 for 15 accepted steps,
-//! try Rodas4 for 30 attempts; keep Rodas4 if the time it advances per attempt (rejected
-//! steps count) is more than [`COST_RATIO`] (the cost ratio plus a margin) times Dopri5's mean step, otherwise go back. Either way, look again after a while, since stiffness
-//! changes along a run (it grows with the sliding speed).
+//! very stiff when σ0 is large or ωs small. The policy: run Dopri5; when its stiffness
+//! indicator h·ρ stays above 3.25 for 15 accepted steps, try a stiff method for 30
+//! attempts and keep it if the time it advances per attempt (rejected steps count) is more
+//! than its cost ratio to a Dopri5 step (plus a margin) times Dopri5's mean step; otherwise
+//! go back. The stiff method tried is the implicit–explicit pair when the system's split
+//! covers all of its stiffness ([`super::OdeSystem::split_is_complete`]), Rodas4 when it
+//! does not (inductance, a friction observer). Either way, look again after a while, since
+//! stiffness changes along a run (it grows with the sliding speed).
+//!
+//! Step costs on the seed case (measured, rejected steps included, 31-entry state):
+//! Dopri5 0.89 µs, the implicit–explicit pair 1.1 µs, Rodas4 2.55 µs.
 
 use super::Method;
 
@@ -17,6 +20,9 @@ use super::Method;
 /// reversals, which a 30-attempt trial in a sliding phase does not see (at 2.9 the seed
 /// case at rtol 1e-5 kept Rodas4 and took 23 ms instead of 15 ms).
 pub const COST_RATIO: f64 = 3.5;
+/// How much further per attempt the implicit–explicit pair must advance than Dopri5 to be
+/// kept [–]: the cost ratio of their steps (1.25, measured) with the same kind of margin.
+pub const IMEX_COST_RATIO: f64 = 1.5;
 /// Dopri5's stiffness indicator h·ρ above which a step counts as held by stability [–];
 /// Dopri5's stability boundary on the negative real axis is about 3.3 (range 3–3.3).
 pub const STIFF_INDICATOR: f64 = 3.25;
@@ -26,14 +32,17 @@ const STIFF_RUN: u32 = 15;
 const TRIAL_STEPS: u32 = 30;
 /// Accepted steps after a trial that kept Dopri5 before stiffness is looked at again [–].
 const RECHECK_AFTER_DOPRI: u64 = 2_000;
-/// Accepted Rodas4 steps before Dopri5 is tried again (the stiffness may have gone) [–].
-const RECHECK_AFTER_RODAS: u64 = 5_000;
+/// Accepted stiff-method steps before Dopri5 is tried again (the stiffness may have
+/// gone) [–].
+const RECHECK_AFTER_STIFF: u64 = 5_000;
 
 /// The switching state of an `auto` solve.
 #[derive(Clone, Debug)]
 pub(crate) struct Switcher {
     /// Method for the next step.
     pub current: Method,
+    /// The stiff method a trial tries.
+    stiff: Method,
     stiff_run: u32,
     calm_run: u32,
     recent_h: f64,
@@ -44,10 +53,12 @@ pub(crate) struct Switcher {
 }
 
 impl Switcher {
-    /// Start with the explicit method.
-    pub fn new() -> Self {
+    /// Start with the explicit method; `stiff` is the method to try when it is held by
+    /// stability (Rodas4 or the implicit–explicit pair).
+    pub fn new(stiff: Method) -> Self {
         Self {
             current: Method::Dopri5,
+            stiff,
             stiff_run: 0,
             calm_run: 0,
             recent_h: 0.0,
@@ -77,7 +88,7 @@ impl Switcher {
                 }
                 if self.stiff_run >= STIFF_RUN && steps >= self.next_check {
                     self.trial = Some((0, 0.0, self.recent_h));
-                    self.switch_to(Method::Rodas4);
+                    self.switch_to(self.stiff);
                 }
             }
             _ => match self.trial.as_mut() {
@@ -87,11 +98,13 @@ impl Switcher {
                     if *n >= TRIAL_STEPS {
                         // Time advanced per attempt: a rejected Rodas4 step costs as much
                         // as an accepted one.
-                        let h_rodas = *sum / f64::from(*n);
-                        let keep = h_rodas > COST_RATIO * *h_dopri;
+                        let h_stiff = *sum / f64::from(*n);
+                        let ratio =
+                            if self.stiff == Method::Imex { IMEX_COST_RATIO } else { COST_RATIO };
+                        let keep = h_stiff > ratio * *h_dopri;
                         self.trial = None;
                         if keep {
-                            self.next_check = steps + RECHECK_AFTER_RODAS;
+                            self.next_check = steps + RECHECK_AFTER_STIFF;
                         } else {
                             self.next_check = steps + RECHECK_AFTER_DOPRI;
                             self.switch_to(Method::Dopri5);
@@ -99,7 +112,7 @@ impl Switcher {
                     }
                 }
                 None if steps >= self.next_check => {
-                    // Committed to Rodas4 for a while: probe the explicit method again.
+                    // Committed to the stiff method for a while: probe the explicit one again.
                     self.next_check = 0;
                     self.switch_to(Method::Dopri5);
                 }
