@@ -130,14 +130,16 @@ impl From<StiffnessArg> for HystLaw {
 /// Method names on the command line.
 #[derive(Clone, Copy, Debug, ValueEnum)]
 pub enum MethodArg {
-    /// Dopri5, switching to Rodas4 (and back) while Dopri5's stiffness estimate says
-    /// Rodas4's steps would cost less overall; the switches are counted in metrics.json.
+    /// Dopri5, switching to a stiff method (and back) while Dopri5's stiffness estimate
+    /// says its steps would cost less overall: the implicit–explicit pair when the bristle
+    /// is the only stiff state, Rodas4 with an inductance or a friction observer; the
+    /// switches are counted in metrics.json.
     Auto,
     /// Explicit Dormand–Prince 5(4).
     Dopri5,
     /// Rosenbrock Rodas4.
     Rodas4,
-    /// Additive Runge–Kutta 4(3): the LuGre bristle term implicit, the rest explicit.
+    /// Additive Runge–Kutta 4(3): the LuGre bristle state implicit, the rest explicit.
     Imex,
 }
 

@@ -1,15 +1,19 @@
-//! One step of an additive (implicit–explicit) Runge–Kutta pair that treats one stiff,
-//! linear diagonal term implicitly and everything else explicitly: ARK4(3)6L[2]SA of
-//! Kennedy & Carpenter (Appl. Numer. Math. 44, 2003), order 4 with an embedded order 3,
-//! its implicit part an L-stable ESDIRK with γ = 1/4. The coefficients are the published
-//! ones (as tabulated in the SUNDIALS ARKode documentation).
+//! One step of an additive (implicit–explicit) Runge–Kutta pair that integrates one stiff
+//! component implicitly and everything else explicitly: ARK4(3)6L[2]SA of Kennedy &
+//! Carpenter (Appl. Numer. Math. 44, 2003), order 4 with an embedded order 3, its
+//! implicit part an L-stable ESDIRK with γ = 1/4. The coefficients are the published ones
+//! (as tabulated in the SUNDIALS ARKode documentation).
 //!
 //! The split is the system's [`OdeSystem::stiff_split`]: component k's rate is
 //! `f_k = g(t, y) + d(t, y)·y_k` with g and d independent of y_k (the LuGre bristle:
-//! `ẇ = σ0·v − (σ0·|v|/g(v))·w`). Each stage then needs no Newton iteration and no
-//! matrix: the explicit part fixes every other component, d follows from them, and
-//! `Y_k = base / (1 − h·γ·d)` is exact. The bristle relaxation rate, which bounds an
-//! explicit step to about 3.3/7.6e4 s on the seed case, no longer limits the step.
+//! `ẇ = σ0·v − (σ0·|v|/G)·w`). The whole of f_k is the implicit part, the other
+//! components' rates the explicit part: the forcing g = σ0·v grows with σ0 just as the
+//! relaxation rate d does, and an explicit forcing against an implicit relaxation loses
+//! both accuracy and stability (measured: 665 646 steps at σ0 = 1e8, against 960 with
+//! the whole rate implicit). Each stage needs no Newton iteration and no matrix: the
+//! explicit part fixes every other component, g and d follow from them, and
+//! `Y_k = (base + h·γ·g)/(1 − h·γ·d)` is exact. The bristle relaxation rate, which bounds
+//! an explicit step to about 3.3/7.6e4 s on the seed case, no longer limits the step.
 
 use super::{OdeSystem, combine};
 use nalgebra::SVector;
@@ -110,9 +114,9 @@ pub(crate) fn step<const D: usize, S: OdeSystem<D>>(
     let y1 = combine(y, h, &B, &f, n);
     let diff: [f64; 6] = std::array::from_fn(|j| B[j] - BHAT[j]);
     let mut err = combine(&SVector::zeros(), h, &diff, &f, n);
-    // Weigh the stiff component's estimate by what survives of it: a local error in a
-    // component that relaxes at rate |d| is damped by the relaxation before it reaches the
-    // others, by 1/(1 + h·|d|) over one step (the implicit Euler factor of the stiff term).
+    // Filter the stiff component's estimate through the stage's implicit factor (as
+    // SDIRK, Radau and Rosenbrock codes do): the raw difference overstates its error by
+    // about h·γ·|d| when the component relaxes fast.
     err[k] /= 1.0 - h * GAMMA * d0;
     Trial { y1, err, evals: 5 }
 }

@@ -5,9 +5,13 @@
 //! - [`Method::Rodas4`]: the stiffly accurate, L-stable Rosenbrock method of order 4(3) of
 //!   Hairer and Wanner, which uses the analytic Jacobian and copes with the stiff friction
 //!   and inductance cases;
-//! - [`Method::Imex`]: an additive Runge–Kutta pair of order 4(3) that integrates the one
-//!   stiff diagonal term of the drive (the LuGre bristle relaxation) implicitly and the
-//!   rest explicitly, so that neither stability nor a Jacobian limits it.
+//! - [`Method::Imex`]: an additive Runge–Kutta pair of order 4(3) that integrates the
+//!   drive's one stiff state (the LuGre bristle) implicitly and the rest explicitly, so
+//!   that neither stability nor a Jacobian limits it.
+//!
+//! Where the right-hand side has a kink (LuGre's |v| where the sliding speed reverses),
+//! the system reports a switching function and the driver lands a step on its zero, so no
+//! step straddles the kink ([`OdeSystem::switch_value`]).
 //!
 //! States beyond [`OdeSystem::COUPLED`] are *quadratures*: their rates depend on the other
 //! states but nothing depends on them. The Rosenbrock solve exploits that block structure,
@@ -119,15 +123,16 @@ pub trait OdeSystem<const D: usize>: Sync {
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Method {
-    /// Dopri5, switching to Rodas4 (and back) when stiffness makes that cheaper.
+    /// Dopri5, switching to a stiff method (the implicit–explicit pair when the system's
+    /// split holds all of its stiffness, Rodas4 otherwise) and back when that is cheaper.
     #[default]
     Auto,
     /// Explicit Dormand–Prince 5(4).
     Dopri5,
     /// Linearly implicit Rosenbrock Rodas4.
     Rodas4,
-    /// Additive Runge–Kutta ARK4(3)6L: the system's one stiff diagonal term (the LuGre
-    /// bristle) implicit, the rest explicit; no Jacobian, no matrix.
+    /// Additive Runge–Kutta ARK4(3)6L: the system's one stiff state (the LuGre bristle)
+    /// implicit, the rest explicit; no Jacobian, no matrix.
     Imex,
 }
 
