@@ -177,8 +177,11 @@ fn drive_energy_balance_closes_with_every_stiffness_law() {
             "{law}: energy residual {:e}, hysteresis loss {:e} J/cycle, slip dissipation {:e} J, steps {}",
             m.energy_residual, m.hyst_loss_per_cycle, out.final_state[Q_SLIP], out.stats.steps
         );
-        // Measured: 2e-12 (memory) to 2e-11 (catalogue).
-        assert!(m.energy_residual < 2e-10, "{law}: {}", m.energy_residual);
+        // Measured with `auto`, which takes the implicit–explicit pair for much of these
+        // runs: 1.6e-9 (catalogue) to 3.6e-9 (Maxwell-slip). Its longer steps leave a
+        // larger residual at rtol 1e-6 than Dopri5's (2e-14 to 1e-12) or Rodas4's (2e-10
+        // to 3e-10); the residual shrinks with the tolerance like the other errors.
+        assert!(m.energy_residual < 4e-8, "{law}: {}", m.energy_residual);
         if law == HystLaw::MaxwellSlip {
             assert!(out.final_state[Q_SLIP] > 0.0);
         }
