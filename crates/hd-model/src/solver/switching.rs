@@ -22,16 +22,22 @@ use super::Method;
 pub const COST_RATIO: f64 = 3.5;
 /// How much further per attempt the implicit–explicit pair must advance than Dopri5 to be
 /// kept [–]: the cost ratio of their steps (1.25, measured) with the same kind of margin.
-pub const IMEX_COST_RATIO: f64 = 1.5;
+pub const IMEX_COST_RATIO: f64 = 1.3;
 /// Dopri5's stiffness indicator h·ρ above which a step counts as held by stability [–];
 /// Dopri5's stability boundary on the negative real axis is about 3.3 (range 3–3.3).
 pub const STIFF_INDICATOR: f64 = 3.25;
+/// Dopri5's stiffness indicator above which the implicit–explicit pair may be tried
+/// without a stiff run [–] (range 1.5–3).
+pub const NEAR_STIFF_INDICATOR: f64 = 2.0;
 /// Accepted steps in a row above [`STIFF_INDICATOR`] before Rodas4 is tried [–].
 const STIFF_RUN: u32 = 15;
 /// Rodas4 steps in a trial before its mean step is compared with Dopri5's [–].
 const TRIAL_STEPS: u32 = 30;
+/// Dopri5 steps after a switch before the implicit–explicit pair may be tried without a
+/// stiff run (enough for Dopri5's mean step to settle) [–].
+const PROBE_AFTER: u32 = 20;
 /// Accepted steps after a trial that kept Dopri5 before stiffness is looked at again [–].
-const RECHECK_AFTER_DOPRI: u64 = 2_000;
+const RECHECK_AFTER_DOPRI: u64 = 300;
 /// Accepted stiff-method steps before Dopri5 is tried again (the stiffness may have
 /// gone) [–].
 const RECHECK_AFTER_STIFF: u64 = 5_000;
@@ -46,6 +52,8 @@ pub(crate) struct Switcher {
     stiff_run: u32,
     calm_run: u32,
     recent_h: f64,
+    /// Dopri5 steps since the last switch.
+    dopri_steps: u32,
     trial: Option<(u32, f64, f64)>, // attempts so far, sum of accepted h, Dopri5 reference h
     next_check: u64,
     /// Number of method changes.
@@ -62,6 +70,7 @@ impl Switcher {
             stiff_run: 0,
             calm_run: 0,
             recent_h: 0.0,
+            dopri_steps: 0,
             trial: None,
             next_check: 0,
             switches: 0,
@@ -86,7 +95,15 @@ impl Switcher {
                         self.stiff_run = 0;
                     }
                 }
-                if self.stiff_run >= STIFF_RUN && steps >= self.next_check {
+                self.dopri_steps += 1;
+                // Rodas4's trials are dear, so they wait for a stiff run; the
+                // implicit–explicit pair costs about what Dopri5 does, so it is also tried
+                // when a recheck is due and Dopri5 is near its stability boundary (where
+                // it is accuracy-bound, the higher-order Dopri5 wins).
+                let cheap_trial = self.stiff == Method::Imex
+                    && self.dopri_steps >= PROBE_AFTER
+                    && stiffness.is_some_and(|s| s > NEAR_STIFF_INDICATOR);
+                if (self.stiff_run >= STIFF_RUN || cheap_trial) && steps >= self.next_check {
                     self.trial = Some((0, 0.0, self.recent_h));
                     self.switch_to(self.stiff);
                 }
@@ -132,6 +149,7 @@ impl Switcher {
 
     fn switch_to(&mut self, m: Method) {
         self.current = m;
+        self.dopri_steps = 0;
         self.stiff_run = 0;
         self.calm_run = 0;
         self.recent_h = 0.0;
