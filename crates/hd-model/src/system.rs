@@ -182,6 +182,22 @@ impl DriveSystem {
         Parts { u, i, theta_dot, v, st, fr, t_out, ta, tl: self.load.value(t), ctl }
     }
 
+    /// The stiffness torque Tb and the friction torque Tf [N·m] in state y: the two laws
+    /// only, as [`DriveSystem::parts`] gives them, without the motor and the input.
+    pub fn gear_torque_pair(&self, y: &State) -> (f64, f64) {
+        let (tb, fr) = self.gear_laws(y);
+        (tb, fr.torque)
+    }
+
+    /// The stiffness torque Tb [N·m] and the friction law's output in state y.
+    fn gear_laws(&self, y: &State) -> (f64, FrictionEval) {
+        let theta_dot = y[OMEGA_J] / self.n - y[OMEGA_Z];
+        let (a, b) = self.v_coeffs();
+        let v = a * y[OMEGA_J] + b * y[OMEGA_Z];
+        let tb = self.stiffness.eval(y[THETA], theta_dot, y[Z], slots(y)).torque;
+        (tb, self.friction.eval_loaded(v, y[W], tb))
+    }
+
     /// The torque on the load and on the wave generator [N·m] from the stiffness torque
     /// Tb and the friction torque Tf [N·m].
     #[inline]
@@ -366,11 +382,7 @@ impl OdeSystem<DIM> for DriveSystem {
         if !self.friction.has_state() {
             return None;
         }
-        let theta_dot = y[OMEGA_J] / self.n - y[OMEGA_Z];
-        let (a, b) = self.v_coeffs();
-        let v = a * y[OMEGA_J] + b * y[OMEGA_Z];
-        let tb = self.stiffness.eval(y[THETA], theta_dot, y[Z], slots(y)).torque;
-        Some((W, self.friction.eval_loaded(v, y[W], tb).w_rate_d_w))
+        Some((W, self.gear_laws(y).1.w_rate_d_w))
     }
 
     fn switch_value(&self, _t: f64, y: &State) -> Option<f64> {

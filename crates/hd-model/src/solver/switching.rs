@@ -4,11 +4,15 @@
 //! very stiff when σ0 is large or ωs small. The policy: run Dopri5; when its stiffness
 //! indicator h·ρ stays above 3.25 for 15 accepted steps, try a stiff method for 30
 //! attempts and keep it if the time it advances per attempt (rejected steps count) is more
-//! than its cost ratio to a Dopri5 step (plus a margin) times Dopri5's mean step; otherwise
-//! go back. The stiff method tried is the implicit–explicit pair when the system's split
-//! covers all of its stiffness ([`super::OdeSystem::split_is_complete`]), Rodas4 when it
-//! does not (inductance, a friction observer). Either way, look again after a while, since
-//! stiffness changes along a run (it grows with the sliding speed).
+//! than its cost ratio to a Dopri5 step (plus a margin) times Dopri5's recent step;
+//! otherwise go back. The stiff method tried is the implicit–explicit pair when the
+//! system's split covers all of its stiffness ([`super::OdeSystem::split_is_complete`]),
+//! Rodas4 when it does not (inductance, a friction observer). The pair's steps cost about
+//! what Dopri5's do, so it is also tried, without waiting for a stiff run, whenever
+//! Dopri5's indicator passes 2 and a recheck is due: on the seed case at rtol 1e-6 that
+//! takes 9 911 steps in 11.7 ms where waiting took 13 860 in 14.2 ms. Either way, look
+//! again after a while, since stiffness changes along a run (it grows with the sliding
+//! speed).
 //!
 //! Step costs on the seed case (measured, rejected steps included, 31-entry state):
 //! Dopri5 0.89 µs, the implicit–explicit pair 1.1 µs, Rodas4 2.55 µs.
