@@ -132,9 +132,9 @@ impl Collector {
                     if tk > s.t1 {
                         break;
                     }
-                    let y = s.interpolate(tk.max(s.t0));
+                    let [thj, th] = s.components(tk.max(s.t0), [THETA_J, THETA]);
                     self.window_t.push(tk);
-                    self.window_thz.push(sys.theta_z(&y));
+                    self.window_thz.push(thj / sys.n - th);
                     self.window_drive.push(match &sys.ctl {
                         Some(c) => c.reference().eval(tk)[0],
                         None => sys.input.value(tk),
@@ -226,11 +226,12 @@ impl Collector {
             let n = cycles as f64;
             m.cycles_used = n;
             m.thz_amp = 0.5 * (self.window_hi - self.window_lo);
-            let (mean, _, _, rms) = periodic::fit_fundamental(&self.window_t, &self.window_thz, f);
+            let basis = periodic::Fundamental::new(&self.window_t, f);
+            let thz_fit = basis.fit(&self.window_thz);
+            let (mean, _, _, rms) = thz_fit;
             m.thz_mean = mean;
             m.thz_ripple = rms;
-            let (gain, phase) =
-                super::gain_phase(&self.window_t, &self.window_drive, &self.window_thz, f);
+            let (gain, phase) = super::gain_phase_of(basis.fit(&self.window_drive), thz_fit);
             m.gain_db = super::to_db(gain);
             m.phase_deg = phase.to_degrees();
             m.hyst_loss_per_cycle = (y_end[Q_HYST] - yw[Q_HYST]) / n;

@@ -15,7 +15,7 @@ pub use collector::Collector;
 pub use extrema::cubic_extrema;
 pub use periodic::fit_fundamental;
 pub use schema::{METRICS, MetricColumn};
-pub use transfer::{gain_phase, to_db, unwrap_deg};
+pub use transfer::{gain_phase, gain_phase_of, to_db, unwrap_deg};
 
 use serde::{Deserialize, Serialize};
 

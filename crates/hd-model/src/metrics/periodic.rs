@@ -6,32 +6,48 @@ use std::f64::consts::TAU;
 /// Least-squares fit of `m + a·sin(2πft) + b·cos(2πft)` to samples `(t, x)`; returns
 /// `(m, a, b, rms_residual)`. NaN if there are fewer than 4 samples or the fit is singular.
 pub fn fit_fundamental(t: &[f64], x: &[f64], freq: f64) -> (f64, f64, f64, f64) {
-    let n = t.len();
-    let nan = (f64::NAN, f64::NAN, f64::NAN, f64::NAN);
-    if n < 4 || x.len() != n {
-        return nan;
+    Fundamental::new(t, freq).fit(x)
+}
+
+/// The sine and cosine of the fundamental at a set of sample times, computed once for
+/// fitting several signals sampled at those times.
+pub struct Fundamental {
+    sc: Vec<(f64, f64)>,
+}
+
+impl Fundamental {
+    /// The basis at times `t` [s] for frequency `freq` [Hz].
+    pub fn new(t: &[f64], freq: f64) -> Self {
+        Self { sc: t.iter().map(|&tk| (TAU * freq * tk).sin_cos()).collect() }
     }
-    // Normal equations in a 3×3 system, centred on the mean of x for conditioning.
-    let xm = x.iter().sum::<f64>() / n as f64;
-    let mut g = Matrix3::<f64>::zeros();
-    let mut r = Vector3::<f64>::zeros();
-    for (&tk, &xk) in t.iter().zip(x) {
-        let (s, c) = (TAU * freq * tk).sin_cos();
-        let phi = Vector3::new(1.0, s, c);
-        g += phi * phi.transpose();
-        r += phi * (xk - xm);
+
+    /// [`fit_fundamental`] of `x`, sampled at this basis' times.
+    pub fn fit(&self, x: &[f64]) -> (f64, f64, f64, f64) {
+        let n = self.sc.len();
+        let nan = (f64::NAN, f64::NAN, f64::NAN, f64::NAN);
+        if n < 4 || x.len() != n {
+            return nan;
+        }
+        // Normal equations in a 3×3 system, centred on the mean of x for conditioning.
+        let xm = x.iter().sum::<f64>() / n as f64;
+        let mut g = Matrix3::<f64>::zeros();
+        let mut r = Vector3::<f64>::zeros();
+        for (&(s, c), &xk) in self.sc.iter().zip(x) {
+            let phi = Vector3::new(1.0, s, c);
+            g += phi * phi.transpose();
+            r += phi * (xk - xm);
+        }
+        let Some(sol) = g.lu().solve(&r) else {
+            return nan;
+        };
+        let (m, a, b) = (sol[0] + xm, sol[1], sol[2]);
+        let mut ss = 0.0;
+        for (&(s, c), &xk) in self.sc.iter().zip(x) {
+            let e = xk - m - a * s - b * c;
+            ss += e * e;
+        }
+        (m, a, b, (ss / n as f64).sqrt())
     }
-    let Some(sol) = g.lu().solve(&r) else {
-        return nan;
-    };
-    let (m, a, b) = (sol[0] + xm, sol[1], sol[2]);
-    let mut ss = 0.0;
-    for (&tk, &xk) in t.iter().zip(x) {
-        let (s, c) = (TAU * freq * tk).sin_cos();
-        let e = xk - m - a * s - b * c;
-        ss += e * e;
-    }
-    (m, a, b, (ss / n as f64).sqrt())
 }
 
 #[cfg(test)]

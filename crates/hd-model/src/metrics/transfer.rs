@@ -1,17 +1,23 @@
 //! Gain and phase of a steady periodic response from the fitted fundamentals of input and
 //! output: the one place the Bode points of runs come from.
 
-use super::periodic::fit_fundamental;
+use super::periodic::Fundamental;
 use std::f64::consts::PI;
 
 /// Gain |Y/X| [output unit / input unit] and phase ∠Y − ∠X [rad], wrapped to (−π, π], of
 /// output `y` against input `x`, both sampled at times `t` [s] (whole cycles at best), at
 /// the drive frequency `freq` [Hz]. Each signal is fitted with `m + a·sin + b·cos`
-/// (least squares, [`fit_fundamental`]); `a·sin(ωt) + b·cos(ωt)` is the phasor `a + ib`.
+/// (least squares, [`super::fit_fundamental`]); `a·sin(ωt) + b·cos(ωt)` is the phasor `a + ib`.
 /// NaN if either fit fails or the input has no fundamental.
 pub fn gain_phase(t: &[f64], x: &[f64], y: &[f64], freq: f64) -> (f64, f64) {
-    let (_, xa, xb, _) = fit_fundamental(t, x, freq);
-    let (_, ya, yb, _) = fit_fundamental(t, y, freq);
+    let basis = Fundamental::new(t, freq);
+    gain_phase_of(basis.fit(x), basis.fit(y))
+}
+
+/// [`gain_phase`] from the fits `(m, a, b, rms)` of input and output.
+pub fn gain_phase_of(x: (f64, f64, f64, f64), y: (f64, f64, f64, f64)) -> (f64, f64) {
+    let (_, xa, xb, _) = x;
+    let (_, ya, yb, _) = y;
     let x_amp = xa.hypot(xb);
     if x_amp.is_nan() || x_amp <= 0.0 || !ya.is_finite() || !yb.is_finite() {
         return (f64::NAN, f64::NAN);
