@@ -44,6 +44,9 @@ import time
 import numpy as np
 from scipy.integrate import LSODA, odeint, solve_ivp
 
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "peers"))
+from common import best_of as timed  # noqa: E402
+
 REPO = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 
 # Seed parameters (docs/model.md §1; crates/hd-model/src/params.rs defaults).
@@ -171,18 +174,6 @@ def run_rust(variant, rtol, atol, t_end, reps, dt_out, build=True, method="auto"
     d["t"] = np.array(d["t"])
     d["theta_z"] = np.array(d["theta_z"])
     return d
-
-
-def timed(fn, reps, slow=10.0):
-    """Best wall time of `fn()` over up to `reps` calls (one call if it takes > `slow` s)."""
-    best, result = math.inf, None
-    for _ in range(max(reps, 1)):
-        t0 = time.perf_counter()
-        result = fn()
-        best = min(best, time.perf_counter() - t0)
-        if best > slow:
-            break
-    return best, result
 
 
 def lsoda_steps(rhs, jac, y0, t_end, rtol, atol_v):

@@ -82,3 +82,16 @@ pub fn datasheet_example(more: &[&str]) -> Vec<String> {
     ];
     base.iter().chain(more).map(|s| s.to_string()).collect()
 }
+
+/// `hdw simulate --params PARAMS --t-end 0.02 --out OUT`, which must succeed.
+pub fn simulate_params_file(params: &Path, out: &Path) -> Output {
+    hdw_ok(&[
+        "simulate",
+        "--params",
+        params.to_str().unwrap(),
+        "--t-end",
+        "0.02",
+        "--out",
+        out.to_str().unwrap(),
+    ])
+}

@@ -27,16 +27,7 @@ fn worked_example_writes_the_catalogue_law_and_a_usable_seed_spring() {
     let cat = std::fs::read_to_string(out.join("catalogue.toml")).unwrap();
     assert!(cat.contains("cat_K1 = 6.7e4") && cat.contains("ms_k4"), "{cat}");
     let sim = dir.path().join("sim");
-    let p = out.join("seed-params.toml");
-    hdw_ok(&[
-        "simulate",
-        "--params",
-        p.to_str().unwrap(),
-        "--t-end",
-        "0.02",
-        "--out",
-        sim.to_str().unwrap(),
-    ]);
+    simulate_params_file(&out.join("seed-params.toml"), &sim);
 }
 
 #[test]

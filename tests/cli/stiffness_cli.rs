@@ -25,16 +25,7 @@ fn a_datasheet_params_file_selects_the_catalogue_law() {
     let args: Vec<&str> = args.iter().map(String::as_str).collect();
     hdw_ok(&args);
     let sim = dir.join("sim");
-    let p = ds.join("catalogue.toml");
-    hdw_ok(&[
-        "simulate",
-        "--params",
-        p.to_str().unwrap(),
-        "--t-end",
-        "0.02",
-        "--out",
-        sim.to_str().unwrap(),
-    ]);
+    simulate_params_file(&ds.join("catalogue.toml"), &sim);
     assert_eq!(json(&sim.join("metrics.json"))["stiffness"], "catalogue");
 }
 

@@ -22,12 +22,7 @@ pub const STIFFNESS_KEY: &str = "stiffness";
 
 /// The stiffness law a params file names with `stiffness = "…"`, if it names one.
 pub fn stiffness_from_toml(text: &str, file: &str) -> Result<Option<crate::HystLaw>, ParamError> {
-    let table: BTreeMap<Spanned<String>, Spanned<toml::Value>> =
-        toml::from_str(text).map_err(|e| ParamError::File {
-            file: file.to_string(),
-            line: e.span().map_or(1, |s| line_of(text, s.start)),
-            message: format!("malformed TOML: {}", e.message()),
-        })?;
+    let table = spanned_table(text, file)?;
     let Some((key, value)) = table.iter().find(|(k, _)| k.get_ref() == STIFFNESS_KEY) else {
         return Ok(None);
     };
@@ -62,6 +57,19 @@ pub fn controller_from_toml(
     Ok(parsed.controller)
 }
 
+/// A params file's text as its top-level keys and values, with their positions for error
+/// messages; `file` names the source.
+fn spanned_table(
+    text: &str,
+    file: &str,
+) -> Result<BTreeMap<Spanned<String>, Spanned<toml::Value>>, ParamError> {
+    toml::from_str(text).map_err(|e| ParamError::File {
+        file: file.to_string(),
+        line: e.span().map_or(1, |s| line_of(text, s.start)),
+        message: format!("malformed TOML: {}", e.message()),
+    })
+}
+
 /// 1-based line number of byte offset `pos` in `text`.
 pub fn line_of(text: &str, pos: usize) -> usize {
     text[..pos.min(text.len())].bytes().filter(|&b| b == b'\n').count() + 1
@@ -70,12 +78,7 @@ pub fn line_of(text: &str, pos: usize) -> usize {
 /// Apply the assignments of a parameter file's text to `base`. `file` names the source in
 /// error messages.
 pub fn apply_params_toml(base: &mut Params, text: &str, file: &str) -> Result<(), ParamError> {
-    let table: BTreeMap<Spanned<String>, Spanned<toml::Value>> =
-        toml::from_str(text).map_err(|e| ParamError::File {
-            file: file.to_string(),
-            line: e.span().map_or(1, |s| line_of(text, s.start)),
-            message: format!("malformed TOML: {}", e.message()),
-        })?;
+    let table = spanned_table(text, file)?;
     for (key, value) in &table {
         if key.get_ref() == CONTROLLER_KEY || key.get_ref() == STIFFNESS_KEY {
             continue;
