@@ -127,3 +127,22 @@ fn steady_efficiency_is_the_torque_ratio_with_the_raised_levels() {
     // Measured 4.5e-11 apart.
     assert!((got - expected).abs() < 5e-10, "efficiency {got}, expected {expected}");
 }
+
+#[test]
+fn stribeck_curve_is_the_closed_form_at_every_speed_far_beyond_the_stribeck_speed_too() {
+    // Far above ωs the factor e^{−(v/ωs)²} underflows; the law must still give exactly the
+    // Coulomb level there (and the closed form everywhere below), without a slow path.
+    let (tc, ts, ws, s2) = (0.15, 0.25, 0.01, 0.02);
+    let law = LuGre::symmetric(1.2e5, 0.8, s2, tc, ts, ws);
+    let mut worst: f64 = 0.0;
+    for k in 0..=4000 {
+        let v = 1e-4 * 1.005f64.powi(k); // 1e-4 … 4.8e4 rad/s
+        for v in [v, -v] {
+            let r = v / ws;
+            let want = v.signum() * (tc + (ts - tc) * (-(r * r)).exp()) + s2 * v;
+            let got = law.steady_torque(v);
+            worst = worst.max((got - want).abs() / want.abs());
+        }
+    }
+    assert!(worst < 1e-14, "largest relative deviation from the closed form {worst:e}");
+}

@@ -210,7 +210,7 @@ impl LuGre {
         );
         let (tc, ts) = (tc0 + mc * a, ts0 + ms * a);
         let r = v / self.ws;
-        let e = (-(r * r)).exp();
+        let e = stribeck_decay(r * r);
         let level = tc + (ts - tc) * e;
         let slope = (ts - tc) * e * (-2.0 * r / self.ws);
         let d_tb = sg * (mc + (ms - mc) * e);
@@ -221,6 +221,17 @@ impl LuGre {
     pub fn max_level(&self) -> f64 {
         self.tc.max(self.ts).max(self.tc_neg).max(self.ts_neg)
     }
+}
+
+/// Above this (v/ωs)² the Stribeck factor e^{−(v/ωs)²} is below 1e-304 [–] and is taken
+/// as 0: libm's exp takes a slow underflow path there, and a factor that small changes no
+/// level or slope by a bit.
+const STRIBECK_NEGLIGIBLE: f64 = 700.0;
+
+/// The Stribeck factor e^{−x} for x = (v/ωs)² ≥ 0 [–].
+#[inline]
+fn stribeck_decay(x: f64) -> f64 {
+    if x < STRIBECK_NEGLIGIBLE { (-x).exp() } else { 0.0 }
 }
 
 impl FrictionLaw for LuGre {

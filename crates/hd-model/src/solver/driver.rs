@@ -99,7 +99,8 @@ pub fn solve<const D: usize, S: OdeSystem<D>>(
         let mut imex_split: Option<(usize, f64)> = None;
         let mut imex_next: Option<(usize, f64)> = None;
         let mut h_resume = 0.0;
-        let mut err_prev: f64 = control::ERROR_FLOOR;
+        // ln of the previous accepted step's error norm (the PI controller's memory).
+        let mut ln_err_prev: f64 = control::ERROR_FLOOR.ln();
         while t < seg_end {
             if stats.steps + stats.rejected >= opts.max_steps {
                 return Err(SolverError::TooManySteps { time: t, steps: opts.max_steps });
@@ -222,12 +223,14 @@ pub fn solve<const D: usize, S: OdeSystem<D>>(
                 y = y1;
                 f = f1;
                 jac_cache = None;
+                // err^−α · err_prev^β, with one logarithm and one exponential.
+                let ln_err = err_norm.ln(); // −∞ for a zero error
                 let fac = if err_norm == 0.0 {
                     control::GROW_MAX
                 } else {
-                    control::SAFETY * err_norm.powf(-alpha) * err_prev.powf(beta)
+                    control::SAFETY * (beta * ln_err_prev - alpha * ln_err).exp()
                 };
-                err_prev = err_norm.max(control::ERROR_FLOOR);
+                ln_err_prev = ln_err.max(control::ERROR_FLOOR.ln());
                 let fac = if last_rejected { fac.min(1.0) } else { fac };
                 h_next = h * fac.clamp(control::SHRINK_ACCEPTED_MIN, control::GROW_MAX);
                 if h_resume > 0.0 {
