@@ -201,10 +201,12 @@ pub fn config_from_options(
     let method = match text_option(opts, "method", "auto")?.as_str() {
         "auto" => Method::Auto,
         "dopri5" => Method::Dopri5,
+        "dop853" => Method::Dop853,
         "rodas4" => Method::Rodas4,
+        "imex" => Method::Imex,
         other => {
             return Err(value_error(format!(
-                "method = '{other}': expected auto, dopri5 or rodas4"
+                "method = '{other}': expected auto, dopri5, dop853, rodas4 or imex"
             )));
         }
     };

@@ -137,6 +137,8 @@ pub enum MethodArg {
     Auto,
     /// Explicit Dormand–Prince 5(4).
     Dopri5,
+    /// Explicit Dormand–Prince 8(5,3) (DOP853), for tight tolerances.
+    Dop853,
     /// Rosenbrock Rodas4.
     Rodas4,
     /// Additive Runge–Kutta 4(3): the LuGre bristle state implicit, the rest explicit.
@@ -148,6 +150,7 @@ impl From<MethodArg> for Method {
         match m {
             MethodArg::Auto => Method::Auto,
             MethodArg::Dopri5 => Method::Dopri5,
+            MethodArg::Dop853 => Method::Dop853,
             MethodArg::Rodas4 => Method::Rodas4,
             MethodArg::Imex => Method::Imex,
         }

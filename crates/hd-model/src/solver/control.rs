@@ -35,6 +35,13 @@ pub const IMEX_PI: (f64, f64) = (0.175, 0.1);
 /// The IMEX pair's exponent after a rejection: 1/(3 + 1).
 pub const IMEX_EXPONENT: f64 = 0.25;
 
+/// DOP853's controller: exponent 1/8 on its combined (eighth-order-like) error, no memory
+/// (Hairer's defaults for the code).
+pub const DOP853_PI: (f64, f64) = (0.125, 0.0);
+
+/// DOP853's exponent after a rejection: 1/8.
+pub const DOP853_EXPONENT: f64 = 0.125;
+
 /// Dopri5's exponent after a rejection: 1/(order of the error estimate + 1) = 1/5.
 pub const DOPRI5_REJECT_EXPONENT: f64 = 0.2;
 
@@ -54,3 +61,8 @@ pub const MIN_STEP_EPS: f64 = 16.0;
 /// step instead of being landed on [–] (range 1e-4–1e-2): after a landing, the crossing
 /// may sit a hair inside the next step.
 pub const LAND_SLIVER: f64 = 1e-3;
+
+/// A kink crossing closer than this fraction of the step to its end is left inside the
+/// step [–]: the crossing is located to 1e-10 of the step, so a step shortened to it ends
+/// there, and anything wider would leave a long step (DOP853's) visibly past the kink.
+pub const LAND_END_SLIVER: f64 = 1e-9;

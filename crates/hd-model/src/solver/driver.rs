@@ -3,14 +3,15 @@
 
 use super::switching::Switcher;
 use super::{
-    Method, OdeSystem, SolverOptions, SolverStats, control, dopri5, error_norm, events, imex,
-    rodas4,
+    Dense, Method, OdeSystem, SolverOptions, SolverStats, control, dop853, dopri5, error_norm,
+    events, imex, rodas4,
 };
 use crate::error::SolverError;
 use nalgebra::SVector;
 
-/// One accepted step, handed to the observer. Values inside the step come from cubic
-/// Hermite interpolation of the end points and their derivatives.
+/// One accepted step, handed to the observer. Values inside the step come from the
+/// method's own continuous extension when it has one (DOP853's, of order 7), and from
+/// cubic Hermite interpolation of the end points and their derivatives otherwise.
 pub struct Step<'a, const D: usize> {
     /// Start time [s].
     pub t0: f64,
@@ -24,6 +25,8 @@ pub struct Step<'a, const D: usize> {
     pub f0: &'a SVector<f64, D>,
     /// Derivative at `t1`.
     pub f1: &'a SVector<f64, D>,
+    /// The method's continuous extension over the step, if it has one.
+    pub dense: Option<&'a Dense<D>>,
 }
 
 impl<const D: usize> Step<'_, D> {
@@ -32,6 +35,9 @@ impl<const D: usize> Step<'_, D> {
         let h = self.t1 - self.t0;
         if h <= 0.0 {
             return *self.y1;
+        }
+        if let Some(d) = self.dense {
+            return d.state((t - self.t0) / h);
         }
         let [h00, h10, h01, h11] = crate::interp::hermite_basis((t - self.t0) / h);
         h00 * self.y0 + (h10 * h) * self.f0 + h01 * self.y1 + (h11 * h) * self.f1
@@ -43,6 +49,10 @@ impl<const D: usize> Step<'_, D> {
         let h = self.t1 - self.t0;
         if h <= 0.0 {
             return idx.map(|i| self.y1[i]);
+        }
+        if let Some(d) = self.dense {
+            let s = (t - self.t0) / h;
+            return idx.map(|i| d.component(s, i));
         }
         let [h00, h10, h01, h11] = crate::interp::hermite_basis((t - self.t0) / h);
         idx.map(|i| {
@@ -116,6 +126,7 @@ pub fn solve<const D: usize, S: OdeSystem<D>>(
                 return Err(SolverError::StepSizeTooSmall { time: t, step: h });
             }
             let mut stiffness = None;
+            let mut dop853_stages = None;
             let (mut y1, f1, err_norm) = match method {
                 Method::Dopri5 | Method::Auto => {
                     let trial = dopri5::step(sys, t, &y, &f, h);
@@ -123,6 +134,16 @@ pub fn solve<const D: usize, S: OdeSystem<D>>(
                     stiffness = Some(trial.stiffness);
                     let e = error_norm(&trial.err, &y, &trial.y1, &scale, opts, sys.coupled());
                     (trial.y1, Some(trial.f1), e)
+                }
+                Method::Dop853 => {
+                    let trial = dop853::step(sys, t, &y, &f, h);
+                    stats.rhs_evals += dop853::STAGES as u64;
+                    stiffness = Some(trial.stiffness);
+                    let m = sys.coupled();
+                    let n5 = error_norm(&trial.err5, &y, &trial.y1, &scale, opts, m);
+                    let n3 = error_norm(&trial.err3, &y, &trial.y1, &scale, opts, m);
+                    dop853_stages = Some(trial.k);
+                    (trial.y1, Some(trial.f1), dop853::combined_norm(n5, n3))
                 }
                 Method::Imex => match imex_split.or_else(|| sys.stiff_split(t, &y)) {
                     Some((k, d0)) => {
@@ -165,6 +186,7 @@ pub fn solve<const D: usize, S: OdeSystem<D>>(
             let (order_exp, (alpha, beta)) = match method {
                 Method::Rodas4 => (control::RODAS4_EXPONENT, (control::RODAS4_EXPONENT, 0.0)),
                 Method::Imex => (control::IMEX_EXPONENT, control::IMEX_PI),
+                Method::Dop853 => (control::DOP853_EXPONENT, control::DOP853_PI),
                 _ => (control::DOPRI5_REJECT_EXPONENT, control::DOPRI5_PI),
             };
             if err_norm <= 1.0 && y1.iter().all(|v| v.is_finite()) {
@@ -186,6 +208,13 @@ pub fn solve<const D: usize, S: OdeSystem<D>>(
                     }
                 };
                 check_finite(&f1, t1)?;
+                // DOP853's continuous extension (three more evaluations): it places a
+                // kink's crossing and the values inside the step; built before commit may
+                // rewrite states it does not cover.
+                let dense = dop853_stages.map(|k| {
+                    stats.rhs_evals += 3;
+                    Dense::new(sys, t, t1 - t, &y, &k, &y1, &f1)
+                });
                 let s_end = sys.switch_value(t1, &y1);
                 if let (Some(s0), Some(s1)) = (s_start, s_end)
                     && s0 != 0.0
@@ -195,9 +224,10 @@ pub fn solve<const D: usize, S: OdeSystem<D>>(
                     // The step straddles a kink: retry it ending on the crossing. A
                     // crossing within a sliver of either end (after a landing, the next
                     // step may start a hair before it) is left inside the step.
-                    let step = Step { t0: t, t1, y0: &y, y1: &y1, f0: &f, f1: &f1 };
+                    let step =
+                        Step { t0: t, t1, y0: &y, y1: &y1, f0: &f, f1: &f1, dense: dense.as_ref() };
                     let hs = events::crossing(sys, &step, s0, s1) - t;
-                    if hs > control::LAND_SLIVER * h && hs < (1.0 - control::LAND_SLIVER) * h {
+                    if hs > control::LAND_SLIVER * h && hs < (1.0 - control::LAND_END_SLIVER) * h {
                         stats.rejected += 1;
                         h_resume = h;
                         h_next = hs;
@@ -214,7 +244,15 @@ pub fn solve<const D: usize, S: OdeSystem<D>>(
                     imex_next = None;
                     None
                 };
-                observer(&Step { t0: t, t1, y0: &y, y1: &y1, f0: &f, f1: &f1 });
+                observer(&Step {
+                    t0: t,
+                    t1,
+                    y0: &y,
+                    y1: &y1,
+                    f0: &f,
+                    f1: &f1,
+                    dense: dense.as_ref(),
+                });
                 stats.steps += 1;
                 if matches!(method, Method::Rodas4 | Method::Imex) {
                     stats.implicit_steps += 1;
@@ -260,6 +298,32 @@ pub fn solve<const D: usize, S: OdeSystem<D>>(
                 let (lo, hi) = control::SHRINK_REJECTED;
                 h_next = h * fac.clamp(lo, hi);
                 last_rejected = true;
+                // A high-order step across a kink fails its error test and would creep up
+                // to the kink in ever shorter steps: go straight to the crossing instead.
+                if let (Some(f1), Some(s0), Some(k)) = (f1, s_start, dop853_stages)
+                    && err_norm.is_finite()
+                    && let Some(s1) = sys.switch_value(t + h, &y1)
+                    && s0 != 0.0
+                    && s1 != 0.0
+                    && (s0 > 0.0) != (s1 > 0.0)
+                {
+                    stats.rhs_evals += 3;
+                    let dense = Dense::new(sys, t, h, &y, &k, &y1, &f1);
+                    let step = Step {
+                        t0: t,
+                        t1: t + h,
+                        y0: &y,
+                        y1: &y1,
+                        f0: &f,
+                        f1: &f1,
+                        dense: Some(&dense),
+                    };
+                    let hs = events::crossing(sys, &step, s0, s1) - t;
+                    if hs > h_next && hs > control::LAND_SLIVER * h {
+                        h_resume = h_next.max(h_resume);
+                        h_next = hs;
+                    }
+                }
             }
         }
     }
@@ -283,7 +347,11 @@ fn initial_step<const D: usize, S: OdeSystem<D>>(
     method: Method,
     stats: &mut SolverStats,
 ) -> f64 {
-    let order = if matches!(method, Method::Rodas4 | Method::Imex) { 4.0 } else { 5.0 };
+    let order = match method {
+        Method::Rodas4 | Method::Imex => 4.0,
+        Method::Dop853 => 8.0,
+        _ => 5.0,
+    };
     let sc = |i: usize| opts.atol * scale[i] + opts.rtol * y[i].abs();
     let m = sys.coupled();
     let norm = |v: &SVector<f64, D>| {

@@ -1,7 +1,8 @@
 //! Adaptive integrators for small, fixed-size ODE systems.
 //!
-//! Three embedded methods with error control share one driver:
+//! Four embedded methods with error control share one driver:
 //! - [`Method::Dopri5`]: Dormand–Prince 5(4), explicit, for non-stiff systems;
+//! - [`Method::Dop853`]: Dormand–Prince 8(5,3), explicit, for tight tolerances;
 //! - [`Method::Rodas4`]: the stiffly accurate, L-stable Rosenbrock method of order 4(3) of
 //!   Hairer and Wanner, which uses the analytic Jacobian and copes with the stiff friction
 //!   and inductance cases;
@@ -20,6 +21,7 @@
 //! Everything is stack-allocated (`SVector<f64, D>`), so a solve allocates nothing.
 
 pub mod control;
+mod dop853;
 mod dopri5;
 mod driver;
 mod events;
@@ -28,6 +30,7 @@ mod lu;
 mod rodas4;
 pub mod switching;
 
+pub use dop853::Dense;
 pub use driver::{Step, solve};
 
 use nalgebra::{SMatrix, SVector};
@@ -129,6 +132,9 @@ pub enum Method {
     Auto,
     /// Explicit Dormand–Prince 5(4).
     Dopri5,
+    /// Explicit Dormand–Prince 8(5,3) (Hairer's DOP853): for tight tolerances, where
+    /// Dopri5 is held by accuracy rather than stability.
+    Dop853,
     /// Linearly implicit Rosenbrock Rodas4.
     Rodas4,
     /// Additive Runge–Kutta ARK4(3)6L: the system's one stiff state (the LuGre bristle)
@@ -142,6 +148,7 @@ impl Method {
         match self {
             Method::Auto => "auto",
             Method::Dopri5 => "dopri5",
+            Method::Dop853 => "dop853",
             Method::Rodas4 => "rodas4",
             Method::Imex => "imex",
         }

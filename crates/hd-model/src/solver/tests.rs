@@ -55,7 +55,7 @@ fn both_methods_meet_their_tolerance_on_an_oscillator_with_a_quadrature() {
     let omega = 50.0;
     let sys = Oscillator { omega };
     let t_end = 2.0;
-    for method in [Method::Dopri5, Method::Rodas4] {
+    for method in [Method::Dopri5, Method::Dop853, Method::Rodas4] {
         let mut errs = Vec::new();
         for rtol in [1e-6, 1e-9] {
             let y0 = Vector3::new(1.0, 0.0, 0.0);
@@ -96,7 +96,7 @@ fn hermite_interpolation_is_exact_for_cubics() {
     let f0 = Vector2::new(0.0, 3.0);
     let f1 = Vector2::new(3.0, 12.0);
     // Components t³ and (t+1)³ on [0, 1].
-    let step = Step { t0: 0.0, t1: 1.0, y0: &y0, y1: &y1, f0: &f0, f1: &f1 };
+    let step = Step { t0: 0.0, t1: 1.0, y0: &y0, y1: &y1, f0: &f0, f1: &f1, dense: None };
     let y = step.interpolate(0.3);
     assert!((y[0] - 0.027).abs() < 1e-14 && (y[1] - 1.3f64.powi(3)).abs() < 1e-14);
 }
@@ -131,6 +131,7 @@ impl OdeSystem<2> for Kinked {
 fn steps_land_on_a_kink_and_keep_their_order() {
     for (method, landing) in [
         (Method::Dopri5, true),
+        (Method::Dop853, true),
         (Method::Rodas4, true),
         (Method::Dopri5, false),
         (Method::Rodas4, false),
@@ -156,4 +157,30 @@ fn steps_land_on_a_kink_and_keep_their_order() {
             assert!(err < 3e-10, "{method:?}: error {err:.1e}");
         }
     }
+}
+
+#[test]
+fn dop853_values_inside_its_long_steps_come_from_its_seventh_order_extension() {
+    // Mid-step values of cos ωt: DOP853's steps are long at tight tolerances, where a
+    // cubic Hermite interpolant of the end points would be far less accurate than the
+    // steps themselves.
+    let omega = 50.0;
+    let sys = Oscillator { omega };
+    let mut worst: f64 = 0.0;
+    let mut hermite_worst: f64 = 0.0;
+    let mut observer = |s: &Step<3>| {
+        let tm = 0.5 * (s.t0 + s.t1);
+        let exact = (omega * tm).cos();
+        worst = worst.max((s.interpolate(tm)[0] - exact).abs());
+        worst = worst.max((s.components(tm, [0])[0] - exact).abs());
+        let cubic = Step { dense: None, ..*s };
+        hermite_worst = hermite_worst.max((cubic.interpolate(tm)[0] - exact).abs());
+    };
+    let y0 = Vector3::new(1.0, 0.0, 0.0);
+    let (y, st) =
+        solve(&sys, 0.0, y0, 2.0, &[], &opts(Method::Dop853, 1e-10), &mut observer).unwrap();
+    let end_err = (y[0] - (omega * 2.0).cos()).abs();
+    eprintln!("mid-step error {worst:.1e} (cubic {hermite_worst:.1e}), end {end_err:.1e}, {st:?}");
+    assert!(worst < 10.0 * end_err.max(1e-10), "mid-step {worst:.1e} vs end {end_err:.1e}");
+    assert!(hermite_worst > 100.0 * worst, "cubic {hermite_worst:.1e} vs {worst:.1e}");
 }
