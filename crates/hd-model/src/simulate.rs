@@ -8,7 +8,7 @@ use crate::laws::load::LoadTorque;
 use crate::metrics::{Collector, MetricSettings, Metrics};
 use crate::params::Params;
 use crate::signals::{Sample, Thresholds};
-use crate::solver::{Method, SolverOptions, SolverStats, Step, solve};
+use crate::solver::{SolverOptions, SolverStats, Step, solve};
 use crate::state::{CMP_Q, DIM, State};
 use crate::system::{DriveSystem, FrictionVelocity};
 use crate::trace::Trace;
@@ -232,13 +232,9 @@ pub fn simulate_streaming(
 ) -> Result<SimOutput, SimError> {
     cfg.validate()?;
     let mut sys = cfg.system()?;
-    let mut opts = cfg.solver;
-    if opts.method == Method::Auto {
-        // Non-stiff variants need no implicit method; stiff ones switch by cost.
-        if !sys.is_stiff() {
-            opts.method = Method::Dopri5;
-        }
-    }
+    // `auto` switches by cost; a non-stiff variant only between the explicit pairs
+    // (`OdeSystem::may_be_stiff`).
+    let opts = cfg.solver;
     let y0 = sys.rest_state();
     // A sampled controller computes its first command at t = 0, before anything moves.
     let period = sys.ctl.as_ref().filter(|c| c.is_sampled()).map(|c| c.cfg.period);

@@ -279,6 +279,10 @@ impl OdeSystem<DIM> for DriveSystem {
         self.rates(y, &self.parts(t, y))
     }
 
+    fn may_be_stiff(&self) -> bool {
+        self.is_stiff()
+    }
+
     fn split_is_complete(&self) -> bool {
         self.friction.has_state() && self.split_covers_stiffness()
     }

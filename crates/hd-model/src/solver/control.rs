@@ -35,9 +35,11 @@ pub const IMEX_PI: (f64, f64) = (0.175, 0.1);
 /// The IMEX pair's exponent after a rejection: 1/(3 + 1).
 pub const IMEX_EXPONENT: f64 = 0.25;
 
-/// DOP853's controller: exponent 1/8 on its combined (eighth-order-like) error, no memory
-/// (Hairer's defaults for the code).
-pub const DOP853_PI: (f64, f64) = (0.125, 0.0);
+/// DOP853's PI controller: 1/8 − 0.75·β on the current error and β = 0.04 on the
+/// previous one. On the seed case its steps sit at the bristle's stability limit, where
+/// Hairer's β = 0 rejected 2 542 of 12 429 attempts at rtol 1e-8; with β = 0.04, 1 063 of
+/// 11 294, in less time (β = 0.08 doubled the steps).
+pub const DOP853_PI: (f64, f64) = (0.095, 0.04);
 
 /// DOP853's exponent after a rejection: 1/8.
 pub const DOP853_EXPONENT: f64 = 0.125;

@@ -75,8 +75,16 @@ pub fn solve<const D: usize, S: OdeSystem<D>>(
     observer: &mut dyn FnMut(&Step<D>),
 ) -> Result<(SVector<f64, D>, SolverStats), SolverError> {
     let auto = opts.method == Method::Auto;
-    let mut switcher =
-        Switcher::new(if sys.split_is_complete() { Method::Imex } else { Method::Rodas4 });
+    let mut switcher = Switcher::new(
+        if !sys.may_be_stiff() {
+            None
+        } else if sys.split_is_complete() {
+            Some(Method::Imex)
+        } else {
+            Some(Method::Rodas4)
+        },
+        opts.rtol,
+    );
     let mut method = if auto { switcher.current } else { opts.method };
     let mut stats = SolverStats { method: opts.method, ..Default::default() };
     let mut stops: Vec<f64> =

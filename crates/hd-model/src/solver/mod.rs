@@ -77,6 +77,12 @@ pub trait OdeSystem<const D: usize>: Sync {
         None
     }
 
+    /// Whether the system can be stiff at all; `auto` never tries a stiff method on one
+    /// that cannot. Default: true.
+    fn may_be_stiff(&self) -> bool {
+        true
+    }
+
     /// Whether [`OdeSystem::stiff_split`] holds all of the system's stiffness, so that
     /// `auto` may use the implicit–explicit pair instead of Rodas4. Default: false.
     fn split_is_complete(&self) -> bool {

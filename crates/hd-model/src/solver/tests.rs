@@ -152,7 +152,8 @@ fn steps_land_on_a_kink_and_keep_their_order() {
         eprintln!("{method:?} {landing}: kink missed by {nearest:.1e} s, error {err:.1e}, {st:?}");
         if landing {
             assert!(nearest < 1e-9, "{method:?}: no step ends at the kink ({nearest:.1e})");
-            // Measured: 2.7e-11 (Dopri5) and 1.8e-11 (Rodas4); without landing Dopri5's
+            // Measured: 2.7e-11 (Dopri5), 2.4e-11 (DOP853) and 1.8e-11 (Rodas4); without
+            // landing Dopri5's
             // error is 2.0e-8 at the same tolerance and Rodas4's 1.0e-10.
             assert!(err < 3e-10, "{method:?}: error {err:.1e}");
         }
@@ -183,4 +184,22 @@ fn dop853_values_inside_its_long_steps_come_from_its_seventh_order_extension() {
     eprintln!("mid-step error {worst:.1e} (cubic {hermite_worst:.1e}), end {end_err:.1e}, {st:?}");
     assert!(worst < 10.0 * end_err.max(1e-10), "mid-step {worst:.1e} vs end {end_err:.1e}");
     assert!(hermite_worst > 100.0 * worst, "cubic {hermite_worst:.1e} vs {worst:.1e}");
+}
+
+#[test]
+fn auto_moves_to_dop853_where_dopri5_is_held_by_accuracy_at_a_tight_tolerance() {
+    let sys = Oscillator { omega: 50.0 };
+    let y0 = Vector3::new(1.0, 0.0, 0.0);
+    let run = |method, rtol| solve(&sys, 0.0, y0, 20.0, &[], &opts(method, rtol), &mut |_| {});
+    let (ya, auto) = run(Method::Auto, 1e-10).unwrap();
+    let (_, dopri) = run(Method::Dopri5, 1e-10).unwrap();
+    let err = (ya[0] - (50.0f64 * 20.0).cos()).abs();
+    eprintln!("auto {auto:?} (error {err:.1e}); dopri5 {dopri:?}");
+    assert!(auto.switches >= 1, "{auto:?}");
+    assert!(2 * auto.rhs_evals < dopri.rhs_evals, "auto {auto:?} vs dopri5 {dopri:?}");
+    assert!(err < 1e-7, "error {err:.1e}");
+    // At the default tolerance auto stays with Dopri5, step for step.
+    let (_, auto6) = run(Method::Auto, 1e-6).unwrap();
+    let (_, dopri6) = run(Method::Dopri5, 1e-6).unwrap();
+    assert_eq!((auto6.steps, auto6.switches), (dopri6.steps, 0));
 }
