@@ -10,7 +10,7 @@
 // The coefficients keep every digit of the published values.
 #![allow(clippy::excessive_precision)]
 
-use super::{OdeSystem, combine};
+use super::{OdeSystem, combine, stiffness_indicator};
 use nalgebra::SVector;
 
 /// Number of stages (evaluations per step, counting the one at the new point).
@@ -223,13 +223,7 @@ pub(crate) fn step<const D: usize, S: OdeSystem<D>>(
     e3[8] -= BHH[1];
     e3[11] -= BHH[2];
     let err3 = combine(&SVector::zeros(), h, &e3, &k, n);
-    let m = sys.coupled();
-    let (mut num, mut den) = (0.0, 0.0);
-    for i in 0..m {
-        num += (f1[i] - k[STAGES - 1][i]).powi(2);
-        den += (y1[i] - y_last[i]).powi(2);
-    }
-    let stiffness = if den > 0.0 { h * (num / den).sqrt() } else { 0.0 };
+    let stiffness = stiffness_indicator(h, (&y_last, &k[STAGES - 1]), (&y1, &f1), sys.coupled());
     Trial { y1, f1, err5, err3, stiffness, k }
 }
 

@@ -1,6 +1,6 @@
 //! One step of the Dormand–Prince 5(4) pair (first-same-as-last).
 
-use super::{OdeSystem, combine};
+use super::{OdeSystem, combine, stiffness_indicator};
 use nalgebra::SVector;
 
 const C: [f64; 7] = [0.0, 1.0 / 5.0, 3.0 / 10.0, 4.0 / 5.0, 8.0 / 9.0, 1.0, 1.0];
@@ -56,12 +56,6 @@ pub(crate) fn step<const D: usize, S: OdeSystem<D>>(
     let y1 = combine(y, h, &B, &k, n);
     k[6] = sys.rhs(t + h, &y1);
     let err = combine(&SVector::zeros(), h, &E, &k, n);
-    let m = sys.coupled();
-    let (mut num, mut den) = (0.0, 0.0);
-    for i in 0..m {
-        num += (k[6][i] - k[5][i]).powi(2);
-        den += (y1[i] - y6[i]).powi(2);
-    }
-    let stiffness = if den > 0.0 { h * (num / den).sqrt() } else { 0.0 };
+    let stiffness = stiffness_indicator(h, (&y6, &k[5]), (&y1, &k[6]), sys.coupled());
     Trial { y1, f1: k[6], err, stiffness }
 }

@@ -251,6 +251,23 @@ pub(crate) fn combine<const D: usize>(
     out
 }
 
+/// Hairer's stiffness indicator h·ρ of an explicit step, with ρ = ‖f_b − f_a‖/‖y_b − y_a‖
+/// over the first `m` components: two states of the step with the same time node and their
+/// rates estimate the dominant eigenvalue's size [–].
+pub(crate) fn stiffness_indicator<const D: usize>(
+    h: f64,
+    (y_a, f_a): (&SVector<f64, D>, &SVector<f64, D>),
+    (y_b, f_b): (&SVector<f64, D>, &SVector<f64, D>),
+    m: usize,
+) -> f64 {
+    let (mut num, mut den) = (0.0, 0.0);
+    for i in 0..m {
+        num += (f_b[i] - f_a[i]).powi(2);
+        den += (y_b[i] - y_a[i]).powi(2);
+    }
+    if den > 0.0 { h * (num / den).sqrt() } else { 0.0 }
+}
+
 /// Weighted RMS norm of `err` over the controlled (coupled) components.
 pub(crate) fn error_norm<const D: usize>(
     err: &SVector<f64, D>,
