@@ -217,8 +217,9 @@ pub fn solve<const D: usize, S: OdeSystem<D>>(
                 };
                 check_finite(&f1, t1)?;
                 // DOP853's continuous extension (three more evaluations): it places a
-                // kink's crossing and the values inside the step; built before commit may
-                // rewrite states it does not cover.
+                // kink's crossing and gives the values inside the step. It is built from
+                // the state before `commit`, which only rewrites states held constant
+                // inside a step.
                 let dense = dop853_stages.map(|k| {
                     stats.rhs_evals += 3;
                     Dense::new(sys, t, t1 - t, &y, &k, &y1, &f1)
@@ -230,8 +231,9 @@ pub fn solve<const D: usize, S: OdeSystem<D>>(
                     && (s0 > 0.0) != (s1 > 0.0)
                 {
                     // The step straddles a kink: retry it ending on the crossing. A
-                    // crossing within a sliver of either end (after a landing, the next
-                    // step may start a hair before it) is left inside the step.
+                    // crossing within a sliver of the start (after a landing, the next
+                    // step may start a hair before it) or within the root's own precision
+                    // of the end is left inside the step.
                     let step =
                         Step { t0: t, t1, y0: &y, y1: &y1, f0: &f, f1: &f1, dense: dense.as_ref() };
                     let hs = events::crossing(sys, &step, s0, s1) - t;

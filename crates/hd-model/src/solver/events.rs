@@ -1,6 +1,7 @@
 //! Where a step crosses a kink of the right-hand side: the root of the system's
-//! switching function ([`super::OdeSystem::switch_value`]) along the step's cubic Hermite
-//! interpolant, found by the Illinois variant of regula falsi.
+//! switching function ([`super::OdeSystem::switch_value`]) along the step's interpolant
+//! (the method's continuous extension, or the cubic Hermite one), found by the Illinois
+//! variant of regula falsi.
 
 use super::OdeSystem;
 use super::driver::Step;
