@@ -164,6 +164,15 @@ const B: [f64; STAGES] = [
 const BHH: [f64; 3] =
     [0.244_094_488_188_976_38, 0.733_846_688_281_611_9, 0.022_058_823_529_411_766];
 
+/// Third-order error weights: [`B`] less [`BHH`] at stages 0, 8 and 11.
+const E3: [f64; STAGES] = {
+    let mut e = B;
+    e[0] -= BHH[0];
+    e[8] -= BHH[1];
+    e[11] -= BHH[2];
+    e
+};
+
 /// Fifth-order error weights.
 const E5: [f64; STAGES] = [
     0.013_120_044_994_194_88,
@@ -218,11 +227,7 @@ pub(crate) fn step<const D: usize, S: OdeSystem<D>>(
     let y1 = combine(y, h, &B, &k, n);
     let f1 = sys.rhs(t + h, &y1);
     let err5 = combine(&SVector::zeros(), h, &E5, &k, n);
-    let mut e3 = B;
-    e3[0] -= BHH[0];
-    e3[8] -= BHH[1];
-    e3[11] -= BHH[2];
-    let err3 = combine(&SVector::zeros(), h, &e3, &k, n);
+    let err3 = combine(&SVector::zeros(), h, &E3, &k, n);
     let stiffness = stiffness_indicator(h, (&y_last, &k[STAGES - 1]), (&y1, &f1), sys.coupled());
     Trial { y1, f1, err5, err3, stiffness, k }
 }

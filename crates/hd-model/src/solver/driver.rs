@@ -226,9 +226,7 @@ pub fn solve<const D: usize, S: OdeSystem<D>>(
                 });
                 let s_end = sys.switch_value(t1, &y1);
                 if let (Some(s0), Some(s1)) = (s_start, s_end)
-                    && s0 != 0.0
-                    && s1 != 0.0
-                    && (s0 > 0.0) != (s1 > 0.0)
+                    && events::straddles(s0, s1)
                 {
                     // The step straddles a kink: retry it ending on the crossing. A
                     // crossing within a sliver of the start (after a landing, the next
@@ -313,9 +311,7 @@ pub fn solve<const D: usize, S: OdeSystem<D>>(
                 if let (Some(f1), Some(s0), Some(k)) = (f1, s_start, dop853_stages)
                     && err_norm.is_finite()
                     && let Some(s1) = sys.switch_value(t + h, &y1)
-                    && s0 != 0.0
-                    && s1 != 0.0
-                    && (s0 > 0.0) != (s1 > 0.0)
+                    && events::straddles(s0, s1)
                 {
                     stats.rhs_evals += 3;
                     let dense = Dense::new(sys, t, h, &y, &k, &y1, &f1);

@@ -12,6 +12,13 @@ const ROOT_TOL: f64 = 1e-10;
 /// would need 34 halvings for [`ROOT_TOL`]).
 const MAX_ITER: u32 = 60;
 
+/// Whether a switching function changes sign from `s0` to `s1` (a zero at either end is
+/// not a crossing: the step starts or ends on the kink).
+#[inline]
+pub(crate) fn straddles(s0: f64, s1: f64) -> bool {
+    s0 != 0.0 && s1 != 0.0 && (s0 > 0.0) != (s1 > 0.0)
+}
+
 /// The time in `(step.t0, step.t1)` where the switching function, `s0` at the start and
 /// `s1` at the end (of opposite signs), crosses zero along the interpolant [s].
 pub(crate) fn crossing<const D: usize, S: OdeSystem<D>>(
