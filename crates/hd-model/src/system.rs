@@ -163,7 +163,7 @@ impl DriveSystem {
     }
 
     /// Evaluate the laws at (t, y) with the bristle torque `w` [N·m] in place of `y[W]`.
-    #[inline]
+    #[inline(always)]
     fn parts_at_w(&self, t: f64, y: &State, w: f64) -> Parts {
         let ctl =
             self.ctl.as_ref().map(|c| c.eval(t, &self.measured(y), &ctl_states(y), &self.hold));
@@ -209,9 +209,17 @@ impl DriveSystem {
     /// The state rates from the laws' values `p` at (t, y).
     #[inline]
     fn rates(&self, y: &State, p: &Parts) -> State {
+        let mut d = State::zeros();
+        self.rates_into(y, p, &mut d);
+        d
+    }
+
+    /// [`DriveSystem::rates`] written into `d` (every component set).
+    #[inline(always)]
+    fn rates_into(&self, y: &State, p: &Parts, d: &mut State) {
         let m = &self.motor;
         let (wj, wz) = (y[OMEGA_J], y[OMEGA_Z]);
-        let mut d = State::zeros();
+        *d = State::zeros();
         d[THETA_J] = wj;
         d[OMEGA_J] = (m.torque(p.i) - self.cj * wj - p.ta) / self.jj;
         d[THETA] = p.theta_dot;
@@ -234,7 +242,6 @@ impl DriveSystem {
         d[Q_IN] = (p.ta * wj).max(0.0);
         d[Q_ELEC] = p.u * p.i;
         d[Q_DISS] = m.r * p.i * p.i + self.cj * wj * wj + self.cz * wz * wz + p.st.dissipation;
-        d
     }
 
     /// The state at rest with zero current and no stored memory or bristle torque.
@@ -287,7 +294,7 @@ impl OdeSystem<DIM> for DriveSystem {
         self.friction.has_state() && self.split_covers_stiffness()
     }
 
-    fn implicit_stage(&self, t: f64, y: &mut State, k: usize, c: f64) -> (State, f64) {
+    fn implicit_stage(&self, t: f64, y: &mut State, k: usize, c: f64, rate: &mut State) -> f64 {
         assert_eq!(k, W, "the drive's split component is the bristle torque");
         // The friction torque and the bristle rate are affine in w (their slopes in w do
         // not depend on w): evaluate the laws once at w = 0, where the rate is g, solve
@@ -299,7 +306,8 @@ impl OdeSystem<DIM> for DriveSystem {
         p.fr.torque += p.fr.d_w * w;
         p.fr.w_rate += d * w;
         (p.t_out, p.ta) = self.gear_torques(p.st.torque, p.fr.torque);
-        (self.rates(y, &p), d)
+        self.rates_into(y, &p, rate);
+        d
     }
 
     fn jacobian(&self, t: f64, y: &State) -> (SMatrix<f64, DIM, DIM>, State) {

@@ -83,7 +83,7 @@ impl Stiffness {
 
     /// Torque, rates and partial derivatives at deflection θ [rad], rate θ̇ [rad/s], state
     /// z [N·m] and slip-element offsets `slots` [rad] (missing offsets count as 0).
-    #[inline]
+    #[inline(always)]
     pub fn eval(&self, theta: f64, theta_dot: f64, z: f64, slots: &[f64]) -> StiffnessEval {
         let (f, df) = self.curve.torque_slope(theta);
         let mut e = StiffnessEval { torque: f, d_theta: df, ..Default::default() };

@@ -194,7 +194,7 @@ impl LuGre {
 
     /// The Stribeck level [N·m] with the load-raised levels `Tc + μc·|Tb|`,
     /// `Ts + μs·|Tb|`, its derivative in v [N·m·s/rad] and in Tb [–].
-    #[inline]
+    #[inline(always)]
     pub fn stribeck_loaded(&self, v: f64, tb: f64) -> (f64, f64, f64) {
         let (tc0, ts0) = self.levels(v);
         let (mc, ms) = self.mu.pick(v, tb);
@@ -239,7 +239,7 @@ impl FrictionLaw for LuGre {
     fn eval(&self, v: f64, w: f64) -> FrictionEval {
         self.eval_loaded(v, w, 0.0)
     }
-    #[inline]
+    #[inline(always)]
     fn eval_loaded(&self, v: f64, w: f64, tb: f64) -> FrictionEval {
         // ṡ = v − |v|·s/g(v); in torque units w = σ0·s: ẇ = σ0·(v − |v|·w/G(v)).
         let (level, level_dv, level_dtb) = self.stribeck_loaded(v, tb);
@@ -312,7 +312,7 @@ impl FrictionLaw for Friction {
             Friction::LuGre(l) => l.eval(v, w),
         }
     }
-    #[inline]
+    #[inline(always)]
     fn eval_loaded(&self, v: f64, w: f64, tb: f64) -> FrictionEval {
         match self {
             Friction::LuGre(l) => l.eval_loaded(v, w, tb),

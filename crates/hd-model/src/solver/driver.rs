@@ -3,8 +3,8 @@
 
 use super::switching::Switcher;
 use super::{
-    Dense, Method, OdeSystem, SolverOptions, SolverStats, control, dop853, dopri5, error_norm,
-    events, imex, rodas4,
+    Dense, Method, OdeSystem, SolverOptions, SolverStats, all_finite, control, dop853, dopri5,
+    error_norm, events, imex, rodas4,
 };
 use crate::error::SolverError;
 use nalgebra::SVector;
@@ -197,7 +197,7 @@ pub fn solve<const D: usize, S: OdeSystem<D>>(
                 Method::Dop853 => (control::DOP853_EXPONENT, control::DOP853_PI),
                 _ => (control::DOPRI5_REJECT_EXPONENT, control::DOPRI5_PI),
             };
-            if err_norm <= 1.0 && y1.iter().all(|v| v.is_finite()) {
+            if err_norm <= 1.0 && all_finite(&y1) {
                 let t1 = if last { seg_end } else { t + h };
                 let f1 = match (f1, imex_split) {
                     (Some(f1), _) => f1,
@@ -205,8 +205,8 @@ pub fn solve<const D: usize, S: OdeSystem<D>>(
                         // The rate and the split's d at the new point in one evaluation
                         // (a zero implicit weight leaves y1 as it is).
                         stats.rhs_evals += 1;
-                        let mut y1c = y1;
-                        let (f1, d1) = sys.implicit_stage(t1, &mut y1c, k, 0.0);
+                        let (mut y1c, mut f1) = (y1, SVector::zeros());
+                        let d1 = sys.implicit_stage(t1, &mut y1c, k, 0.0, &mut f1);
                         imex_next = Some((k, d1));
                         f1
                     }
@@ -337,7 +337,7 @@ pub fn solve<const D: usize, S: OdeSystem<D>>(
 }
 
 fn check_finite<const D: usize>(f: &SVector<f64, D>, t: f64) -> Result<(), SolverError> {
-    if f.iter().all(|v| v.is_finite()) { Ok(()) } else { Err(SolverError::NonFinite { time: t }) }
+    if all_finite(f) { Ok(()) } else { Err(SolverError::NonFinite { time: t }) }
 }
 
 /// Initial step from the size of y and f (Hairer, Nørsett & Wanner, §II.4), with one

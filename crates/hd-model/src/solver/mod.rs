@@ -91,19 +91,22 @@ pub trait OdeSystem<const D: usize>: Sync {
 
     /// One implicit stage of [`Method::Imex`] for the split component k of
     /// [`OdeSystem::stiff_split`]: `y[k]` holds the stage's explicit base b; replace it by
-    /// the solution of `y_k = b + c·d·y_k`, that is `b/(1 − c·d)` with d at (t, y), and
-    /// return f(t, y) with d. The default uses `stiff_split` and `rhs`; a system whose
-    /// rate is affine in y_k can do both with one evaluation of its laws.
+    /// the solution of `y_k = b + c·d·y_k`, that is `b/(1 − c·d)` with d at (t, y), write
+    /// f(t, y) into `rate` and return d. The default uses `stiff_split` and `rhs`; a system
+    /// whose rate is affine in y_k can do both with one evaluation of its laws. (The rate
+    /// is written in place: returning the 31-state vector cost two copies a stage.)
     fn implicit_stage(
         &self,
         t: f64,
         y: &mut SVector<f64, D>,
         k: usize,
         c: f64,
-    ) -> (SVector<f64, D>, f64) {
+        rate: &mut SVector<f64, D>,
+    ) -> f64 {
         let d = self.stiff_split(t, y).map_or(0.0, |(_, d)| d);
         y[k] /= 1.0 - c * d;
-        (self.rhs(t, y), d)
+        *rate = self.rhs(t, y);
+        d
     }
 
     /// Called once per accepted step from `(t0, y0)` to `(t1, y1)` (with the rates `f0`,
@@ -249,6 +252,14 @@ pub(crate) fn combine<const D: usize>(
         *o += h * a;
     }
     out
+}
+
+/// Whether every component of `v` is finite. A plain fold over the slice: nalgebra's
+/// element iterator handles strides and costs several times more on a 31-state vector
+/// (measured with callgrind: 845 instructions per step for the driver's two checks).
+#[inline]
+pub(crate) fn all_finite<const D: usize>(v: &SVector<f64, D>) -> bool {
+    v.as_slice().iter().fold(true, |ok, x| ok & x.is_finite())
 }
 
 /// Hairer's stiffness indicator h·ρ of an explicit step, with ρ = ‖f_b − f_a‖/‖y_b − y_a‖
