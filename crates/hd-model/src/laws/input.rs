@@ -1,5 +1,6 @@
 //! Armature-voltage inputs u(t) (docs/model.md §2.8).
 
+use super::cycles::{sin_cos_cycles, sin_cycles};
 use crate::error::ConfigError;
 use serde::{Deserialize, Serialize};
 use std::f64::consts::TAU;
@@ -110,8 +111,8 @@ impl Input {
     pub fn value_and_rate(&self, t: f64) -> (f64, f64) {
         match self {
             Input::Sine { amplitude, freq } => {
-                let w = TAU * freq;
-                (amplitude * (w * t).sin(), amplitude * w * (w * t).cos())
+                let (s, c) = sin_cos_cycles(freq * t);
+                (amplitude * s, amplitude * TAU * freq * c)
             }
             Input::Step { amplitude, t0 } => (if t >= *t0 { *amplitude } else { 0.0 }, 0.0),
             Input::Constant { amplitude } => (*amplitude, 0.0),
@@ -136,7 +137,7 @@ impl Input {
     pub fn value(&self, t: f64) -> f64 {
         // The sine is the hot case: skip the derivative's cosine.
         match self {
-            Input::Sine { amplitude, freq } => amplitude * (TAU * freq * t).sin(),
+            Input::Sine { amplitude, freq } => amplitude * sin_cycles(freq * t),
             _ => self.value_and_rate(t).0,
         }
     }
