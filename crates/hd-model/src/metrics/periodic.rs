@@ -1,7 +1,7 @@
 //! Periodic-run metrics: the least-squares fundamental fit behind `thz_ripple`.
 
+use crate::laws::cycles::sin_cos_cycles;
 use nalgebra::{Matrix3, Vector3};
-use std::f64::consts::TAU;
 
 /// Least-squares fit of `m + a·sin(2πft) + b·cos(2πft)` to samples `(t, x)`; returns
 /// `(m, a, b, rms_residual)`. NaN if there are fewer than 4 samples or the fit is singular.
@@ -18,7 +18,7 @@ pub struct Fundamental {
 impl Fundamental {
     /// The basis at times `t` [s] for frequency `freq` [Hz].
     pub fn new(t: &[f64], freq: f64) -> Self {
-        Self { sc: t.iter().map(|&tk| (TAU * freq * tk).sin_cos()).collect() }
+        Self { sc: t.iter().map(|&tk| sin_cos_cycles(freq * tk)).collect() }
     }
 
     /// [`fit_fundamental`] of `x`, sampled at this basis' times.
@@ -53,6 +53,7 @@ impl Fundamental {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use std::f64::consts::TAU;
 
     #[test]
     fn recovers_mean_fundamental_and_a_known_harmonic_ripple() {

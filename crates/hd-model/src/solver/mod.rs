@@ -254,12 +254,22 @@ pub(crate) fn combine<const D: usize>(
     out
 }
 
-/// Whether every component of `v` is finite. A plain fold over the slice: nalgebra's
-/// element iterator handles strides and costs several times more on a 31-state vector
-/// (measured with callgrind: 845 instructions per step for the driver's two checks).
+/// Whether every component of `v` is finite. `x·0` is ±0 for a finite x and NaN for an
+/// infinite or NaN one, so the sum of those products is 0 exactly when all are finite;
+/// four partial sums let the compiler use vector registers. nalgebra's element iterator
+/// cost 845 instructions a step for the driver's two checks (callgrind), a
+/// short-circuiting `all` still 120 a check.
 #[inline]
 pub(crate) fn all_finite<const D: usize>(v: &SVector<f64, D>) -> bool {
-    v.as_slice().iter().fold(true, |ok, x| ok & x.is_finite())
+    let mut acc = [0.0f64; 4];
+    let chunks = v.as_slice().chunks_exact(4);
+    let tail: f64 = chunks.remainder().iter().map(|x| x * 0.0).sum();
+    for c in chunks {
+        for (a, x) in acc.iter_mut().zip(c) {
+            *a += x * 0.0;
+        }
+    }
+    (acc[0] + acc[1]) + (acc[2] + acc[3]) + tail == 0.0
 }
 
 /// Hairer's stiffness indicator h·ρ of an explicit step, with ρ = ‖f_b − f_a‖/‖y_b − y_a‖

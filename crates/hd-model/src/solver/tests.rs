@@ -203,3 +203,22 @@ fn auto_moves_to_dop853_where_dopri5_is_held_by_accuracy_at_a_tight_tolerance() 
     let (_, dopri6) = run(Method::Dopri5, 1e-6).unwrap();
     assert_eq!((auto6.steps, auto6.switches), (dopri6.steps, 0));
 }
+
+/// The finiteness check finds an infinity or a NaN in any position, the tail after the
+/// last whole group of four included, and passes every finite vector, the largest and
+/// the smallest magnitudes among them.
+#[test]
+fn finiteness_check_finds_every_bad_component() {
+    let mut v = SVector::<f64, 31>::from_fn(|i, _| (i as f64 - 15.0) * 1e300);
+    v[3] = f64::MIN_POSITIVE / 4.0;
+    v[7] = f64::MAX;
+    v[8] = -0.0;
+    assert!(all_finite(&v));
+    for i in 0..31 {
+        for bad in [f64::INFINITY, f64::NEG_INFINITY, f64::NAN] {
+            let mut w = v;
+            w[i] = bad;
+            assert!(!all_finite(&w), "{bad} at {i} not found");
+        }
+    }
+}
