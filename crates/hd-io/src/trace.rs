@@ -17,16 +17,19 @@ pub fn write_trace(path: &Path, trace: &Trace) -> Result<(), IoError> {
 /// Samples per Parquet row group of a streamed trace (≈ 10 MB of columns in memory).
 pub const STREAM_CHUNK: usize = 65_536;
 
+/// The file a streamed trace goes to (buffered, see [`write_atomically`]).
+type Sink<'a, 'f> = &'a mut std::io::BufWriter<&'f mut std::fs::File>;
+
 /// The open state of a streamed trace file.
-struct Stream<'f> {
-    path: &'f Path,
-    file: Option<&'f mut std::fs::File>,
-    writer: Option<BatchedWriter<&'f mut std::fs::File>>,
+struct Stream<'a, 'f> {
+    path: &'a Path,
+    file: Option<Sink<'a, 'f>>,
+    writer: Option<BatchedWriter<Sink<'a, 'f>>>,
     buf: Trace,
     failed: Option<IoError>,
 }
 
-impl<'f> Stream<'f> {
+impl Stream<'_, '_> {
     fn push(&mut self, s: &Sample) {
         if self.failed.is_some() {
             return;
