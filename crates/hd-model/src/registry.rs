@@ -162,11 +162,18 @@ pub static REGISTRY: &[ParamInfo] = &[
 /// Look a parameter up by its canonical name or an alias (`A` finds `mem_A`); the error
 /// suggests the nearest valid name.
 pub fn lookup(name: &str) -> Result<&'static ParamInfo, ParamError> {
-    let found = REGISTRY.iter().find(|p| p.name == name || p.aliases.contains(&name));
-    found.or_else(|| crate::registry_slip::find(name)).ok_or_else(|| ParamError::Unknown {
+    find(name).ok_or_else(|| ParamError::Unknown {
         name: name.to_string(),
         suggestion: nearest_name(name).map(str::to_string),
     })
+}
+
+/// [`lookup`] without the error: `None` for a name that is not a parameter. For callers
+/// that ask about names which need not be parameters (the suggestion's edit distances
+/// cost as much as writing a Parquet column's metadata).
+pub fn find(name: &str) -> Option<&'static ParamInfo> {
+    let found = REGISTRY.iter().find(|p| p.name == name || p.aliases.contains(&name));
+    found.or_else(|| crate::registry_slip::find(name))
 }
 
 /// The registry name closest to `name` (edit distance, case-insensitive), if any is close.

@@ -174,11 +174,11 @@ pub fn columns(kind: FileKind) -> Vec<ColumnDoc> {
 /// (parameters by canonical name or alias). `u_<name>` columns are described from their
 /// parameter.
 pub fn describe(name: &str) -> Option<ColumnDoc> {
-    if let Ok(p) = crate::registry::lookup(name) {
+    if let Some(p) = crate::registry::find(name) {
         return Some(col(p.name, p.unit, p.doc));
     }
     if let Some(rest) = name.strip_prefix(DESIGN_UNIT_PREFIX)
-        && crate::registry::lookup(rest).is_ok()
+        && crate::registry::find(rest).is_some()
     {
         return Some(col("u_", "-", "unit-cube coordinate of a design parameter, in [0, 1]"));
     }
