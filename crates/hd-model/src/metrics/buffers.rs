@@ -1,10 +1,12 @@
 //! A per-thread pool of sample buffers, so that the runs of a sweep reuse the metric
-//! collectors' buffers (20 000 samples each for a non-periodic run) instead of allocating
-//! and freeing them, and touching fresh pages, for every run.
+//! collectors' buffers (20 000 samples each for a non-periodic run, cycles × samples per
+//! cycle for a periodic window) instead of allocating, growing and freeing them, and
+//! touching fresh pages, for every run.
 
 use std::cell::RefCell;
 
-/// Buffers kept per thread at most [–] (a collector holds three).
+/// Buffers kept per thread at most [–] (a collector holds six: three for a run's
+/// uniform samples, three for a periodic window).
 const KEEP: usize = 8;
 
 thread_local! {

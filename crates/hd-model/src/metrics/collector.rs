@@ -51,6 +51,8 @@ impl Collector {
             (cycles > 0).then(|| (f, t_end - cycles as f64 / f, cycles))
         });
         let run_samples = if periodic.is_some() { 0 } else { settings.run_samples.max(2) };
+        let window_samples =
+            periodic.map_or(0, |(_, _, cycles)| cycles * settings.samples_per_cycle.max(8));
         let tracking = sys.ctl.as_ref().map(|c| {
             let r = c.reference();
             let window = if settings.reversal_window > 0.0 {
@@ -83,9 +85,9 @@ impl Collector {
             y_window: None,
             window_lo: f64::INFINITY,
             window_hi: f64::NEG_INFINITY,
-            window_t: Vec::new(),
-            window_thz: Vec::new(),
-            window_drive: Vec::new(),
+            window_t: buffers::take(window_samples),
+            window_thz: buffers::take(window_samples),
+            window_drive: buffers::take(window_samples),
             run_dt: if run_samples > 0 { t_end / (run_samples - 1) as f64 } else { 0.0 },
             run_t: buffers::take(run_samples),
             run_wz: buffers::take(run_samples),
@@ -290,7 +292,14 @@ impl Collector {
 impl Drop for Collector {
     /// Hand the sample buffers back for the thread's next run.
     fn drop(&mut self) {
-        for v in [&mut self.run_t, &mut self.run_wz, &mut self.run_theta] {
+        for v in [
+            &mut self.run_t,
+            &mut self.run_wz,
+            &mut self.run_theta,
+            &mut self.window_t,
+            &mut self.window_thz,
+            &mut self.window_drive,
+        ] {
             buffers::give(std::mem::take(v));
         }
     }
