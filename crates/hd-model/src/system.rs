@@ -286,6 +286,10 @@ impl OdeSystem<DIM> for DriveSystem {
         self.rates(y, &self.parts(t, y))
     }
 
+    fn rhs_into(&self, t: f64, y: &State, rate: &mut State) {
+        self.rates_into(y, &self.parts(t, y), rate);
+    }
+
     fn may_be_stiff(&self) -> bool {
         self.is_stiff()
     }

@@ -45,17 +45,20 @@ pub(crate) fn step<const D: usize, S: OdeSystem<D>>(
     h: f64,
 ) -> Trial<D> {
     let n = sys.live();
+    // Stage states need only the coupled block: no rate reads a quadrature.
+    let m = S::COUPLED;
     let mut k = [SVector::<f64, D>::zeros(); 7];
     k[0] = *f0;
-    k[1] = sys.rhs(t + C[1] * h, &combine(y, h, &A2, &k, n));
-    k[2] = sys.rhs(t + C[2] * h, &combine(y, h, &A3, &k, n));
-    k[3] = sys.rhs(t + C[3] * h, &combine(y, h, &A4, &k, n));
-    k[4] = sys.rhs(t + C[4] * h, &combine(y, h, &A5, &k, n));
-    let y6 = combine(y, h, &A6, &k, n);
-    k[5] = sys.rhs(t + C[5] * h, &y6);
+    let stages: [&[f64]; 4] = [&A2, &A3, &A4, &A5];
+    for (i, a) in stages.into_iter().enumerate() {
+        let yi = combine(y, h, a, &k, m);
+        sys.rhs_into(t + C[i + 1] * h, &yi, &mut k[i + 1]);
+    }
+    let y6 = combine(y, h, &A6, &k, m);
+    sys.rhs_into(t + C[5] * h, &y6, &mut k[5]);
     let y1 = combine(y, h, &B, &k, n);
-    k[6] = sys.rhs(t + h, &y1);
-    let err = combine(&SVector::zeros(), h, &E, &k, n);
+    sys.rhs_into(t + h, &y1, &mut k[6]);
+    let err = combine(&SVector::zeros(), h, &E, &k, m);
     let stiffness = stiffness_indicator(h, (&y6, &k[5]), (&y1, &k[6]), sys.coupled());
     Trial { y1, f1: k[6], err, stiffness }
 }

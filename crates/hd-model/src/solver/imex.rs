@@ -99,7 +99,8 @@ pub(crate) fn step<const D: usize, S: OdeSystem<D>>(
     let mut f = [SVector::<f64, D>::zeros(); 6];
     f[0] = *f0;
     for i in 1..6 {
-        let mut yi = combine(y, h, &AE[i][..i], &f, n);
+        // The stage state's coupled block only: no rate reads a quadrature.
+        let mut yi = combine(y, h, &AE[i][..i], &f, S::COUPLED);
         // Component k's whole rate is implicit (its forcing g grows with the relaxation
         // rate too, so it must not be explicit): base with AI, then the stage's own term.
         let mut base_k = y[k];

@@ -16,7 +16,9 @@
 //!
 //! States beyond [`OdeSystem::COUPLED`] are *quadratures*: their rates depend on the other
 //! states but nothing depends on them. The Rosenbrock solve exploits that block structure,
-//! and they are left out of error control (they are integrals of controlled states).
+//! they are left out of error control (they are integrals of controlled states), and the
+//! explicit and implicit–explicit stages form only the coupled block of their stage states
+//! (no rate reads the rest); the step's result advances every live component.
 //!
 //! Everything is stack-allocated (`SVector<f64, D>`), so a solve allocates nothing.
 
@@ -57,6 +59,13 @@ pub trait OdeSystem<const D: usize>: Sync {
 
     /// The right-hand side f(t, y).
     fn rhs(&self, t: f64, y: &SVector<f64, D>) -> SVector<f64, D>;
+
+    /// [`OdeSystem::rhs`] written into `rate`. The explicit stages call this; a system can
+    /// write in place and spare the copy of a returned vector.
+    #[inline]
+    fn rhs_into(&self, t: f64, y: &SVector<f64, D>, rate: &mut SVector<f64, D>) {
+        *rate = self.rhs(t, y);
+    }
 
     /// The Jacobian ∂f/∂y and the time derivative ∂f/∂t at (t, y).
     fn jacobian(&self, t: f64, y: &SVector<f64, D>) -> (SMatrix<f64, D, D>, SVector<f64, D>);
