@@ -218,16 +218,17 @@ pub(crate) fn step<const D: usize, S: OdeSystem<D>>(
     k[0] = *f0;
     let mut y_last = *y;
     for i in 1..STAGES {
-        let yi = combine(y, h, &A[i][..i], &k, n);
-        k[i] = sys.rhs(t + C[i] * h, &yi);
+        // The stage state's coupled block only: no rate reads a quadrature.
+        let yi = combine(y, h, &A[i][..i], &k, S::COUPLED);
+        sys.rhs_into(t + C[i] * h, &yi, &mut k[i]);
         if i == STAGES - 1 {
             y_last = yi;
         }
     }
     let y1 = combine(y, h, &B, &k, n);
     let f1 = sys.rhs(t + h, &y1);
-    let err5 = combine(&SVector::zeros(), h, &E5, &k, n);
-    let err3 = combine(&SVector::zeros(), h, &E3, &k, n);
+    let err5 = combine(&SVector::zeros(), h, &E5, &k, S::COUPLED);
+    let err3 = combine(&SVector::zeros(), h, &E3, &k, S::COUPLED);
     let stiffness = stiffness_indicator(h, (&y_last, &k[STAGES - 1]), (&y1, &f1), sys.coupled());
     Trial { y1, f1, err5, err3, stiffness, k }
 }
@@ -402,7 +403,8 @@ impl<const D: usize> Dense<D> {
         all[STAGES] = *f1;
         for (e, (a, c)) in A_DENSE.iter().zip(C_DENSE).enumerate() {
             let i = STAGES + 1 + e;
-            all[i] = sys.rhs(t + c * h, &combine(y, h, &a[..i], &all, n));
+            let yi = combine(y, h, &a[..i], &all, S::COUPLED);
+            sys.rhs_into(t + c * h, &yi, &mut all[i]);
         }
         let dy = y1 - y;
         let mut r = [SVector::<f64, D>::zeros(); 8];
