@@ -182,11 +182,16 @@ impl DriveSystem {
         Parts { u, i, theta_dot, v, st, fr, t_out, ta, tl: self.load.value(t), ctl }
     }
 
-    /// The stiffness torque Tb and the friction torque Tf [N·m] in state y: the two laws
-    /// only, as [`DriveSystem::parts`] gives them, without the motor and the input.
-    pub fn gear_torque_pair(&self, y: &State) -> (f64, f64) {
-        let (tb, fr) = self.gear_laws(y);
-        (tb, fr.torque)
+    /// The stiffness torque Tb and the friction torque Tf [N·m] in state y with rates
+    /// `rate` (the solver's f(t, y)): the values [`DriveSystem::parts`] gives, with the
+    /// friction torque read from the bristle rate instead of the Stribeck level
+    /// ([`FrictionLaw::torque_with_rate`]), so no exponential is evaluated.
+    pub fn gear_torque_pair(&self, y: &State, rate: &State) -> (f64, f64) {
+        let theta_dot = y[OMEGA_J] / self.n - y[OMEGA_Z];
+        let (a, b) = self.v_coeffs();
+        let v = a * y[OMEGA_J] + b * y[OMEGA_Z];
+        let tb = self.stiffness.eval(y[THETA], theta_dot, y[Z], slots(y)).torque;
+        (tb, self.friction.torque_with_rate(v, y[W], rate[W]))
     }
 
     /// The stiffness torque Tb [N·m] and the friction law's output in state y.

@@ -44,6 +44,11 @@ pub trait FrictionLaw: Send + Sync {
     }
     /// Mean bristle deflection s [rad] for internal state w.
     fn deflection(&self, w: f64) -> f64;
+    /// The torque [N·m] that [`FrictionLaw::eval_loaded`] gives at speed v [rad/s] and
+    /// state w [N·m], from the state's rate ẇ [N·m/s] at that point instead of the levels:
+    /// for LuGre `w + σ1·ẇ/σ0 + σ2·v`, with no Stribeck exponential. For reading the
+    /// torque at a step's end, where the solver already has the rates.
+    fn torque_with_rate(&self, v: f64, w: f64, w_rate: f64) -> f64;
     /// Whether the law carries an internal state (dynamic friction).
     fn has_state(&self) -> bool {
         false
@@ -69,6 +74,9 @@ impl FrictionLaw for NoFriction {
     fn deflection(&self, _w: f64) -> f64 {
         0.0
     }
+    fn torque_with_rate(&self, _v: f64, _w: f64, _w_rate: f64) -> f64 {
+        0.0
+    }
 }
 
 /// Viscous friction `Tf = C̄0·v` (the `damped` variant).
@@ -87,6 +95,9 @@ impl FrictionLaw for Viscous {
     }
     fn deflection(&self, _w: f64) -> f64 {
         0.0
+    }
+    fn torque_with_rate(&self, v: f64, _w: f64, _w_rate: f64) -> f64 {
+        self.c0 * v
     }
 }
 
@@ -277,6 +288,10 @@ impl FrictionLaw for LuGre {
     fn deflection(&self, w: f64) -> f64 {
         w / self.sigma0
     }
+    /// ṡ = ẇ/σ0 (σ0 > 0, as the registry requires).
+    fn torque_with_rate(&self, v: f64, w: f64, w_rate: f64) -> f64 {
+        w + self.sigma1 * (w_rate / self.sigma0) + self.sigma2 * v
+    }
     fn has_state(&self) -> bool {
         true
     }
@@ -337,6 +352,13 @@ impl FrictionLaw for Friction {
             Friction::None(l) => l.deflection(w),
             Friction::Viscous(l) => l.deflection(w),
             Friction::LuGre(l) => l.deflection(w),
+        }
+    }
+    fn torque_with_rate(&self, v: f64, w: f64, w_rate: f64) -> f64 {
+        match self {
+            Friction::None(l) => l.torque_with_rate(v, w, w_rate),
+            Friction::Viscous(l) => l.torque_with_rate(v, w, w_rate),
+            Friction::LuGre(l) => l.torque_with_rate(v, w, w_rate),
         }
     }
     fn has_state(&self) -> bool {

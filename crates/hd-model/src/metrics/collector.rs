@@ -107,7 +107,7 @@ impl Collector {
         let h = s.t1 - s.t0;
         let (lo, hi) = cubic_extrema(thz0, thz1, s.y0[OMEGA_Z], s.y1[OMEGA_Z], h);
         self.thz_peak = self.thz_peak.max(lo.abs()).max(hi.abs());
-        let (tb, tf) = sys.gear_torque_pair(s.y1);
+        let (tb, tf) = sys.gear_torque_pair(s.y1, s.f1);
         self.tb_peak = self.tb_peak.max(tb.abs());
         self.tf_peak = self.tf_peak.max(tf.abs());
         self.s_peak = self.s_peak.max(sys.friction.deflection(s.y1[W]).abs());
