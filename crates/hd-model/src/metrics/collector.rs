@@ -24,8 +24,11 @@ pub struct Collector {
     window_hi: f64,
     window_t: Vec<f64>,
     window_thz: Vec<f64>,
-    /// The drive over the window: u [V] open loop, θz_ref [rad] closed loop.
+    /// The drive over the window: u [V] open loop, θz_ref [rad] closed loop; not sampled
+    /// for an open-loop sine, whose fit is known.
     window_drive: Vec<f64>,
+    /// The amplitude [V] of an open-loop sine input.
+    drive_sine: Option<f64>,
     run_dt: f64,
     run_t: Vec<f64>,
     run_wz: Vec<f64>,
@@ -88,6 +91,10 @@ impl Collector {
             window_t: buffers::take(window_samples),
             window_thz: buffers::take(window_samples),
             window_drive: buffers::take(window_samples),
+            drive_sine: match sys.input {
+                Input::Sine { amplitude, .. } if sys.ctl.is_none() => Some(amplitude),
+                _ => None,
+            },
             run_dt: if run_samples > 0 { t_end / (run_samples - 1) as f64 } else { 0.0 },
             run_t: buffers::take(run_samples),
             run_wz: buffers::take(run_samples),
@@ -137,10 +144,12 @@ impl Collector {
                     let [thj, th] = s.components(tk.max(s.t0), [THETA_J, THETA]);
                     self.window_t.push(tk);
                     self.window_thz.push(thj / sys.n - th);
-                    self.window_drive.push(match &sys.ctl {
-                        Some(c) => c.reference().eval(tk)[0],
-                        None => sys.input.value(tk),
-                    });
+                    if self.drive_sine.is_none() {
+                        self.window_drive.push(match &sys.ctl {
+                            Some(c) => c.reference().eval(tk)[0],
+                            None => sys.input.value(tk),
+                        });
+                    }
                 }
             }
         } else {
@@ -224,16 +233,22 @@ impl Collector {
             m.efficiency =
                 if work_in > 0.0 { (y_end[Q_OUT] - yw[Q_OUT]) / work_in } else { f64::NAN };
         }
-        if let (Some((f, _tw, cycles)), Some(yw)) = (self.periodic, self.y_window) {
+        if let (Some((f, tw, cycles)), Some(yw)) = (self.periodic, self.y_window) {
             let n = cycles as f64;
             m.cycles_used = n;
             m.thz_amp = 0.5 * (self.window_hi - self.window_lo);
-            let basis = periodic::Fundamental::new(&self.window_t, f);
+            let spc = self.settings.samples_per_cycle.max(8);
+            let basis = periodic::Fundamental::uniform(tw, f, spc, self.window_t.len());
             let thz_fit = basis.fit(&self.window_thz);
             let (mean, _, _, rms) = thz_fit;
             m.thz_mean = mean;
             m.thz_ripple = rms;
-            let (gain, phase) = super::gain_phase_of(basis.fit(&self.window_drive), thz_fit);
+            // A sine input's fit is known exactly: amplitude on the sine, nothing else.
+            let drive_fit = match self.drive_sine {
+                Some(amplitude) => (0.0, amplitude, 0.0, 0.0),
+                None => basis.fit(&self.window_drive),
+            };
+            let (gain, phase) = super::gain_phase_of(drive_fit, thz_fit);
             m.gain_db = super::to_db(gain);
             m.phase_deg = phase.to_degrees();
             m.hyst_loss_per_cycle = (y_end[Q_HYST] - yw[Q_HYST]) / n;
