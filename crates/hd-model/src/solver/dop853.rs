@@ -10,7 +10,7 @@
 // The coefficients keep every digit of the published values.
 #![allow(clippy::excessive_precision)]
 
-use super::{OdeSystem, combine, stiffness_indicator};
+use super::{OdeSystem, combine, combine_into, stiffness_indicator};
 use nalgebra::SVector;
 
 /// Number of stages (evaluations per step, counting the one at the new point).
@@ -216,14 +216,11 @@ pub(crate) fn step<const D: usize, S: OdeSystem<D>>(
     let n = sys.live();
     let mut k = [SVector::<f64, D>::zeros(); STAGES];
     k[0] = *f0;
+    // Each stage rewrites the coupled block only (no rate reads a quadrature).
     let mut y_last = *y;
     for i in 1..STAGES {
-        // The stage state's coupled block only: no rate reads a quadrature.
-        let yi = combine(y, h, &A[i][..i], &k, S::COUPLED);
-        sys.rhs_into(t + C[i] * h, &yi, &mut k[i]);
-        if i == STAGES - 1 {
-            y_last = yi;
-        }
+        combine_into(&mut y_last, y, h, &A[i][..i], &k, S::COUPLED);
+        sys.rhs_into(t + C[i] * h, &y_last, &mut k[i]);
     }
     let y1 = combine(y, h, &B, &k, n);
     let f1 = sys.rhs(t + h, &y1);

@@ -1,6 +1,6 @@
 //! One step of the Dormand–Prince 5(4) pair (first-same-as-last).
 
-use super::{OdeSystem, combine, stiffness_indicator};
+use super::{OdeSystem, combine, combine_into, stiffness_indicator};
 use nalgebra::SVector;
 
 const C: [f64; 7] = [0.0, 1.0 / 5.0, 3.0 / 10.0, 4.0 / 5.0, 8.0 / 9.0, 1.0, 1.0];
@@ -50,8 +50,9 @@ pub(crate) fn step<const D: usize, S: OdeSystem<D>>(
     let mut k = [SVector::<f64, D>::zeros(); 7];
     k[0] = *f0;
     let stages: [&[f64]; 4] = [&A2, &A3, &A4, &A5];
+    let mut yi = *y;
     for (i, a) in stages.into_iter().enumerate() {
-        let yi = combine(y, h, a, &k, m);
+        combine_into(&mut yi, y, h, a, &k, m);
         sys.rhs_into(t + C[i + 1] * h, &yi, &mut k[i + 1]);
     }
     let y6 = combine(y, h, &A6, &k, m);

@@ -205,8 +205,8 @@ pub fn solve<const D: usize, S: OdeSystem<D>>(
                         // The rate and the split's d at the new point in one evaluation
                         // (a zero implicit weight leaves y1 as it is).
                         stats.rhs_evals += 1;
-                        let (mut y1c, mut f1) = (y1, SVector::zeros());
-                        let d1 = sys.implicit_stage(t1, &mut y1c, k, 0.0, &mut f1);
+                        let mut f1 = SVector::zeros();
+                        let d1 = sys.implicit_stage(t1, &mut y1, k, 0.0, &mut f1);
                         imex_next = Some((k, d1));
                         f1
                     }

@@ -15,7 +15,7 @@
 //! `Y_k = (base + h·γ·g)/(1 − h·γ·d)` is exact. The bristle relaxation rate, which bounds
 //! an explicit step to about 3.3/7.6e4 s on the seed case, no longer limits the step.
 
-use super::{OdeSystem, combine};
+use super::{OdeSystem, combine, combine_into};
 use nalgebra::SVector;
 
 const GAMMA: f64 = 0.25;
@@ -98,9 +98,11 @@ pub(crate) fn step<const D: usize, S: OdeSystem<D>>(
     let n = sys.live();
     let mut f = [SVector::<f64, D>::zeros(); 6];
     f[0] = *f0;
+    // Each stage rewrites the coupled block only (no rate reads a quadrature); the rest
+    // stays y's.
+    let mut yi = *y;
     for i in 1..6 {
-        // The stage state's coupled block only: no rate reads a quadrature.
-        let mut yi = combine(y, h, &AE[i][..i], &f, S::COUPLED);
+        combine_into(&mut yi, y, h, &AE[i][..i], &f, S::COUPLED);
         // Component k's whole rate is implicit (its forcing g grows with the relaxation
         // rate too, so it must not be explicit): base with AI, then the stage's own term.
         let mut base_k = y[k];

@@ -249,6 +249,22 @@ pub(crate) fn combine<const D: usize>(
     k: &[SVector<f64, D>],
     n: usize,
 ) -> SVector<f64, D> {
+    let mut out = *y;
+    combine_into(&mut out, y, h, c, k, n);
+    out
+}
+
+/// [`combine`] written over the first `n` components of `out`, whose other components are
+/// left as they are: a stage loop copies y into its stage state once, not per stage.
+#[inline(always)]
+pub(crate) fn combine_into<const D: usize>(
+    out: &mut SVector<f64, D>,
+    y: &SVector<f64, D>,
+    h: f64,
+    c: &[f64],
+    k: &[SVector<f64, D>],
+    n: usize,
+) {
     let mut acc = [0.0; D];
     for (cj, kj) in c.iter().zip(k) {
         let kj = &kj.as_slice()[..n];
@@ -256,11 +272,10 @@ pub(crate) fn combine<const D: usize>(
             *a += cj * kv;
         }
     }
-    let mut out = *y;
-    for (o, a) in out.as_mut_slice()[..n].iter_mut().zip(&acc[..n]) {
-        *o += h * a;
+    let ys = &y.as_slice()[..n];
+    for ((o, a), yv) in out.as_mut_slice()[..n].iter_mut().zip(&acc[..n]).zip(ys) {
+        *o = yv + h * a;
     }
-    out
 }
 
 /// Whether every component of `v` is finite. `x·0` is ±0 for a finite x and NaN for an
