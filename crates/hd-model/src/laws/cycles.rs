@@ -52,12 +52,14 @@ fn nearest(u: f64) -> f64 {
 }
 
 /// The phase reduced to its quarter: (q, x) with p = n + q/4 + x/(2π) for an integer n,
-/// q ∈ {−2, −1, 0, 1, 2} and |x| ≤ π/4 [rad].
+/// q ∈ {−2, −1, 0, 1, 2} (kept as a float: the saturating conversion to an integer
+/// costs more than the comparisons) and |x| ≤ π/4 [rad].
 #[inline(always)]
-fn reduce(p: f64) -> (i32, f64) {
+fn reduce(p: f64) -> (f64, f64) {
     let r = p - nearest(p);
-    let q = nearest(4.0 * r);
-    (q as i32, (r - 0.25 * q) * TAU)
+    // |4r| ≤ 2: no range check needed.
+    let q = (4.0 * r + ROUNDER) - ROUNDER;
+    (q, (r - 0.25 * q) * TAU)
 }
 
 /// sin x for |x| ≤ π/4.
@@ -85,11 +87,14 @@ fn kernel(x: f64) -> (f64, f64) {
 #[inline]
 pub fn sin_cycles(p: f64) -> f64 {
     let (q, x) = reduce(p);
-    match q {
-        0 => sin_series(x),
-        1 => cos_series(x),
-        -1 => -cos_series(x),
-        _ => -sin_series(x),
+    if q == 0.0 {
+        sin_series(x)
+    } else if q == 1.0 {
+        cos_series(x)
+    } else if q == -1.0 {
+        -cos_series(x)
+    } else {
+        -sin_series(x)
     }
 }
 
@@ -98,11 +103,14 @@ pub fn sin_cycles(p: f64) -> f64 {
 pub fn sin_cos_cycles(p: f64) -> (f64, f64) {
     let (q, x) = reduce(p);
     let (s, c) = kernel(x);
-    match q {
-        0 => (s, c),
-        1 => (c, -s),
-        -1 => (-c, s),
-        _ => (-s, -c),
+    if q == 0.0 {
+        (s, c)
+    } else if q == 1.0 {
+        (c, -s)
+    } else if q == -1.0 {
+        (-c, s)
+    } else {
+        (-s, -c)
     }
 }
 
