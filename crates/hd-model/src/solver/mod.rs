@@ -40,7 +40,9 @@ use serde::{Deserialize, Serialize};
 
 /// An ODE system `y' = f(t, y)` of fixed dimension `D`.
 pub trait OdeSystem<const D: usize>: Sync {
-    /// Number of leading, coupled states; the rest are quadratures.
+    /// Number of leading, coupled states; the rest are quadratures. No rate may read a
+    /// quadrature (states beyond [`OdeSystem::live`], constant within a step, may be read):
+    /// the stages form only the coupled block of their stage states.
     const COUPLED: usize = D;
 
     /// Number of leading states that are actually coupled in this instance (at most
