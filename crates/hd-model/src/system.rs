@@ -45,12 +45,17 @@ pub struct DriveSystem {
     pub hold: Hold,
     /// Speed seen by the friction law.
     pub friction_velocity: FrictionVelocity,
-    /// Gear ratio N [–].
+    /// Gear ratio N [–] (read-only after [`DriveSystem::new`], which derives 1/N).
     pub n: f64,
-    /// Motor inertia Jj [kg·m²].
+    /// Motor inertia Jj [kg·m²] (read-only after `new`, which derives 1/Jj).
     pub jj: f64,
-    /// Load inertia Jz [kg·m²].
+    /// Load inertia Jz [kg·m²] (read-only after `new`, which derives 1/Jz).
     pub jz: f64,
+    /// 1/N, 1/Jj [1/(kg·m²)] and 1/Jz: every rate evaluation multiplies by them (a
+    /// division's latency is several multiplications' on the critical path).
+    inv_n: f64,
+    inv_jj: f64,
+    inv_jz: f64,
     /// Motor damping Cj [N·m·s/rad].
     pub cj: f64,
     /// Load damping Cz [N·m·s/rad].
@@ -108,6 +113,9 @@ impl DriveSystem {
             hold: Hold::default(),
             friction_velocity,
             n: p.n,
+            inv_n: 1.0 / p.n,
+            inv_jj: 1.0 / p.jj,
+            inv_jz: 1.0 / p.jz,
             jj: p.jj,
             jz: p.jz,
             cj: p.cj,
@@ -146,8 +154,8 @@ impl DriveSystem {
     /// `(∂v/∂ωj, ∂v/∂ωz)`.
     fn v_coeffs(&self) -> (f64, f64) {
         match self.friction_velocity {
-            FrictionVelocity::Motor => (1.0 / self.n, 0.0),
-            FrictionVelocity::Deflection => (1.0 / self.n, -1.0),
+            FrictionVelocity::Motor => (self.inv_n, 0.0),
+            FrictionVelocity::Deflection => (self.inv_n, -1.0),
         }
     }
 
@@ -173,7 +181,7 @@ impl DriveSystem {
         } else {
             self.motor.static_current(u, y[OMEGA_J])
         };
-        let theta_dot = y[OMEGA_J] / self.n - y[OMEGA_Z];
+        let theta_dot = y[OMEGA_J] * self.inv_n - y[OMEGA_Z];
         let (a, b) = self.v_coeffs();
         let v = a * y[OMEGA_J] + b * y[OMEGA_Z];
         let st = self.stiffness.eval(y[THETA], theta_dot, y[Z], slots(y));
@@ -208,7 +216,7 @@ impl DriveSystem {
     #[inline]
     fn gear_torques(&self, tb: f64, tf: f64) -> (f64, f64) {
         let t_out = tb + if self.friction_on_load() { tf } else { 0.0 };
-        (t_out, (tb + tf) / self.n)
+        (t_out, (tb + tf) * self.inv_n)
     }
 
     /// The state rates from the laws' values `p` at (t, y).
@@ -226,9 +234,9 @@ impl DriveSystem {
         let (wj, wz) = (y[OMEGA_J], y[OMEGA_Z]);
         *d = State::zeros();
         d[THETA_J] = wj;
-        d[OMEGA_J] = (m.torque(p.i) - self.cj * wj - p.ta) / self.jj;
+        d[OMEGA_J] = (m.torque(p.i) - self.cj * wj - p.ta) * self.inv_jj;
         d[THETA] = p.theta_dot;
-        d[OMEGA_Z] = (p.t_out - self.cz * wz - p.tl) / self.jz;
+        d[OMEGA_Z] = (p.t_out - self.cz * wz - p.tl) * self.inv_jz;
         d[Z] = p.st.z_rate;
         d[W] = p.fr.w_rate;
         if m.has_inductance() {
