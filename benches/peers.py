@@ -47,7 +47,7 @@ def main() -> None:
     ap.add_argument("--reps", type=int, default=10, help="best of N, hdw and NumbaLSODA (seed)")
     ap.add_argument("--scipy-reps", type=int, default=3, help="best of N, scipy (seed)")
     ap.add_argument("--sweep-reps", type=int, default=3, help="best of N, hdw study processes")
-    ap.add_argument("--py-sweep-reps", type=int, default=2, help="best of N, Python sweeps")
+    ap.add_argument("--py-sweep-reps", type=int, default=3, help="best of N, Python sweeps")
     ap.add_argument("--py-sweep-rtols", default="1e-6",
                     help="tolerances of the Python sweep (hdw study runs at its default 1e-6)")
     ap.add_argument("--no-build", action="store_true", help="use bench_case as built")

@@ -10,6 +10,7 @@ as a check that both solved the same grid.
 
 from __future__ import annotations
 
+import math
 import os
 import shutil
 import sys
@@ -17,7 +18,7 @@ import tempfile
 
 import numpy as np
 
-from common import REPO, best_of, time_process
+from common import REPO, time_process
 
 SWEEP_PY = os.path.join(os.path.dirname(os.path.abspath(__file__)), "sweep_numba.py")
 STUDY = os.path.join(REPO, "studies", "table4.toml")
@@ -58,18 +59,30 @@ def compare_amps(runs_parquet: str, npz: str) -> dict:
 def run(hdw: str, reps: int, reps_py: int, rtols_py, log=print) -> dict:
     tmp = tempfile.mkdtemp(prefix="peers-sweep-")
     try:
-        res = {}
+        # Rounds interleave the processes (hdw on 1 and 2 threads, then each Python loop),
+        # so a change in the shared machine's load reaches every side of a ratio alike
+        # instead of only the one that happened to be running; the best of each is kept.
+        jobs = {}
         for threads in (1, 2):
             out = os.path.join(tmp, f"hdw-{threads}")
-            res[f"hdw {threads} thread(s)"], _ = best_of(lambda: hdw_study(hdw, threads, out),
-                                                         reps, slow=1e9)
-            log(f"  hdw study --threads {threads}: {res[f'hdw {threads} thread(s)']:.2f} s")
-        checks = {}
+            jobs[f"hdw {threads} thread(s)"] = (
+                reps, lambda threads=threads, out=out: hdw_study(hdw, threads, out))
+        npzs = {}
         for rtol in rtols_py:
             npz = os.path.join(tmp, f"py-{rtol:g}.npz")
             label = f"Python NumbaLSODA, 2 procs, rtol {rtol:g}"
-            res[label], _ = best_of(lambda: python_loop(2, rtol, rtol * 1e-3, npz), reps_py,
-                                    slow=1e9)
+            npzs[label] = npz
+            jobs[label] = (reps_py, lambda rtol=rtol, npz=npz: python_loop(2, rtol, rtol * 1e-3, npz))
+        res = {label: math.inf for label in jobs}
+        for round_ in range(max(n for n, _ in jobs.values())):
+            for label, (n, job) in jobs.items():
+                if round_ < n:
+                    res[label] = min(res[label], job())
+        for label in jobs:
+            if label.startswith("hdw"):
+                log(f"  hdw study --threads {label.split()[1]}: {res[label]:.2f} s")
+        checks = {}
+        for label, npz in npzs.items():
             checks[label] = compare_amps(os.path.join(tmp, "hdw-2", "runs.parquet"), npz)
             c = checks[label]
             log(f"  {label}: {res[label]:.2f} s (thz_amp vs hdw over {c['matched']}/{c['of']} "
