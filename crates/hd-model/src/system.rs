@@ -170,6 +170,14 @@ impl DriveSystem {
         self.parts_at_w(t, y, y[W])
     }
 
+    /// The gear's deflection rate θ̇ = ωj/N − ωz and the friction law's sliding speed v
+    /// [rad/s] in state y: the one place the laws' speeds come from.
+    #[inline(always)]
+    fn gear_speeds(&self, y: &State) -> (f64, f64) {
+        let (a, b) = self.v_coeffs();
+        (y[OMEGA_J] * self.inv_n - y[OMEGA_Z], a * y[OMEGA_J] + b * y[OMEGA_Z])
+    }
+
     /// Evaluate the laws at (t, y) with the bristle torque `w` [N·m] in place of `y[W]`.
     #[inline(always)]
     fn parts_at_w(&self, t: f64, y: &State, w: f64) -> Parts {
@@ -181,9 +189,7 @@ impl DriveSystem {
         } else {
             self.motor.static_current(u, y[OMEGA_J])
         };
-        let theta_dot = y[OMEGA_J] * self.inv_n - y[OMEGA_Z];
-        let (a, b) = self.v_coeffs();
-        let v = a * y[OMEGA_J] + b * y[OMEGA_Z];
+        let (theta_dot, v) = self.gear_speeds(y);
         let st = self.stiffness.eval(y[THETA], theta_dot, y[Z], slots(y));
         let fr = self.friction.eval_loaded(v, w, st.torque);
         let (t_out, ta) = self.gear_torques(st.torque, fr.torque);
@@ -195,18 +201,14 @@ impl DriveSystem {
     /// friction torque read from the bristle rate instead of the Stribeck level
     /// ([`FrictionLaw::torque_with_rate`]), so no exponential is evaluated.
     pub fn gear_torque_pair(&self, y: &State, rate: &State) -> (f64, f64) {
-        let theta_dot = y[OMEGA_J] / self.n - y[OMEGA_Z];
-        let (a, b) = self.v_coeffs();
-        let v = a * y[OMEGA_J] + b * y[OMEGA_Z];
+        let (theta_dot, v) = self.gear_speeds(y);
         let tb = self.stiffness.eval(y[THETA], theta_dot, y[Z], slots(y)).torque;
         (tb, self.friction.torque_with_rate(v, y[W], rate[W]))
     }
 
     /// The stiffness torque Tb [N·m] and the friction law's output in state y.
     fn gear_laws(&self, y: &State) -> (f64, FrictionEval) {
-        let theta_dot = y[OMEGA_J] / self.n - y[OMEGA_Z];
-        let (a, b) = self.v_coeffs();
-        let v = a * y[OMEGA_J] + b * y[OMEGA_Z];
+        let (theta_dot, v) = self.gear_speeds(y);
         let tb = self.stiffness.eval(y[THETA], theta_dot, y[Z], slots(y)).torque;
         (tb, self.friction.eval_loaded(v, y[W], tb))
     }
