@@ -5,8 +5,8 @@
 
 use std::cell::RefCell;
 
-/// Buffers kept per thread at most [–] (a collector holds six: three for a run's
-/// uniform samples, three for a periodic window).
+/// Buffers kept per thread at most [–] (a collector holds five: three for a run's
+/// uniform samples, two for a periodic window).
 const KEEP: usize = 8;
 
 thread_local! {

@@ -22,7 +22,8 @@ pub struct Collector {
     y_window: Option<State>,
     window_lo: f64,
     window_hi: f64,
-    window_t: Vec<f64>,
+    /// θz [rad] on the window's uniform grid, `samples_per_cycle` to a cycle from its
+    /// start (the times follow from the index).
     window_thz: Vec<f64>,
     /// The drive over the window: u [V] open loop, θz_ref [rad] closed loop; not sampled
     /// for an open-loop sine, whose fit is known.
@@ -56,6 +57,10 @@ impl Collector {
         let run_samples = if periodic.is_some() { 0 } else { settings.run_samples.max(2) };
         let window_samples =
             periodic.map_or(0, |(_, _, cycles)| cycles * settings.samples_per_cycle.max(8));
+        let drive_sine = match sys.input {
+            Input::Sine { amplitude, .. } if sys.ctl.is_none() => Some(amplitude),
+            _ => None,
+        };
         let tracking = sys.ctl.as_ref().map(|c| {
             let r = c.reference();
             let window = if settings.reversal_window > 0.0 {
@@ -88,13 +93,9 @@ impl Collector {
             y_window: None,
             window_lo: f64::INFINITY,
             window_hi: f64::NEG_INFINITY,
-            window_t: buffers::take(window_samples),
             window_thz: buffers::take(window_samples),
-            window_drive: buffers::take(window_samples),
-            drive_sine: match sys.input {
-                Input::Sine { amplitude, .. } if sys.ctl.is_none() => Some(amplitude),
-                _ => None,
-            },
+            window_drive: buffers::take(if drive_sine.is_some() { 0 } else { window_samples }),
+            drive_sine,
             run_dt: if run_samples > 0 { t_end / (run_samples - 1) as f64 } else { 0.0 },
             run_t: buffers::take(run_samples),
             run_wz: buffers::take(run_samples),
@@ -136,13 +137,12 @@ impl Collector {
                 let spc = self.settings.samples_per_cycle.max(8);
                 let total = cycles * spc;
                 let dt = 1.0 / (f * spc as f64);
-                while self.window_t.len() < total {
-                    let tk = tw + self.window_t.len() as f64 * dt;
+                while self.window_thz.len() < total {
+                    let tk = tw + self.window_thz.len() as f64 * dt;
                     if tk > s.t1 {
                         break;
                     }
                     let [thj, th] = s.components(tk.max(s.t0), [THETA_J, THETA]);
-                    self.window_t.push(tk);
                     self.window_thz.push(thj / sys.n - th);
                     if self.drive_sine.is_none() {
                         self.window_drive.push(match &sys.ctl {
@@ -238,7 +238,7 @@ impl Collector {
             m.cycles_used = n;
             m.thz_amp = 0.5 * (self.window_hi - self.window_lo);
             let spc = self.settings.samples_per_cycle.max(8);
-            let basis = periodic::Fundamental::uniform(tw, f, spc, self.window_t.len());
+            let basis = periodic::Fundamental::uniform(tw, f, spc, self.window_thz.len());
             let thz_fit = basis.fit(&self.window_thz);
             let (mean, _, _, rms) = thz_fit;
             m.thz_mean = mean;
@@ -311,7 +311,6 @@ impl Drop for Collector {
             &mut self.run_t,
             &mut self.run_wz,
             &mut self.run_theta,
-            &mut self.window_t,
             &mut self.window_thz,
             &mut self.window_drive,
         ] {
