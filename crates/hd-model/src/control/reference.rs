@@ -1,6 +1,7 @@
 //! Load-angle references θz_ref(t) for the closed loop (docs/model.md §6.1).
 
 use crate::error::ConfigError;
+use crate::laws::cycles::sin_cos_cycles;
 use crate::laws::input::Profile;
 use serde::{Deserialize, Serialize};
 use std::f64::consts::TAU;
@@ -67,7 +68,7 @@ impl Reference {
             }
             Reference::Sine { amplitude, freq } => {
                 let w = TAU * freq;
-                let (s, c) = (w * t).sin_cos();
+                let (s, c) = sin_cos_cycles(freq * t);
                 [amplitude * s, amplitude * w * c, -amplitude * w * w * s]
             }
             Reference::Trapezoid { amplitude: d, duration: big_t, t0 } => {
@@ -89,7 +90,7 @@ impl Reference {
             }
             Reference::SCurve { amplitude: d, duration: big_t, t0 } => {
                 let s = ((t - t0) / big_t).clamp(0.0, 1.0);
-                let (sn, cs) = (TAU * s).sin_cos();
+                let (sn, cs) = sin_cos_cycles(s);
                 if s <= 0.0 || s >= 1.0 {
                     return [d * s, 0.0, 0.0];
                 }

@@ -1,5 +1,6 @@
-//! sin(2π·p) and cos(2π·p) of a phase p given in cycles, for the periodic inputs that
-//! every stage of a solve evaluates.
+//! sin(2π·p) and cos(2π·p) of a phase p given in cycles, for the periodic inputs and
+//! closed-loop references that every stage of a solve evaluates (sine, chirp, stepped sine,
+//! S-curve) and the fundamental-fit basis.
 //!
 //! Reducing a phase in cycles is exact in binary floating point: p minus its nearest
 //! integer, then minus the nearest quarter, loses no bit and leaves s with |s| ≤ 1/8.

@@ -123,11 +123,13 @@ impl Input {
                 } else {
                     (f0 * duration + 0.5 * (f1 - f0) * duration + f1 * (t - duration), *f1)
                 };
-                (amplitude * (TAU * phase).sin(), amplitude * TAU * f * (TAU * phase).cos())
+                let (s, c) = sin_cos_cycles(phase);
+                (amplitude * s, amplitude * TAU * f * c)
             }
             Input::SteppedSine { amplitude, freqs, dwell } => {
                 let (phase, f) = stepped_phase(freqs, *dwell, t);
-                (amplitude * (TAU * phase).sin(), amplitude * TAU * f * (TAU * phase).cos())
+                let (s, c) = sin_cos_cycles(phase);
+                (amplitude * s, amplitude * TAU * f * c)
             }
             Input::Recorded(p) => p.value_and_rate(t),
         }
