@@ -283,8 +283,8 @@ pub(crate) fn combine_into<const D: usize>(
 /// Whether every component of `v` is finite. `x·0` is ±0 for a finite x and NaN for an
 /// infinite or NaN one, so the sum of those products is 0 exactly when all are finite;
 /// four partial sums let the compiler use vector registers. nalgebra's element iterator
-/// cost 845 instructions a step for the driver's two checks (callgrind), a
-/// short-circuiting `all` still 120 a check.
+/// cost 845 instructions a step for the driver's two checks (callgrind), and a scalar fold
+/// over the slice still about 110 a check.
 #[inline]
 pub(crate) fn all_finite<const D: usize>(v: &SVector<f64, D>) -> bool {
     let mut acc = [0.0f64; 4];
