@@ -1,5 +1,6 @@
 //! One module per subcommand.
 
+pub mod batching;
 pub mod common;
 pub mod control_args;
 pub mod datasheet;
