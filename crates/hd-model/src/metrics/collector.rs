@@ -4,7 +4,9 @@
 
 use super::tracking::{TrackingSamples, Windows, tracking_metrics};
 use super::{
-    MetricSettings, Metrics, buffers, extrema::cubic_extrema, limit_cycle, periodic, step,
+    MetricSettings, Metrics, buffers,
+    extrema::{cubic_extrema, hermite_range},
+    limit_cycle, periodic, step,
 };
 use crate::laws::friction::FrictionLaw;
 use crate::laws::input::Input;
@@ -113,7 +115,14 @@ impl Collector {
         self.on_step_tracking(sys, s);
         let (thz0, thz1) = (sys.theta_z(s.y0), sys.theta_z(s.y1));
         let h = s.t1 - s.t0;
-        let (lo, hi) = cubic_extrema(thz0, thz1, s.y0[OMEGA_Z], s.y1[OMEGA_Z], h);
+        let (m0, m1) = (s.y0[OMEGA_Z], s.y1[OMEGA_Z]);
+        // The exact extrema only where they could move the peak or the window's range:
+        // after the start the cheap range mostly lies inside both.
+        let (blo, bhi) = hermite_range(thz0, thz1, m0, m1, h);
+        let in_window = self.periodic.is_some_and(|(_, tw, _)| s.t1 >= tw);
+        let inside = blo.abs().max(bhi.abs()) <= self.thz_peak
+            && (!in_window || (self.window_lo <= blo && bhi <= self.window_hi));
+        let (lo, hi) = if inside { (blo, bhi) } else { cubic_extrema(thz0, thz1, m0, m1, h) };
         self.thz_peak = self.thz_peak.max(lo.abs()).max(hi.abs());
         let (tb, tf) = sys.gear_torque_pair(s.y1, s.f1);
         self.tb_peak = self.tb_peak.max(tb.abs());

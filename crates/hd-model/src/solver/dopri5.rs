@@ -35,31 +35,35 @@ pub(crate) struct Trial<const D: usize> {
     pub stiffness: f64,
 }
 
+/// Stage rates, kept by the caller across steps so that a step does not clear 7·D values.
+pub(crate) type Rates<const D: usize> = [SVector<f64, D>; 7];
+
 /// Take a trial step of size h from (t, y) with f0 = f(t, y); uses 6 evaluations. Only
-/// the first [`OdeSystem::live`] components are advanced; the rest are copied from y.
+/// the first [`OdeSystem::live`] components are advanced; the rest are copied from y. `k`
+/// is scratch space for the stage rates (its contents do not matter).
 pub(crate) fn step<const D: usize, S: OdeSystem<D>>(
     sys: &S,
     t: f64,
     y: &SVector<f64, D>,
     f0: &SVector<f64, D>,
     h: f64,
+    k: &mut Rates<D>,
 ) -> Trial<D> {
     let n = sys.live();
     // Stage states need only the coupled block: no rate reads a quadrature.
     let m = S::COUPLED;
-    let mut k = [SVector::<f64, D>::zeros(); 7];
     k[0] = *f0;
     let stages: [&[f64]; 4] = [&A2, &A3, &A4, &A5];
     let mut yi = *y;
     for (i, a) in stages.into_iter().enumerate() {
-        combine_into(&mut yi, y, h, a, &k, m);
+        combine_into(&mut yi, y, h, a, k, m);
         sys.rhs_into(t + C[i + 1] * h, &yi, &mut k[i + 1]);
     }
-    let y6 = combine(y, h, &A6, &k, m);
+    let y6 = combine(y, h, &A6, k, m);
     sys.rhs_into(t + C[5] * h, &y6, &mut k[5]);
-    let y1 = combine(y, h, &B, &k, n);
+    let y1 = combine(y, h, &B, k, n);
     sys.rhs_into(t + h, &y1, &mut k[6]);
-    let err = combine(&SVector::zeros(), h, &E, &k, m);
+    let err = combine(&SVector::zeros(), h, &E, k, m);
     let stiffness = stiffness_indicator(h, (&y6, &k[5]), (&y1, &k[6]), sys.coupled());
     Trial { y1, f1: k[6], err, stiffness }
 }

@@ -97,6 +97,9 @@ pub fn solve<const D: usize, S: OdeSystem<D>>(
     let mut t = t0;
     let mut y = y0;
     let mut h_next = 0.0;
+    // The explicit and IMEX stages' rates, cleared once per solve rather than per step.
+    let mut dopri_rates: dopri5::Rates<D> = [SVector::zeros(); 7];
+    let mut imex_rates: imex::Rates<D> = [SVector::zeros(); 6];
     for &seg_end in &stops {
         let mut f = sys.rhs(t, &y);
         stats.rhs_evals += 1;
@@ -137,7 +140,7 @@ pub fn solve<const D: usize, S: OdeSystem<D>>(
             let mut dop853_stages = None;
             let (mut y1, f1, err_norm) = match method {
                 Method::Dopri5 | Method::Auto => {
-                    let trial = dopri5::step(sys, t, &y, &f, h);
+                    let trial = dopri5::step(sys, t, &y, &f, h, &mut dopri_rates);
                     stats.rhs_evals += 6;
                     stiffness = Some(trial.stiffness);
                     let e = error_norm(&trial.err, &y, &trial.y1, &scale, opts, sys.coupled());
@@ -156,14 +159,14 @@ pub fn solve<const D: usize, S: OdeSystem<D>>(
                 Method::Imex => match imex_split.or_else(|| sys.stiff_split(t, &y)) {
                     Some((k, d0)) => {
                         imex_split = Some((k, d0));
-                        let trial = imex::step(sys, t, &y, &f, k, d0, h);
+                        let trial = imex::step(sys, t, &y, &f, k, d0, h, &mut imex_rates);
                         stats.rhs_evals += trial.evals;
                         let e = error_norm(&trial.err, &y, &trial.y1, &scale, opts, sys.coupled());
                         (trial.y1, None, e)
                     }
                     None => {
                         // No stiff split here: an explicit step (Dopri5) does.
-                        let trial = dopri5::step(sys, t, &y, &f, h);
+                        let trial = dopri5::step(sys, t, &y, &f, h, &mut dopri_rates);
                         stats.rhs_evals += 6;
                         let e = error_norm(&trial.err, &y, &trial.y1, &scale, opts, sys.coupled());
                         (trial.y1, Some(trial.f1), e)

@@ -83,9 +83,13 @@ pub(crate) struct Trial<const D: usize> {
     pub evals: u64,
 }
 
+/// Stage rates, kept by the caller across steps so that a step does not clear 6·D values.
+pub(crate) type Rates<const D: usize> = [SVector<f64, D>; 6];
+
 /// Take a trial step of size h from (t, y) with f0 = f(t, y), treating component `k`'s
 /// term `d0·y_k` (d0 at (t, y)) implicitly. Only the first [`OdeSystem::live`] components
-/// are advanced.
+/// are advanced; `f` is scratch space for the stage rates (its contents do not matter).
+#[allow(clippy::too_many_arguments)]
 pub(crate) fn step<const D: usize, S: OdeSystem<D>>(
     sys: &S,
     t: f64,
@@ -94,15 +98,15 @@ pub(crate) fn step<const D: usize, S: OdeSystem<D>>(
     k: usize,
     d0: f64,
     h: f64,
+    f: &mut Rates<D>,
 ) -> Trial<D> {
     let n = sys.live();
-    let mut f = [SVector::<f64, D>::zeros(); 6];
     f[0] = *f0;
     // Each stage rewrites the coupled block only (no rate reads a quadrature); the rest
     // stays y's.
     let mut yi = *y;
     for i in 1..6 {
-        combine_into(&mut yi, y, h, &AE[i][..i], &f, S::COUPLED);
+        combine_into(&mut yi, y, h, &AE[i][..i], f, S::COUPLED);
         // Component k's whole rate is implicit (its forcing g grows with the relaxation
         // rate too, so it must not be explicit): base with AI, then the stage's own term.
         let mut base_k = y[k];
@@ -113,11 +117,11 @@ pub(crate) fn step<const D: usize, S: OdeSystem<D>>(
         yi[k] = base_k;
         sys.implicit_stage(t + C[i] * h, &mut yi, k, h * GAMMA, &mut f[i]);
     }
-    let y1 = combine(y, h, &B, &f, n);
+    let y1 = combine(y, h, &B, f, n);
     let diff: [f64; 6] = std::array::from_fn(|j| B[j] - BHAT[j]);
     // Error control reads the coupled components only (k is one of them; `COUPLED` is
     // a constant, so the loop keeps a fixed length).
-    let mut err = combine(&SVector::zeros(), h, &diff, &f, S::COUPLED);
+    let mut err = combine(&SVector::zeros(), h, &diff, f, S::COUPLED);
     // Filter the stiff component's estimate through the stage's implicit factor (as
     // SDIRK, Radau and Rosenbrock codes do): the raw difference overstates its error by
     // about h·γ·|d| when the component relaxes fast.
