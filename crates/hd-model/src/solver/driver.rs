@@ -120,6 +120,8 @@ pub fn solve<const D: usize, S: OdeSystem<D>>(
         let mut imex_split: Option<(usize, f64)> = None;
         let mut imex_next: Option<(usize, f64)> = None;
         let mut h_resume = 0.0;
+        // Accepted steps left for which a landing was aimed by a secant (0: none).
+        let mut aimed: u8 = 0;
         // ln of the previous accepted step's error norm (the PI controller's memory).
         let mut ln_err_prev: f64 = control::ERROR_FLOOR.ln();
         while t < seg_end {
@@ -238,7 +240,14 @@ pub fn solve<const D: usize, S: OdeSystem<D>>(
                     let step =
                         Step { t0: t, t1, y0: &y, y1: &y1, f0: &f, f1: &f1, dense: dense.as_ref() };
                     let hs = events::crossing(sys, &step, s0, s1) - t;
-                    if hs > control::LAND_SLIVER * h && hs < (1.0 - control::LAND_END_SLIVER) * h {
+                    let sliver = if aimed > 0 {
+                        // Never below what the step-size floor would refuse.
+                        (control::AIMED_SLIVER * h)
+                            .max(4.0 * control::MIN_STEP_EPS * f64::EPSILON * t.abs())
+                    } else {
+                        control::LAND_SLIVER * h
+                    };
+                    if hs > sliver && hs < (1.0 - control::LAND_END_SLIVER) * h {
                         stats.rejected += 1;
                         h_resume = h;
                         h_next = hs;
@@ -289,6 +298,7 @@ pub fn solve<const D: usize, S: OdeSystem<D>>(
                 }
                 s_start = s_end;
                 last_rejected = false;
+                aimed = aimed.saturating_sub(1);
                 if auto {
                     let next = switcher.accepted(h, stiffness, stats.steps);
                     if next != method {
@@ -309,28 +319,45 @@ pub fn solve<const D: usize, S: OdeSystem<D>>(
                 let (lo, hi) = control::SHRINK_REJECTED;
                 h_next = h * fac.clamp(lo, hi);
                 last_rejected = true;
-                // A high-order step across a kink fails its error test and would creep up
-                // to the kink in ever shorter steps: go straight to the crossing instead.
-                if let (Some(f1), Some(s0), Some(k)) = (f1, s_start, dop853_stages)
+                // A step across a kink fails its error test and would creep up to the kink
+                // in ever shorter steps: go straight to the crossing instead. DOP853 places
+                // it on its continuous extension; the other methods take the secant of the
+                // switching function between the step's ends. A secant that falls short
+                // leaves the kink just inside the next step, whose own check then lands on
+                // it exactly (down to [`control::AIMED_SLIVER`] for the next two steps).
+                if let Some(s0) = s_start
                     && err_norm.is_finite()
                     && let Some(s1) = sys.switch_value(t + h, &y1)
                     && events::straddles(s0, s1)
                 {
-                    stats.rhs_evals += 3;
-                    let dense = Dense::new(sys, t, h, &y, &k, &y1, &f1);
-                    let step = Step {
-                        t0: t,
-                        t1: t + h,
-                        y0: &y,
-                        y1: &y1,
-                        f0: &f,
-                        f1: &f1,
-                        dense: Some(&dense),
+                    let hs = match (f1, dop853_stages) {
+                        (Some(f1), Some(k)) => {
+                            stats.rhs_evals += 3;
+                            let dense = Dense::new(sys, t, h, &y, &k, &y1, &f1);
+                            let step = Step {
+                                t0: t,
+                                t1: t + h,
+                                y0: &y,
+                                y1: &y1,
+                                f0: &f,
+                                f1: &f1,
+                                dense: Some(&dense),
+                            };
+                            events::crossing(sys, &step, s0, s1) - t
+                        }
+                        _ => h * s0 / (s0 - s1),
                     };
-                    let hs = events::crossing(sys, &step, s0, s1) - t;
-                    if hs > h_next && hs > control::LAND_SLIVER * h {
+                    // Only a crossing well inside the step: one at its very end would retry
+                    // the same step.
+                    if hs > h_next
+                        && hs > control::LAND_SLIVER * h
+                        && hs < (1.0 - control::LAND_SLIVER) * h
+                    {
                         h_resume = h_next.max(h_resume);
                         h_next = hs;
+                        if dop853_stages.is_none() {
+                            aimed = 2;
+                        }
                     }
                 }
             }
