@@ -122,6 +122,8 @@ pub fn solve<const D: usize, S: OdeSystem<D>>(
         let mut h_resume = 0.0;
         // Accepted steps left for which a landing was aimed by a secant (0: none).
         let mut aimed: u8 = 0;
+        // Whether the next step is cut to end on a kink's crossing.
+        let mut on_kink = false;
         // ln of the previous accepted step's error norm (the PI controller's memory).
         let mut ln_err_prev: f64 = control::ERROR_FLOOR.ln();
         while t < seg_end {
@@ -130,8 +132,12 @@ pub fn solve<const D: usize, S: OdeSystem<D>>(
             }
             let remaining = seg_end - t;
             let mut h = h_next.min(opts.h_max);
-            // Land exactly on the segment end; avoid a sliver step just before it.
-            let last = h >= remaining || remaining - h < control::SLIVER * h;
+            // Land exactly on the segment end; avoid a sliver step just before it, except
+            // when the step was cut to end on a kink: stretched, it would straddle the
+            // kink again and be cut again, for ever (a stuck drive takes steps of
+            // seconds, so its sliver before the end is milliseconds wide).
+            let last = h >= remaining || (!on_kink && remaining - h < control::SLIVER * h);
+            on_kink = false;
             if last {
                 h = remaining;
             }
@@ -251,6 +257,7 @@ pub fn solve<const D: usize, S: OdeSystem<D>>(
                         stats.rejected += 1;
                         h_resume = h;
                         h_next = hs;
+                        on_kink = true;
                         continue;
                     }
                 }
