@@ -122,7 +122,7 @@ pub fn solve<const D: usize, S: OdeSystem<D>>(
         let mut h_resume = 0.0;
         // Accepted steps left for which a landing was aimed by a secant (0: none).
         let mut aimed: u8 = 0;
-        // Whether the next step is cut to end on a kink's crossing.
+        // Whether the next step is cut to end on a kink's crossing (located or aimed at).
         let mut on_kink = false;
         // ln of the previous accepted step's error norm (the PI controller's memory).
         let mut ln_err_prev: f64 = control::ERROR_FLOOR.ln();
@@ -362,6 +362,7 @@ pub fn solve<const D: usize, S: OdeSystem<D>>(
                     {
                         h_resume = h_next.max(h_resume);
                         h_next = hs;
+                        on_kink = true;
                         if dop853_stages.is_none() {
                             aimed = 2;
                         }
