@@ -246,13 +246,8 @@ pub fn solve<const D: usize, S: OdeSystem<D>>(
                     let step =
                         Step { t0: t, t1, y0: &y, y1: &y1, f0: &f, f1: &f1, dense: dense.as_ref() };
                     let hs = events::crossing(sys, &step, s0, s1) - t;
-                    let sliver = if aimed > 0 {
-                        // Never below what the step-size floor would refuse.
-                        (control::AIMED_SLIVER * h)
-                            .max(4.0 * control::MIN_STEP_EPS * f64::EPSILON * t.abs())
-                    } else {
-                        control::LAND_SLIVER * h
-                    };
+                    let rel = if aimed > 0 { control::AIMED_SLIVER } else { control::LAND_SLIVER };
+                    let sliver = (rel * h).max(landing_floor(t1));
                     if hs > sliver && hs < (1.0 - control::LAND_END_SLIVER) * h {
                         stats.rejected += 1;
                         h_resume = h;
@@ -357,7 +352,7 @@ pub fn solve<const D: usize, S: OdeSystem<D>>(
                     // Only a crossing well inside the step: one at its very end would retry
                     // the same step.
                     if hs > h_next
-                        && hs > control::LAND_SLIVER * h
+                        && hs > (control::LAND_SLIVER * h).max(landing_floor(t + h))
                         && hs < (1.0 - control::LAND_SLIVER) * h
                     {
                         h_resume = h_next.max(h_resume);
@@ -372,6 +367,15 @@ pub fn solve<const D: usize, S: OdeSystem<D>>(
         }
     }
     Ok((y, stats))
+}
+
+/// The shortest step a landing on a kink may take at time t [s]: well above the smallest
+/// step the solve accepts (`MIN_STEP_EPS` units of t's last place). A crossing closer than
+/// this to a step's start stays inside the step, where it cannot cost measurable accuracy;
+/// landing on it would end in a step too small to take (as a stuck drive's chain of
+/// landings 1e-12 s apart once did at t = 95 s).
+fn landing_floor(t: f64) -> f64 {
+    64.0 * control::MIN_STEP_EPS * f64::EPSILON * t.abs()
 }
 
 fn check_finite<const D: usize>(f: &SVector<f64, D>, t: f64) -> Result<(), SolverError> {
