@@ -33,8 +33,8 @@ impl PartSizer {
         let max = if traces { MAX_ROWS_WITH_TRACES } else { MAX_ROWS };
         // At least a few runs per worker, so every worker has something to do.
         let min = (threads * 4).clamp(1, max);
-        let first =
-            usize::try_from(todo / 20).unwrap_or(usize::MAX).clamp(min, MAX_ROWS_WITH_TRACES);
+        // A twentieth, at most the traced cap (the rate is not known yet), at least `min`.
+        let first = usize::try_from(todo / 20).unwrap_or(usize::MAX).min(MAX_ROWS_WITH_TRACES);
         Self { next: first.max(min), min, max }
     }
 
@@ -64,6 +64,9 @@ mod tests {
         assert_eq!(PartSizer::new(10, 2, false).size(), 8, "at least four runs a worker");
         assert_eq!(PartSizer::new(1 << 40, 2, false).size(), MAX_ROWS_WITH_TRACES);
         assert_eq!(PartSizer::new(0, 1, true).size(), 4);
+        // Many workers: four runs each even above the first part's usual cap.
+        assert_eq!(PartSizer::new(1 << 40, 200, false).size(), 800);
+        assert_eq!(PartSizer::new(1 << 40, 200, true).size(), MAX_ROWS_WITH_TRACES);
     }
 
     #[test]
