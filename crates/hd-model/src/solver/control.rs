@@ -65,9 +65,9 @@ pub const MIN_STEP_EPS: f64 = 16.0;
 /// zero (sticking) every crossing would otherwise cost a landing.
 pub const LAND_SLIVER: f64 = 1e-3;
 
-/// The same sliver for the two steps after a landing aimed by a secant (see the driver's
-/// rejected-step branch) [–] (range 1e-6–1e-4): a secant can fall short of the crossing by
-/// more than a hair, and a kink left 2e-4 of a step inside it costs the step its order
+/// The same sliver for the two steps after a landing aimed from a rejected step (see the
+/// driver's rejected-step branch) [–] (range 1e-6–1e-4): a secant can fall short of the
+/// crossing by more than a hair, and a kink left 2e-4 of a step inside it costs the step its order
 /// (measured on the kinked test system: error 1.9e-7 instead of 2.8e-11). Much smaller,
 /// and a landing just short of a kink is followed by landings 1e-12 s long.
 pub const AIMED_SLIVER: f64 = 1e-5;

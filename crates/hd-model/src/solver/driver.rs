@@ -120,7 +120,7 @@ pub fn solve<const D: usize, S: OdeSystem<D>>(
         let mut imex_split: Option<(usize, f64)> = None;
         let mut imex_next: Option<(usize, f64)> = None;
         let mut h_resume = 0.0;
-        // Accepted steps left for which a landing was aimed by a secant (0: none).
+        // Accepted steps left after a landing aimed from a rejected step (0: none).
         let mut aimed: u8 = 0;
         // Whether the next step is cut to end on a kink's crossing (located or aimed at).
         let mut on_kink = false;
@@ -358,9 +358,7 @@ pub fn solve<const D: usize, S: OdeSystem<D>>(
                         h_resume = h_next.max(h_resume);
                         h_next = hs;
                         on_kink = true;
-                        if dop853_stages.is_none() {
-                            aimed = 2;
-                        }
+                        aimed = 2;
                     }
                 }
             }
