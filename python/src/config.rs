@@ -204,9 +204,10 @@ pub fn config_from_options(
         "dop853" => Method::Dop853,
         "rodas4" => Method::Rodas4,
         "imex" => Method::Imex,
+        "imex5" => Method::Imex5,
         other => {
             return Err(value_error(format!(
-                "method = '{other}': expected auto, dopri5, dop853, rodas4 or imex"
+                "method = '{other}': expected auto, dopri5, dop853, rodas4, imex or imex5"
             )));
         }
     };

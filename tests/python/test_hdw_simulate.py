@@ -121,7 +121,7 @@ def test_every_stiffness_law_runs_and_a_bad_name_is_a_value_error():
         hdw.simulate(stiffness="elastic", trace=False)
 
 
-@pytest.mark.parametrize("method", ["dopri5", "dop853", "rodas4", "imex"])
+@pytest.mark.parametrize("method", ["dopri5", "dop853", "rodas4", "imex", "imex5"])
 def test_every_method_matches_the_cli_and_agrees_with_a_tight_solve(tmp_path, method):
     run_cli("simulate", "--method", method, "--t-end", "0.1", "--out", tmp_path)
     doc = read_json(tmp_path / "metrics.json")

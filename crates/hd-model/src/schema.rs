@@ -68,7 +68,7 @@ pub static RUN_CONTROL_COLUMNS: &[ColumnDoc] = &[
 
 /// Columns of `runs.parquet` after the metrics: solver work.
 pub static RUN_SOLVER_COLUMNS: &[ColumnDoc] = &[
-    col("method", "", "integration method: auto, dopri5, dop853, rodas4 or imex"),
+    col("method", "", "integration method: auto, dopri5, dop853, rodas4, imex or imex5"),
     col("steps", "-", "accepted solver steps"),
     col("rejected_steps", "-", "rejected solver steps"),
     col("rhs_evals", "-", "right-hand-side evaluations"),

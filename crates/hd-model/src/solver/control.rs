@@ -35,6 +35,13 @@ pub const IMEX_PI: (f64, f64) = (0.175, 0.1);
 /// The IMEX pair's exponent after a rejection: 1/(3 + 1).
 pub const IMEX_EXPONENT: f64 = 0.25;
 
+/// The fifth-order IMEX pair's PI controller (order 4 embedded): 0.7/5 on the current
+/// error, 0.4/5 on the previous one.
+pub const IMEX5_PI: (f64, f64) = (0.14, 0.08);
+
+/// The fifth-order IMEX pair's exponent after a rejection: 1/(4 + 1).
+pub const IMEX5_EXPONENT: f64 = 0.2;
+
 /// DOP853's PI controller: 1/8 − 0.75·β on the current error and β = 0.04 on the
 /// previous one. On the seed case its steps sit at the bristle's stability limit, where
 /// Hairer's β = 0 rejected 2 542 of 12 429 attempts at rtol 1e-8; with β = 0.04, 1 063 of

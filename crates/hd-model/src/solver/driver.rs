@@ -1,7 +1,8 @@
 //! The adaptive driver: segments between input breakpoints, step-size control, the
 //! observer callback and solver statistics.
 
-use super::switching::Switcher;
+use super::imex_tables::{ARK436, ARK548};
+use super::switching::{self, Switcher};
 use super::{
     Dense, Method, OdeSystem, SolverOptions, SolverStats, all_finite, control, dop853, dopri5,
     error_norm, events, imex, rodas4,
@@ -77,11 +78,11 @@ pub fn solve<const D: usize, S: OdeSystem<D>>(
     let auto = opts.method == Method::Auto;
     let mut switcher = Switcher::new(
         if !sys.may_be_stiff() {
-            None
+            &[]
         } else if sys.split_is_complete() {
-            Some(Method::Imex)
+            switching::PAIRS
         } else {
-            Some(Method::Rodas4)
+            switching::ROSENBROCK
         },
         opts.rtol,
     );
@@ -99,7 +100,8 @@ pub fn solve<const D: usize, S: OdeSystem<D>>(
     let mut h_next = 0.0;
     // The explicit and IMEX stages' rates, cleared once per solve rather than per step.
     let mut dopri_rates: dopri5::Rates<D> = [SVector::zeros(); 7];
-    let mut imex_rates: imex::Rates<D> = [SVector::zeros(); 6];
+    let mut imex_rates: imex::Rates<D, 6> = [SVector::zeros(); 6];
+    let mut imex5_rates: imex::Rates<D, 8> = [SVector::zeros(); 8];
     for &seg_end in &stops {
         let mut f = sys.rhs(t, &y);
         stats.rhs_evals += 1;
@@ -164,10 +166,15 @@ pub fn solve<const D: usize, S: OdeSystem<D>>(
                     dop853_stages = Some(trial.k);
                     (trial.y1, Some(trial.f1), dop853::combined_norm(n5, n3))
                 }
-                Method::Imex => match imex_split.or_else(|| sys.stiff_split(t, &y)) {
+                Method::Imex | Method::Imex5 => match imex_split.or_else(|| sys.stiff_split(t, &y))
+                {
                     Some((k, d0)) => {
                         imex_split = Some((k, d0));
-                        let trial = imex::step(sys, t, &y, &f, k, d0, h, &mut imex_rates);
+                        let trial = if method == Method::Imex {
+                            imex::step(&ARK436, sys, t, &y, &f, k, d0, h, &mut imex_rates)
+                        } else {
+                            imex::step(&ARK548, sys, t, &y, &f, k, d0, h, &mut imex5_rates)
+                        };
                         stats.rhs_evals += trial.evals;
                         let e = error_norm(&trial.err, &y, &trial.y1, &scale, opts, sys.coupled());
                         (trial.y1, None, e)
@@ -205,6 +212,7 @@ pub fn solve<const D: usize, S: OdeSystem<D>>(
             let (order_exp, (alpha, beta)) = match method {
                 Method::Rodas4 => (control::RODAS4_EXPONENT, (control::RODAS4_EXPONENT, 0.0)),
                 Method::Imex => (control::IMEX_EXPONENT, control::IMEX_PI),
+                Method::Imex5 => (control::IMEX5_EXPONENT, control::IMEX5_PI),
                 Method::Dop853 => (control::DOP853_EXPONENT, control::DOP853_PI),
                 _ => (control::DOPRI5_REJECT_EXPONENT, control::DOPRI5_PI),
             };
@@ -212,7 +220,7 @@ pub fn solve<const D: usize, S: OdeSystem<D>>(
                 let t1 = if last { seg_end } else { t + h };
                 let f1 = match (f1, imex_split) {
                     (Some(f1), _) => f1,
-                    (None, Some((k, _))) if method == Method::Imex => {
+                    (None, Some((k, _))) if matches!(method, Method::Imex | Method::Imex5) => {
                         // The rate and the split's d at the new point in one evaluation
                         // (a zero implicit weight leaves y1 as it is).
                         stats.rhs_evals += 1;
@@ -276,7 +284,7 @@ pub fn solve<const D: usize, S: OdeSystem<D>>(
                     dense: dense.as_ref(),
                 });
                 stats.steps += 1;
-                if matches!(method, Method::Rodas4 | Method::Imex) {
+                if matches!(method, Method::Rodas4 | Method::Imex | Method::Imex5) {
                     stats.implicit_steps += 1;
                 }
                 t = t1;
@@ -394,7 +402,9 @@ fn initial_step<const D: usize, S: OdeSystem<D>>(
     stats: &mut SolverStats,
 ) -> f64 {
     let order = match method {
-        Method::Rodas4 | Method::Imex => 4.0,
+        Method::Rodas4 => 4.0,
+        Method::Imex => f64::from(ARK436.order),
+        Method::Imex5 => f64::from(ARK548.order),
         Method::Dop853 => 8.0,
         _ => 5.0,
     };

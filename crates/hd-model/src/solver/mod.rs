@@ -28,6 +28,7 @@ mod dopri5;
 mod driver;
 mod events;
 mod imex;
+mod imex_tables;
 mod lu;
 mod rodas4;
 pub mod switching;
@@ -160,6 +161,9 @@ pub enum Method {
     /// Additive Runge–Kutta ARK4(3)6L: the system's one stiff state (the LuGre bristle)
     /// implicit, the rest explicit; no Jacobian, no matrix.
     Imex,
+    /// Additive Runge–Kutta ARK5(4)8L: the same split with a fifth-order pair (eight
+    /// stages), for tighter tolerances.
+    Imex5,
 }
 
 impl Method {
@@ -171,6 +175,7 @@ impl Method {
             Method::Dop853 => "dop853",
             Method::Rodas4 => "rodas4",
             Method::Imex => "imex",
+            Method::Imex5 => "imex5",
         }
     }
 }
