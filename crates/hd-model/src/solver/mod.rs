@@ -1,6 +1,6 @@
 //! Adaptive integrators for small, fixed-size ODE systems.
 //!
-//! Four embedded methods with error control share one driver:
+//! Five embedded methods with error control share one driver:
 //! - [`Method::Dopri5`]: Dormand–Prince 5(4), explicit, for non-stiff systems;
 //! - [`Method::Dop853`]: Dormand–Prince 8(5,3), explicit, for tight tolerances;
 //! - [`Method::Rodas4`]: the stiffly accurate, L-stable Rosenbrock method of order 4(3) of
@@ -8,7 +8,10 @@
 //!   and inductance cases;
 //! - [`Method::Imex`]: an additive Runge–Kutta pair of order 4(3) that integrates the
 //!   drive's one stiff state (the LuGre bristle) implicitly and the rest explicitly, so
-//!   that neither stability nor a Jacobian limits it.
+//!   that neither stability nor a Jacobian limits it;
+//! - [`Method::Imex5`]: the same split with a pair of order 5(4), which takes longer steps
+//!   where accuracy sets them, but whose explicit part has a small stability interval on
+//!   the imaginary axis (a stiff gear's torsional mode holds it).
 //!
 //! Where the right-hand side has a kink (LuGre's |v| where the sliding speed reverses),
 //! the system reports a switching function and the driver lands a step on its zero, so no
