@@ -3,9 +3,10 @@
 //! The drive's LuGre bristles make the system mildly stiff at the seed's parameters and
 //! very stiff when σ0 is large or ωs small. The policy: run Dopri5; when its stiffness
 //! indicator h·ρ stays above 3.25 for 15 accepted steps, try the stiff candidates in turn,
-//! each for 30 attempts, and keep the one whose time advanced per attempt (rejected steps
-//! count), divided by its cost ratio to a Dopri5 step (plus a margin), is largest, if that
-//! beats Dopri5's recent step; otherwise go back. The candidates are the two
+//! each for 30 counted attempts (60 for the pairs) after 10 that are not counted, and keep
+//! the one whose time advanced per attempt (rejected steps count), divided by its cost
+//! ratio to a Dopri5 step (plus a margin), is largest, if that beats Dopri5's recent step;
+//! otherwise go back. The candidates are the two
 //! implicit–explicit pairs, fifth order first, when the system's split covers all of its
 //! stiffness ([`super::OdeSystem::split_is_complete`]); Rodas4 when it does not
 //! (inductance, a friction observer). Neither pair wins everywhere: on the seed case the
@@ -102,7 +103,8 @@ pub const PAIRS: &[Method] = &[Method::Imex5, Method::Imex];
 pub const ROSENBROCK: &[Method] = &[Method::Rodas4];
 const HIGH_ORDER: &[Method] = &[Method::Dop853];
 
-/// A running comparison: candidates tried in turn, each for [`TRIAL_STEPS`] attempts.
+/// A running comparison: candidates tried in turn, each for [`TRIAL_WARMUP`] and then
+/// [`trial_steps`] attempts.
 #[derive(Clone, Debug)]
 struct Trial {
     candidates: &'static [Method],
