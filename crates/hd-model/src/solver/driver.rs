@@ -220,7 +220,7 @@ pub fn solve<const D: usize, S: OdeSystem<D>>(
                 let t1 = if last { seg_end } else { t + h };
                 let f1 = match (f1, imex_split) {
                     (Some(f1), _) => f1,
-                    (None, Some((k, _))) if matches!(method, Method::Imex | Method::Imex5) => {
+                    (None, Some((k, _))) if method.is_imex() => {
                         // The rate and the split's d at the new point in one evaluation
                         // (a zero implicit weight leaves y1 as it is).
                         stats.rhs_evals += 1;
@@ -284,7 +284,7 @@ pub fn solve<const D: usize, S: OdeSystem<D>>(
                     dense: dense.as_ref(),
                 });
                 stats.steps += 1;
-                if matches!(method, Method::Rodas4 | Method::Imex | Method::Imex5) {
+                if method == Method::Rodas4 || method.is_imex() {
                     stats.implicit_steps += 1;
                 }
                 t = t1;

@@ -170,6 +170,11 @@ pub enum Method {
 }
 
 impl Method {
+    /// Whether this is one of the implicit–explicit pairs (the split's methods).
+    pub fn is_imex(self) -> bool {
+        matches!(self, Method::Imex | Method::Imex5)
+    }
+
     /// The name used in study files, on the command line and in run tables.
     pub fn name(self) -> &'static str {
         match self {

@@ -255,6 +255,7 @@ impl Switcher {
                         }
                         let (best, score) = trial.best.expect("a candidate was scored");
                         let keep = score > trial.h_dopri;
+                        let high_order = trial.candidates == HIGH_ORDER;
                         self.trial = None;
                         if keep {
                             self.next_check = steps + RECHECK_AFTER_STIFF;
@@ -262,7 +263,7 @@ impl Switcher {
                                 self.switch_to(best);
                             }
                         } else {
-                            if self.current == Method::Dop853 {
+                            if high_order {
                                 self.high_next_check = steps.saturating_add(self.high_wait);
                                 self.high_wait = self.high_wait.saturating_mul(2);
                             } else {
@@ -283,8 +284,8 @@ impl Switcher {
         self.current
     }
 
-    /// Record a rejected step: during a Rodas4 trial it counts as an attempt that
-    /// advanced no time.
+    /// Record a rejected step: during a trial it counts as an attempt that advanced no
+    /// time.
     pub fn rejected(&mut self) {
         if let Some(trial) = self.trial.as_mut() {
             trial.attempts += 1;
