@@ -18,6 +18,10 @@ use pyo3::prelude::*;
 /// The extension module `hdw._hdw`.
 #[pymodule]
 fn _hdw(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    let missing = hd_model::cpu::missing_features();
+    if !missing.is_empty() {
+        return Err(pyo3::exceptions::PyImportError::new_err(hd_model::cpu::refusal(&missing)));
+    }
     m.add("SimulationError", m.py().get_type::<errors::SimulationError>())?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     m.add_function(wrap_pyfunction!(registry::parameters, m)?)?;

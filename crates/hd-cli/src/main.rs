@@ -45,6 +45,11 @@ enum Command {
 }
 
 fn main() -> ExitCode {
+    let missing = hd_model::cpu::missing_features();
+    if !missing.is_empty() {
+        eprintln!("error: {}", hd_model::cpu::refusal(&missing));
+        return ExitCode::FAILURE;
+    }
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Simulate(args) => cmd::simulate::run(args),

@@ -15,6 +15,7 @@
 
 pub mod closed_loop;
 pub mod control;
+pub mod cpu;
 pub mod error;
 pub mod interp;
 pub mod laws;
