@@ -4,7 +4,6 @@
 //! `w = σ0·s` [N·m], which keeps the state well scaled when σ0 is large; the mean bristle
 //! deflection `s = w/σ0` [rad] is what the workbench reports.
 
-use super::exp_neg;
 use serde::{Deserialize, Serialize};
 
 /// A friction law evaluated at one instant, with partial derivatives.
@@ -235,11 +234,15 @@ impl LuGre {
     }
 }
 
-/// The Stribeck factor e^{−x} for x = (v/ωs)² ≥ 0 [–]. Above [`exp_neg::LIMIT`] it is
-/// below 1e-304 and taken as 0: a factor that small changes no level or slope by a bit.
-#[inline(always)]
+/// Above this (v/ωs)² the Stribeck factor e^{−(v/ωs)²} is below 1e-304 [–] and is taken
+/// as 0: libm's exp takes a slow underflow path there, and a factor that small changes no
+/// level or slope by a bit.
+const STRIBECK_NEGLIGIBLE: f64 = 700.0;
+
+/// The Stribeck factor e^{−x} for x = (v/ωs)² ≥ 0 [–].
+#[inline]
 fn stribeck_decay(x: f64) -> f64 {
-    if x < exp_neg::LIMIT { exp_neg::exp_neg(x) } else { 0.0 }
+    if x < STRIBECK_NEGLIGIBLE { (-x).exp() } else { 0.0 }
 }
 
 impl FrictionLaw for LuGre {

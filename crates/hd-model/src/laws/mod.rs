@@ -7,7 +7,6 @@ pub mod bouc_wen;
 pub mod catalogue;
 pub mod composed;
 pub mod cycles;
-pub mod exp_neg;
 pub mod friction;
 pub mod input;
 pub mod load;
