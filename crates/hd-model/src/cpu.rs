@@ -34,9 +34,9 @@ pub fn missing_features() -> Vec<&'static str> {
 /// The sentence for a CPU without `missing`.
 pub fn refusal(missing: &[&str]) -> String {
     format!(
-        "this hdw binary was built for a CPU with {} (the build machine's instruction set), \
-         which this machine lacks; build it on this machine, or build a portable one with \
-         RUSTFLAGS=\"-C target-cpu=x86-64\" (cargo build, or pip install ./python)",
+        "this build of hdw was compiled for a CPU with {} (the build machine's instruction \
+         set), which this machine lacks; build it on this machine, or build a portable one \
+         with RUSTFLAGS=\"-C target-cpu=x86-64\" (cargo build, or pip install ./python)",
         missing.join(", ")
     )
 }
