@@ -5,6 +5,7 @@
 
 mod batch;
 mod config;
+mod cpu_guard;
 mod errors;
 mod fit;
 mod registry;
@@ -18,6 +19,8 @@ use pyo3::prelude::*;
 /// The extension module `hdw._hdw`.
 #[pymodule]
 fn _hdw(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    // Where the load-time check does not run (not Linux), check here: PyO3's set-up may
+    // already have used the build's instructions, but most of a build's are not.
     let missing = hd_model::cpu::missing_features();
     if !missing.is_empty() {
         return Err(pyo3::exceptions::PyImportError::new_err(hd_model::cpu::refusal(&missing)));
