@@ -14,9 +14,8 @@ static CHECK_ON_LOAD: extern "C" fn() = check_on_load;
 
 #[cfg(target_os = "linux")]
 extern "C" fn check_on_load() {
-    let missing = hd_model::cpu::missing_features();
-    if !missing.is_empty() {
-        eprintln!("hdw: {}", hd_model::cpu::refusal(&missing));
+    if let Err(why) = hd_model::cpu::check() {
+        eprintln!("hdw: {why}");
         std::process::exit(1);
     }
 }

@@ -21,10 +21,7 @@ use pyo3::prelude::*;
 fn _hdw(m: &Bound<'_, PyModule>) -> PyResult<()> {
     // Where the load-time check does not run (not Linux), check here: PyO3's set-up may
     // already have used the build's instructions, but most of a build's are not.
-    let missing = hd_model::cpu::missing_features();
-    if !missing.is_empty() {
-        return Err(pyo3::exceptions::PyImportError::new_err(hd_model::cpu::refusal(&missing)));
-    }
+    hd_model::cpu::check().map_err(pyo3::exceptions::PyImportError::new_err)?;
     m.add("SimulationError", m.py().get_type::<errors::SimulationError>())?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     m.add_function(wrap_pyfunction!(registry::parameters, m)?)?;

@@ -45,9 +45,8 @@ enum Command {
 }
 
 fn main() -> ExitCode {
-    let missing = hd_model::cpu::missing_features();
-    if !missing.is_empty() {
-        eprintln!("error: {}", hd_model::cpu::refusal(&missing));
+    if let Err(why) = hd_model::cpu::check() {
+        eprintln!("error: {why}");
         return ExitCode::FAILURE;
     }
     let cli = Cli::parse();

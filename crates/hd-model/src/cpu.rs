@@ -14,17 +14,20 @@
 pub fn missing_features() -> Vec<&'static str> {
     #[cfg(target_arch = "x86_64")]
     {
-        let has = x86::Cpu::read();
-        x86::FEATURES
-            .iter()
-            .filter(|(name, compiled, _)| *compiled && !has.supports(name))
-            .map(|(name, _, _)| *name)
-            .collect()
+        let cpu = x86::Cpu::read();
+        x86::FEATURES.iter().filter(|f| f.compiled && !cpu.has(f)).map(|f| f.name).collect()
     }
     #[cfg(not(target_arch = "x86_64"))]
     {
         Vec::new()
     }
+}
+
+/// `Err` with the sentence for the user when this CPU lacks an extension the binary was
+/// compiled to use: what `hdw` and the Python extension check before anything else.
+pub fn check() -> Result<(), String> {
+    let missing = missing_features();
+    if missing.is_empty() { Ok(()) } else { Err(refusal(&missing)) }
 }
 
 /// The sentence for a CPU without `missing`.
@@ -41,27 +44,67 @@ pub fn refusal(missing: &[&str]) -> String {
 mod x86 {
     use std::arch::x86_64::{__cpuid, __cpuid_count};
 
-    /// Where each extension's bit is: (name, compiled in, (register, bit)) with the
-    /// register one of "1c" (leaf 1, ECX), "7b" (leaf 7, EBX) and "e1c" (leaf 0x8000_0001,
-    /// ECX).
-    pub const FEATURES: &[(&str, bool, (&str, u32))] = &[
-        ("sse3", cfg!(target_feature = "sse3"), ("1c", 0)),
-        ("ssse3", cfg!(target_feature = "ssse3"), ("1c", 9)),
-        ("fma", cfg!(target_feature = "fma"), ("1c", 12)),
-        ("sse4.1", cfg!(target_feature = "sse4.1"), ("1c", 19)),
-        ("sse4.2", cfg!(target_feature = "sse4.2"), ("1c", 20)),
-        ("movbe", cfg!(target_feature = "movbe"), ("1c", 22)),
-        ("popcnt", cfg!(target_feature = "popcnt"), ("1c", 23)),
-        ("avx", cfg!(target_feature = "avx"), ("1c", 28)),
-        ("f16c", cfg!(target_feature = "f16c"), ("1c", 29)),
-        ("bmi1", cfg!(target_feature = "bmi1"), ("7b", 3)),
-        ("avx2", cfg!(target_feature = "avx2"), ("7b", 5)),
-        ("bmi2", cfg!(target_feature = "bmi2"), ("7b", 8)),
-        ("avx512f", cfg!(target_feature = "avx512f"), ("7b", 16)),
-        ("avx512dq", cfg!(target_feature = "avx512dq"), ("7b", 17)),
-        ("avx512bw", cfg!(target_feature = "avx512bw"), ("7b", 30)),
-        ("avx512vl", cfg!(target_feature = "avx512vl"), ("7b", 31)),
-        ("lzcnt", cfg!(target_feature = "lzcnt"), ("e1c", 5)),
+    /// Which `cpuid` output word holds an extension's bit.
+    #[derive(Clone, Copy)]
+    pub enum Word {
+        /// Leaf 1, ECX.
+        Leaf1Ecx,
+        /// Leaf 7 (subleaf 0), EBX.
+        Leaf7Ebx,
+        /// Leaf 0x8000_0001, ECX.
+        Ext1Ecx,
+    }
+
+    /// The register state the OS must save for an extension's instructions to work.
+    #[derive(Clone, Copy, PartialEq)]
+    pub enum OsState {
+        None,
+        /// The 256-bit registers.
+        Avx,
+        /// The 512-bit registers and the mask registers.
+        Avx512,
+    }
+
+    /// An extension: its name, whether the binary was compiled to use it, and where the
+    /// CPU reports it.
+    pub struct Feature {
+        pub name: &'static str,
+        pub compiled: bool,
+        word: Word,
+        bit: u32,
+        os: OsState,
+    }
+
+    macro_rules! feature {
+        ($name:tt, $word:ident, $bit:expr, $os:ident) => {
+            Feature {
+                name: $name,
+                compiled: cfg!(target_feature = $name),
+                word: Word::$word,
+                bit: $bit,
+                os: OsState::$os,
+            }
+        };
+    }
+
+    pub const FEATURES: &[Feature] = &[
+        feature!("sse3", Leaf1Ecx, 0, None),
+        feature!("ssse3", Leaf1Ecx, 9, None),
+        feature!("fma", Leaf1Ecx, 12, Avx),
+        feature!("sse4.1", Leaf1Ecx, 19, None),
+        feature!("sse4.2", Leaf1Ecx, 20, None),
+        feature!("movbe", Leaf1Ecx, 22, None),
+        feature!("popcnt", Leaf1Ecx, 23, None),
+        feature!("avx", Leaf1Ecx, 28, Avx),
+        feature!("f16c", Leaf1Ecx, 29, Avx),
+        feature!("bmi1", Leaf7Ebx, 3, None),
+        feature!("avx2", Leaf7Ebx, 5, Avx),
+        feature!("bmi2", Leaf7Ebx, 8, None),
+        feature!("avx512f", Leaf7Ebx, 16, Avx512),
+        feature!("avx512dq", Leaf7Ebx, 17, Avx512),
+        feature!("avx512bw", Leaf7Ebx, 30, Avx512),
+        feature!("avx512vl", Leaf7Ebx, 31, Avx512),
+        feature!("lzcnt", Ext1Ecx, 5, None),
     ];
 
     /// The CPU's answers, and what the operating system enables.
@@ -93,25 +136,26 @@ mod x86 {
             }
         }
 
-        /// Whether the CPU and the OS support the extension `name` of [`FEATURES`].
+        /// Whether the CPU and the OS support `f`.
+        pub fn has(&self, f: &Feature) -> bool {
+            let word = match f.word {
+                Word::Leaf1Ecx => self.leaf1_ecx,
+                Word::Leaf7Ebx => self.leaf7_ebx,
+                Word::Ext1Ecx => self.ext1_ecx,
+            };
+            let os = match f.os {
+                OsState::None => true,
+                OsState::Avx => self.os_avx,
+                OsState::Avx512 => self.os_avx512,
+            };
+            word & (1 << f.bit) != 0 && os
+        }
+
+        /// Whether the CPU and the OS support the extension called `name` (false for a
+        /// name not in [`FEATURES`]).
+        #[cfg(test)]
         pub fn supports(&self, name: &str) -> bool {
-            let Some(&(_, _, (reg, bit))) = FEATURES.iter().find(|f| f.0 == name) else {
-                return false;
-            };
-            let word = match reg {
-                "1c" => self.leaf1_ecx,
-                "7b" => self.leaf7_ebx,
-                _ => self.ext1_ecx,
-            };
-            let cpu = word & (1 << bit) != 0;
-            let os = if name.starts_with("avx512") {
-                self.os_avx512
-            } else if matches!(name, "avx" | "avx2" | "fma" | "f16c") {
-                self.os_avx
-            } else {
-                true
-            };
-            cpu && os
+            FEATURES.iter().any(|f| f.name == name && self.has(f))
         }
     }
 
@@ -148,13 +192,13 @@ mod tests {
         assert!(!cpu.supports("no-such-extension"));
         // What the CPU reports agrees with the standard library's own detection wherever
         // that detection is not short-circuited by the build (features not compiled in).
-        for &(name, compiled, _) in x86::FEATURES {
-            if !compiled {
-                let std_says = match name {
-                    "avx512f" => std::arch::is_x86_feature_detected!("avx512f"),
-                    "avx512dq" => std::arch::is_x86_feature_detected!("avx512dq"),
-                    "avx512bw" => std::arch::is_x86_feature_detected!("avx512bw"),
-                    "avx512vl" => std::arch::is_x86_feature_detected!("avx512vl"),
+        for f in x86::FEATURES {
+            if !f.compiled {
+                let (name, std_says) = match f.name {
+                    n @ "avx512f" => (n, std::arch::is_x86_feature_detected!("avx512f")),
+                    n @ "avx512dq" => (n, std::arch::is_x86_feature_detected!("avx512dq")),
+                    n @ "avx512bw" => (n, std::arch::is_x86_feature_detected!("avx512bw")),
+                    n @ "avx512vl" => (n, std::arch::is_x86_feature_detected!("avx512vl")),
                     _ => continue,
                 };
                 assert_eq!(cpu.supports(name), std_says, "{name}");
