@@ -32,15 +32,15 @@ pub const RODAS4_EXPONENT: f64 = 0.25;
 /// on the previous one.
 pub const IMEX_PI: (f64, f64) = (0.175, 0.1);
 
-/// The IMEX pair's exponent after a rejection: 1/(3 + 1).
-pub const IMEX_EXPONENT: f64 = 0.25;
+/// The IMEX pair's exponent after a rejection: 1/(3 + 1), from its table.
+pub const IMEX_EXPONENT: f64 = 1.0 / super::imex_tables::ARK436.order as f64;
 
 /// The fifth-order IMEX pair's PI controller (order 4 embedded): 0.7/5 on the current
 /// error, 0.4/5 on the previous one.
 pub const IMEX5_PI: (f64, f64) = (0.14, 0.08);
 
-/// The fifth-order IMEX pair's exponent after a rejection: 1/(4 + 1).
-pub const IMEX5_EXPONENT: f64 = 0.2;
+/// The fifth-order IMEX pair's exponent after a rejection: 1/(4 + 1), from its table.
+pub const IMEX5_EXPONENT: f64 = 1.0 / super::imex_tables::ARK548.order as f64;
 
 /// DOP853's PI controller: 1/8 − 0.75·β on the current error and β = 0.04 on the
 /// previous one. On the seed case its steps sit at the bristle's stability limit, where
@@ -83,3 +83,16 @@ pub const AIMED_SLIVER: f64 = 1e-5;
 /// step [–]: the crossing is located to 1e-10 of the step, so a step shortened to it ends
 /// there, and anything wider would leave a long step (DOP853's) visibly past the kink.
 pub const LAND_END_SLIVER: f64 = 1e-9;
+
+/// A method's step-size exponent (1/(q+1) for an error estimate of order q: the rejection
+/// shrink and the order the first step is sized by) and its PI gains (α, β) [–].
+pub fn gains(m: super::Method) -> (f64, (f64, f64)) {
+    use super::Method;
+    match m {
+        Method::Rodas4 => (RODAS4_EXPONENT, (RODAS4_EXPONENT, 0.0)),
+        Method::Imex => (IMEX_EXPONENT, IMEX_PI),
+        Method::Imex5 => (IMEX5_EXPONENT, IMEX5_PI),
+        Method::Dop853 => (DOP853_EXPONENT, DOP853_PI),
+        Method::Dopri5 | Method::Auto => (DOPRI5_REJECT_EXPONENT, DOPRI5_PI),
+    }
+}

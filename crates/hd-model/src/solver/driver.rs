@@ -209,13 +209,7 @@ pub fn solve<const D: usize, S: OdeSystem<D>>(
                     }
                 }
             };
-            let (order_exp, (alpha, beta)) = match method {
-                Method::Rodas4 => (control::RODAS4_EXPONENT, (control::RODAS4_EXPONENT, 0.0)),
-                Method::Imex => (control::IMEX_EXPONENT, control::IMEX_PI),
-                Method::Imex5 => (control::IMEX5_EXPONENT, control::IMEX5_PI),
-                Method::Dop853 => (control::DOP853_EXPONENT, control::DOP853_PI),
-                _ => (control::DOPRI5_REJECT_EXPONENT, control::DOPRI5_PI),
-            };
+            let (order_exp, (alpha, beta)) = control::gains(method);
             if err_norm <= 1.0 && all_finite(&y1) {
                 let t1 = if last { seg_end } else { t + h };
                 let f1 = match (f1, imex_split) {
@@ -401,13 +395,7 @@ fn initial_step<const D: usize, S: OdeSystem<D>>(
     method: Method,
     stats: &mut SolverStats,
 ) -> f64 {
-    let order = match method {
-        Method::Rodas4 => 4.0,
-        Method::Imex => f64::from(ARK436.order),
-        Method::Imex5 => f64::from(ARK548.order),
-        Method::Dop853 => 8.0,
-        _ => 5.0,
-    };
+    let order = 1.0 / control::gains(method).0;
     let sc = |i: usize| opts.atol * scale[i] + opts.rtol * y[i].abs();
     let m = sys.coupled();
     let norm = |v: &SVector<f64, D>| {
