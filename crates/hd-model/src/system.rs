@@ -167,7 +167,7 @@ impl DriveSystem {
     /// Evaluate the laws at (t, y).
     #[inline]
     pub fn parts(&self, t: f64, y: &State) -> Parts {
-        self.parts_at_w(t, y, y[W])
+        self.parts_with(t, y, |v, tb| self.friction.eval_loaded(v, y[W], tb))
     }
 
     /// The gear's deflection rate θ̇ = ωj/N − ωz and the friction law's sliding speed v
@@ -178,9 +178,15 @@ impl DriveSystem {
         (y[OMEGA_J] * self.inv_n - y[OMEGA_Z], a * y[OMEGA_J] + b * y[OMEGA_Z])
     }
 
-    /// Evaluate the laws at (t, y) with the bristle torque `w` [N·m] in place of `y[W]`.
+    /// Evaluate the laws at (t, y), the friction law by `friction(v, Tb)` (sliding speed
+    /// [rad/s], transmitted torque [N·m]).
     #[inline(always)]
-    fn parts_at_w(&self, t: f64, y: &State, w: f64) -> Parts {
+    fn parts_with(
+        &self,
+        t: f64,
+        y: &State,
+        friction: impl FnOnce(f64, f64) -> FrictionEval,
+    ) -> Parts {
         let ctl =
             self.ctl.as_ref().map(|c| c.eval(t, &self.measured(y), &ctl_states(y), &self.hold));
         let u = ctl.map_or_else(|| self.input.value(t), |c| c.u);
@@ -191,7 +197,7 @@ impl DriveSystem {
         };
         let (theta_dot, v) = self.gear_speeds(y);
         let st = self.stiffness.eval(y[THETA], theta_dot, y[Z], slots(y));
-        let fr = self.friction.eval_loaded(v, w, st.torque);
+        let fr = friction(v, st.torque);
         let (t_out, ta) = self.gear_torques(st.torque, fr.torque);
         Parts { u, i, theta_dot, v, st, fr, t_out, ta, tl: self.load.value(t), ctl }
     }
@@ -315,18 +321,18 @@ impl OdeSystem<DIM> for DriveSystem {
 
     fn implicit_stage(&self, t: f64, y: &mut State, k: usize, c: f64, rate: &mut State) -> f64 {
         assert_eq!(k, W, "the drive's split component is the bristle torque");
-        // The friction torque and the bristle rate are affine in w (their slopes in w do
-        // not depend on w): evaluate the laws once at w = 0, where the rate is g, solve
-        // for w, then shift.
-        let mut p = self.parts_at_w(t, y, 0.0);
-        let d = p.fr.w_rate_d_w;
-        let w = (y[W] + c * p.fr.w_rate) / (1.0 - c * d);
+        // The bristle rate is affine in w: the friction law solves the stage for w and
+        // evaluates itself there, inside the one evaluation of the laws.
+        let base = y[W];
+        let mut w = base;
+        let p = self.parts_with(t, y, |v, tb| {
+            let (solved, fr) = self.friction.implicit_state(v, base, c, tb);
+            w = solved;
+            fr
+        });
         y[W] = w;
-        p.fr.torque += p.fr.d_w * w;
-        p.fr.w_rate += d * w;
-        (p.t_out, p.ta) = self.gear_torques(p.st.torque, p.fr.torque);
         self.rates_into(y, &p, rate);
-        d
+        p.fr.w_rate_d_w
     }
 
     fn jacobian(&self, t: f64, y: &State) -> (SMatrix<f64, DIM, DIM>, State) {

@@ -58,6 +58,16 @@ pub trait FrictionLaw: Send + Sync {
     fn step_at_speed(&self, _v: f64, w: f64, _h: f64) -> f64 {
         w
     }
+    /// An implicit stage of the internal state: the w [N·m] that solves
+    /// `w = base + c·ẇ(v, w)` (c [s]; ẇ is affine in w for every law here) while the gear
+    /// transmits `tb` [N·m], with [`FrictionLaw::eval_loaded`] at that w. The default
+    /// evaluates at w = 0, solves with the slope ∂ẇ/∂w and re-evaluates.
+    #[inline(always)]
+    fn implicit_state(&self, v: f64, base: f64, c: f64, tb: f64) -> (f64, FrictionEval) {
+        let e = self.eval_loaded(v, 0.0, tb);
+        let w = (base + c * e.w_rate) / (1.0 - c * e.w_rate_d_w);
+        (w, self.eval_loaded(v, w, tb))
+    }
 }
 
 /// No friction (the `linear` variant).
@@ -267,30 +277,17 @@ impl FrictionLaw for LuGre {
     }
     #[inline(always)]
     fn eval_loaded(&self, v: f64, w: f64, tb: f64) -> FrictionEval {
-        // ṡ = v − |v|·s/g(v); in torque units w = σ0·s: ẇ = σ0·(v − |v|·w/G(v)).
-        let (level, level_dv, level_dtb) = self.stribeck_loaded(v, tb);
-        let av = v.abs();
-        let sv = if v > 0.0 {
-            1.0
-        } else if v < 0.0 {
-            -1.0
-        } else {
-            0.0
-        };
-        let s_rate = v - av * w / level; // ṡ [rad/s]
-        let s_rate_d_v = 1.0 - w * (sv * level - av * level_dv) / (level * level);
-        let s_rate_d_w = -av / level;
-        let s_rate_d_tb = av * w * level_dtb / (level * level);
-        FrictionEval {
-            torque: w + self.sigma1 * s_rate + self.sigma2 * v,
-            d_v: self.sigma1 * s_rate_d_v + self.sigma2,
-            d_w: 1.0 + self.sigma1 * s_rate_d_w,
-            w_rate: self.sigma0 * s_rate,
-            w_rate_d_v: self.sigma0 * s_rate_d_v,
-            w_rate_d_w: self.sigma0 * s_rate_d_w,
-            d_tb: self.sigma1 * s_rate_d_tb,
-            w_rate_d_tb: self.sigma0 * s_rate_d_tb,
-        }
+        self.eval_at_level(v, w, self.stribeck_loaded(v, tb))
+    }
+    /// `w = base + c·σ0·(v − |v|·w/G)` gives `w = G·(base + c·σ0·v)/(G + c·σ0·|v|)`: one
+    /// division, which runs beside the one for |v|/G instead of after it (each stage of
+    /// the implicit–explicit pairs waits for this value).
+    #[inline(always)]
+    fn implicit_state(&self, v: f64, base: f64, c: f64, tb: f64) -> (f64, FrictionEval) {
+        let lv = self.stribeck_loaded(v, tb);
+        let cs = c * self.sigma0;
+        let w = lv.0 * (base + cs * v) / (lv.0 + cs * v.abs());
+        (w, self.eval_at_level(v, w, lv))
     }
     fn steady_torque(&self, v: f64) -> f64 {
         self.steady_torque_loaded(v, 0.0)
@@ -319,6 +316,38 @@ impl FrictionLaw for LuGre {
         let (level, _) = self.stribeck(v);
         let w_ss = v.signum() * level;
         w_ss + (w - w_ss) * (-self.sigma0 * v.abs() / level * h).exp()
+    }
+}
+
+impl LuGre {
+    /// [`FrictionLaw::eval_loaded`] from the Stribeck level, its slope in v and in Tb
+    /// ([`LuGre::stribeck_loaded`]).
+    #[inline(always)]
+    fn eval_at_level(&self, v: f64, w: f64, lv: (f64, f64, f64)) -> FrictionEval {
+        // ṡ = v − |v|·s/g(v); in torque units w = σ0·s: ẇ = σ0·(v − |v|·w/G(v)).
+        let (level, level_dv, level_dtb) = lv;
+        let av = v.abs();
+        let sv = if v > 0.0 {
+            1.0
+        } else if v < 0.0 {
+            -1.0
+        } else {
+            0.0
+        };
+        let s_rate_d_w = -av / level;
+        let s_rate = v + s_rate_d_w * w; // ṡ [rad/s]
+        let s_rate_d_v = 1.0 - w * (sv * level - av * level_dv) / (level * level);
+        let s_rate_d_tb = av * w * level_dtb / (level * level);
+        FrictionEval {
+            torque: w + self.sigma1 * s_rate + self.sigma2 * v,
+            d_v: self.sigma1 * s_rate_d_v + self.sigma2,
+            d_w: 1.0 + self.sigma1 * s_rate_d_w,
+            w_rate: self.sigma0 * s_rate,
+            w_rate_d_v: self.sigma0 * s_rate_d_v,
+            w_rate_d_w: self.sigma0 * s_rate_d_w,
+            d_tb: self.sigma1 * s_rate_d_tb,
+            w_rate_d_tb: self.sigma0 * s_rate_d_tb,
+        }
     }
 }
 
@@ -383,6 +412,14 @@ impl FrictionLaw for Friction {
         match self {
             Friction::LuGre(l) => l.step_at_speed(v, w, h),
             _ => w,
+        }
+    }
+    #[inline(always)]
+    fn implicit_state(&self, v: f64, base: f64, c: f64, tb: f64) -> (f64, FrictionEval) {
+        match self {
+            Friction::LuGre(l) => l.implicit_state(v, base, c, tb),
+            // No internal state: nothing moves it.
+            _ => (base, self.eval_loaded(v, base, tb)),
         }
     }
 }
