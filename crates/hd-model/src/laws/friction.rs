@@ -163,6 +163,12 @@ impl LoadFactors {
     pub fn pick(&self, v: f64, tb: f64) -> (f64, f64) {
         if tb * v < 0.0 { (self.c_back, self.s_back) } else { (self.c_fwd, self.s_fwd) }
     }
+
+    /// Whether every factor is zero (levels independent of the load).
+    #[inline]
+    pub fn is_zero(&self) -> bool {
+        *self == Self::default()
+    }
 }
 
 impl LuGre {
@@ -218,22 +224,37 @@ impl LuGre {
     #[inline(always)]
     pub fn stribeck_loaded(&self, v: f64, tb: f64) -> (f64, f64, f64) {
         let (tc0, ts0) = self.levels(v);
-        let (mc, ms) = self.mu.pick(v, tb);
-        let (a, sg) = (
-            tb.abs(),
-            if tb > 0.0 {
-                1.0
-            } else if tb < 0.0 {
-                -1.0
-            } else {
-                0.0
-            },
-        );
-        let (tc, ts) = (tc0 + mc * a, ts0 + ms * a);
-        let r = v / self.ws;
-        let e = stribeck_decay(r * r, ts - tc, tc);
-        let level = tc + (ts - tc) * e;
-        let slope = (ts - tc) * e * (-2.0 * r / self.ws);
+        let a = tb.abs();
+        let sg = if tb > 0.0 {
+            1.0
+        } else if tb < 0.0 {
+            -1.0
+        } else {
+            0.0
+        };
+        // Without load dependence the levels need not wait for Tb (0·|Tb| added to them
+        // changes nothing but the time they are ready).
+        let (tc, ts, mc, ms) = if self.mu.is_zero() {
+            (tc0, ts0, 0.0, 0.0)
+        } else {
+            let (mc, ms) = self.mu.pick(v, tb);
+            (tc0 + mc * a, ts0 + ms * a, mc, ms)
+        };
+        let rise = ts - tc;
+        // 1/ωs does not depend on v: its division is off the evaluation's critical path.
+        let r = v * (1.0 / self.ws);
+        let x = r * r;
+        // e^{−x}, or 0 where the Stribeck term cannot change the level by a bit: the level
+        // is then tc itself, ready at once, and no exponential is evaluated (on the seed
+        // case from |v| ≈ 6·ωs on). Only the slopes in v and Tb, which no rate reads, lose
+        // a term below 1e-16 of their size.
+        let (level, e) = if x >= 0.0 && term_is_invisible(x, rise, tc) {
+            (tc, 0.0)
+        } else {
+            let e = (-x).exp();
+            (tc + rise * e, e)
+        };
+        let slope = rise * e * (-2.0 * r / self.ws);
         let d_tb = sg * (mc + (ms - mc) * e);
         (level, slope, d_tb)
     }
@@ -242,16 +263,6 @@ impl LuGre {
     pub fn max_level(&self) -> f64 {
         self.tc.max(self.ts).max(self.tc_neg).max(self.ts_neg)
     }
-}
-
-/// The Stribeck factor e^{−x} for x = (v/ωs)² ≥ 0 [–] in the level `tc + rise·e^{−x}`
-/// [N·m], or 0 where the term `rise·e^{−x}` is too small to change that sum by a bit: the
-/// level is then the same number either way, and the exponential, one of the costliest
-/// steps of a rate evaluation, is skipped (on the seed case from |v| ≈ 6·ωs on). Only the
-/// level's slopes in v and Tb, which no rate reads, lose a term below 1e-16 of their size.
-#[inline(always)]
-fn stribeck_decay(x: f64, rise: f64, tc: f64) -> f64 {
-    if x >= 0.0 && term_is_invisible(x, rise, tc) { 0.0 } else { (-x).exp() }
 }
 
 /// 2⁻⁵⁶ [–].

@@ -22,7 +22,8 @@ impl DcMotor {
     }
     /// Algebraic current without inductance, `(u − Ke·ωj)/R` [A].
     pub fn static_current(&self, u: f64, omega_j: f64) -> f64 {
-        (u - self.ke * omega_j) / self.r
+        // 1/R does not depend on the state: its division is off the critical path.
+        (u - self.ke * omega_j) * (1.0 / self.r)
     }
     /// Current rate with inductance, `(u − R·i − Ke·ωj)/L` [A/s].
     pub fn current_rate(&self, u: f64, i: f64, omega_j: f64) -> f64 {
