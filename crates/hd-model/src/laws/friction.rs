@@ -225,13 +225,7 @@ impl LuGre {
     pub fn stribeck_loaded(&self, v: f64, tb: f64) -> (f64, f64, f64) {
         let (tc0, ts0) = self.levels(v);
         let a = tb.abs();
-        let sg = if tb > 0.0 {
-            1.0
-        } else if tb < 0.0 {
-            -1.0
-        } else {
-            0.0
-        };
+        let sg = sign_or_zero(tb);
         // Without load dependence the levels need not wait for Tb (0·|Tb| added to them
         // changes nothing but the time they are ready).
         let (tc, ts, mc, ms) = if self.mu.is_zero() {
@@ -262,6 +256,18 @@ impl LuGre {
     /// Largest of the four levels [N·m]: a scale for the bristle torque w.
     pub fn max_level(&self) -> f64 {
         self.tc.max(self.ts).max(self.tc_neg).max(self.ts_neg)
+    }
+}
+
+/// The sign of x as −1, 0 or 1 [–] (`f64::signum` gives ±1 at ±0).
+#[inline(always)]
+fn sign_or_zero(x: f64) -> f64 {
+    if x > 0.0 {
+        1.0
+    } else if x < 0.0 {
+        -1.0
+    } else {
+        0.0
     }
 }
 
@@ -338,13 +344,7 @@ impl LuGre {
         // ṡ = v − |v|·s/g(v); in torque units w = σ0·s: ẇ = σ0·(v − |v|·w/G(v)).
         let (level, level_dv, level_dtb) = lv;
         let av = v.abs();
-        let sv = if v > 0.0 {
-            1.0
-        } else if v < 0.0 {
-            -1.0
-        } else {
-            0.0
-        };
+        let sv = sign_or_zero(v);
         let s_rate_d_w = -av / level;
         let s_rate = v + s_rate_d_w * w; // ṡ [rad/s]
         let s_rate_d_v = 1.0 - w * (sv * level - av * level_dv) / (level * level);
