@@ -174,12 +174,8 @@ impl DriveSystem {
     /// [rad/s] in state y: the one place the laws' speeds come from.
     #[inline(always)]
     fn gear_speeds(&self, y: &State) -> (f64, f64) {
-        let theta_dot = y[OMEGA_J] * self.inv_n - y[OMEGA_Z];
-        let v = match self.friction_velocity {
-            FrictionVelocity::Motor => y[OMEGA_J] * self.inv_n,
-            FrictionVelocity::Deflection => theta_dot,
-        };
-        (theta_dot, v)
+        let (a, b) = self.v_coeffs();
+        (y[OMEGA_J] * self.inv_n - y[OMEGA_Z], a * y[OMEGA_J] + b * y[OMEGA_Z])
     }
 
     /// Evaluate the laws at (t, y), the friction law by `friction(v, Tb)` (sliding speed
