@@ -431,6 +431,15 @@ impl OdeSystem<DIM> for DriveSystem {
         Some(a * y[OMEGA_J] + b * y[OMEGA_Z])
     }
 
+    fn switch_rate(&self, _t: f64, _y: &State, f: &State) -> Option<f64> {
+        // v is linear in the speeds: its rate is the same combination of their rates.
+        if !self.friction.has_state() {
+            return None;
+        }
+        let (a, b) = self.v_coeffs();
+        Some(a * f[OMEGA_J] + b * f[OMEGA_Z])
+    }
+
     fn commit(&self, t0: f64, t1: f64, y0: &State, f0: &State, y1: &mut State, f1: &State) {
         if let Some(set) = self.stiffness.slips() {
             let path = deflection_path(t1 - t0, y0[THETA], f0[THETA], y1[THETA], f1[THETA]);

@@ -79,6 +79,11 @@ pub const LAND_SLIVER: f64 = 1e-3;
 /// and a landing just short of a kink is followed by landings 1e-12 s long.
 pub const AIMED_SLIVER: f64 = 1e-5;
 
+/// A step that ends so close before a kink that the switching function's tangent reaches
+/// zero within this fraction of the next step is followed by a landing on the crossing
+/// [–] (range 1e-3–1e-1): the distance is one Newton step, exact to its square.
+pub const HAIR: f64 = 1e-2;
+
 /// A kink crossing closer than this fraction of the step to its end is left inside the
 /// step [–]: the crossing is located to 1e-10 of the step, so a step shortened to it ends
 /// there, and anything wider would leave a long step (DOP853's) visibly past the kink.

@@ -121,7 +121,7 @@ pub fn solve<const D: usize, S: OdeSystem<D>>(
         // The implicit–explicit split at (t, y), when the last evaluation provided it.
         let mut imex_split: Option<(usize, f64)> = None;
         let mut imex_next: Option<(usize, f64)> = None;
-        let mut h_resume = 0.0;
+        let mut h_resume: f64 = 0.0;
         // Accepted steps left after a landing aimed from a rejected step (0: none).
         let mut aimed: u8 = 0;
         // Whether the next step is cut to end on a kink's crossing (located or aimed at).
@@ -252,7 +252,9 @@ pub fn solve<const D: usize, S: OdeSystem<D>>(
                     let sliver = (rel * h).max(landing_floor(t1));
                     if hs > sliver && hs < (1.0 - control::LAND_END_SLIVER) * h {
                         stats.rejected += 1;
-                        h_resume = h;
+                        // A second landing (the first one's root fell a hair short)
+                        // keeps the step the first one cut short.
+                        h_resume = h_resume.max(h);
                         h_next = hs;
                         on_kink = true;
                         continue;
@@ -303,6 +305,19 @@ pub fn solve<const D: usize, S: OdeSystem<D>>(
                 s_start = s_end;
                 last_rejected = false;
                 aimed = aimed.saturating_sub(1);
+                // A step that ended a hair short of a kink (a landing's root or secant can
+                // fall short by 1e-5 of the step), yet far enough for the next step's
+                // straddle to land on it at the cost of a rejection: one Newton step on the
+                // switching function finds the crossing, and the next step lands on it.
+                let rel = if aimed > 0 { control::AIMED_SLIVER } else { control::LAND_SLIVER };
+                if let Some(hs) = kink_ahead(sys, t, &y, &f, s_end)
+                    && hs > (rel * h_next).max(landing_floor(t))
+                    && hs < control::HAIR * h_next
+                {
+                    h_resume = h_resume.max(h_next);
+                    h_next = hs;
+                    on_kink = true;
+                }
                 if auto {
                     let next = switcher.accepted(h, stiffness, stats.steps);
                     if next != method {
@@ -367,6 +382,20 @@ pub fn solve<const D: usize, S: OdeSystem<D>>(
         }
     }
     Ok((y, stats))
+}
+
+/// How far ahead of t [s] the switching function, `s` at (t, y) with rate f, reaches zero
+/// on its tangent; `None` when it moves away from zero, is zero already or has no rate.
+pub(super) fn kink_ahead<const D: usize, S: OdeSystem<D>>(
+    sys: &S,
+    t: f64,
+    y: &SVector<f64, D>,
+    f: &SVector<f64, D>,
+    s: Option<f64>,
+) -> Option<f64> {
+    let s = s.filter(|&s| s != 0.0)?;
+    let hs = -s / sys.switch_rate(t, y, f)?;
+    (hs > 0.0 && hs.is_finite()).then_some(hs)
 }
 
 /// The shortest step a landing on a kink may take at time t [s]: well above the smallest

@@ -92,6 +92,16 @@ pub trait OdeSystem<const D: usize>: Sync {
         None
     }
 
+    /// The rate of [`OdeSystem::switch_value`] along the solution at (t, y) with rate f
+    /// [its unit per s]. The default differentiates numerically along f; a system whose
+    /// switching function is linear in y can return it exactly.
+    fn switch_rate(&self, t: f64, y: &SVector<f64, D>, f: &SVector<f64, D>) -> Option<f64> {
+        let tau = 1e-7 * (1.0 + t.abs());
+        let s0 = self.switch_value(t, y)?;
+        let s1 = self.switch_value(t + tau, &(y + tau * f))?;
+        Some((s1 - s0) / tau)
+    }
+
     /// Whether the system can be stiff at all; `auto` never tries a stiff method on one
     /// that cannot. Default: true.
     fn may_be_stiff(&self) -> bool {

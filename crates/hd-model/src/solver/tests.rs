@@ -264,3 +264,35 @@ fn finiteness_check_finds_every_bad_component() {
         }
     }
 }
+
+/// The Newton step to a kink ahead: exact to its square on the tangent of the switching
+/// function, and none when the function moves away from zero.
+#[test]
+fn the_kink_ahead_is_one_newton_step_along_the_switching_function() {
+    let sys = Kinked(true);
+    let pi = std::f64::consts::PI;
+    for delta in [1e-3, 1e-6, 1e-9] {
+        // x = sin t a distance δ before its crossing at π, moving down at cos t.
+        let t = pi - delta;
+        let y = Vector2::new(t.sin(), 0.0);
+        let f = sys.rhs(t, &y);
+        let hs = super::driver::kink_ahead(&sys, t, &y, &f, sys.switch_value(t, &y)).unwrap();
+        // The tangent's root x/|cos t| (the default `switch_rate` differentiates along f,
+        // exactly for this linear switching function but for rounding)…
+        let newton = y[0] / -t.cos();
+        assert!((hs - newton).abs() < 1e-12 * newton, "δ = {delta:e}: {hs:e} vs {newton:e}");
+        // …falls short of the crossing by tan δ − δ ≈ δ³/3; π − t is exact, and the
+        // true π lies 1.2e-16 from the f64 one.
+        let tol = delta.powi(3) / 3.0 + 1.3e-16;
+        assert!((hs - (pi - t)).abs() < 10.0 * tol, "δ = {delta:e}: {hs:e}");
+        // Just past the crossing, moving away: no kink ahead.
+        let t = pi + delta;
+        let y = Vector2::new(t.sin(), 0.0);
+        let f = sys.rhs(t, &y);
+        assert!(super::driver::kink_ahead(&sys, t, &y, &f, sys.switch_value(t, &y)).is_none());
+    }
+    // No switching function, no kink.
+    let sys = Kinked(false);
+    let y = Vector2::new(1e-9, 0.0);
+    assert!(super::driver::kink_ahead(&sys, 3.0, &y, &sys.rhs(3.0, &y), None).is_none());
+}
