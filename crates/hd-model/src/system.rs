@@ -431,13 +431,10 @@ impl OdeSystem<DIM> for DriveSystem {
         Some(a * y[OMEGA_J] + b * y[OMEGA_Z])
     }
 
-    fn switch_rate(&self, _t: f64, _y: &State, f: &State) -> Option<f64> {
-        // v is linear in the speeds: its rate is the same combination of their rates.
-        if !self.friction.has_state() {
-            return None;
-        }
-        let (a, b) = self.v_coeffs();
-        Some(a * f[OMEGA_J] + b * f[OMEGA_Z])
+    fn switch_rate(&self, t: f64, _y: &State, f: &State) -> Option<f64> {
+        // v is a fixed combination of the speeds: its rate is the same combination of
+        // their rates, which is the switching function applied to f.
+        self.switch_value(t, f)
     }
 
     fn commit(&self, t0: f64, t1: f64, y0: &State, f0: &State, y1: &mut State, f1: &State) {
