@@ -248,9 +248,9 @@ pub fn solve<const D: usize, S: OdeSystem<D>>(
                     let step =
                         Step { t0: t, t1, y0: &y, y1: &y1, f0: &f, f1: &f1, dense: dense.as_ref() };
                     let hs = events::crossing(sys, &step, s0, s1) - t;
-                    let rel = if aimed > 0 { control::AIMED_SLIVER } else { control::LAND_SLIVER };
-                    let sliver = (rel * h).max(landing_floor(t1));
-                    if hs > sliver && hs < (1.0 - control::LAND_END_SLIVER) * h {
+                    if hs > landing_sliver(aimed, h, t1)
+                        && hs < (1.0 - control::LAND_END_SLIVER) * h
+                    {
                         stats.rejected += 1;
                         // A second landing (the first one's root fell a hair short)
                         // keeps the step the first one cut short.
@@ -309,9 +309,8 @@ pub fn solve<const D: usize, S: OdeSystem<D>>(
                 // fall short by 1e-5 of the step), yet far enough for the next step's
                 // straddle to land on it at the cost of a rejection: one Newton step on the
                 // switching function finds the crossing, and the next step lands on it.
-                let rel = if aimed > 0 { control::AIMED_SLIVER } else { control::LAND_SLIVER };
                 if let Some(hs) = kink_ahead(sys, t, &y, &f, s_end)
-                    && hs > (rel * h_next).max(landing_floor(t))
+                    && hs > landing_sliver(aimed, h_next, t)
                     && hs < control::HAIR * h_next
                 {
                     h_resume = h_resume.max(h_next);
@@ -396,6 +395,14 @@ pub(super) fn kink_ahead<const D: usize, S: OdeSystem<D>>(
     let s = s.filter(|&s| s != 0.0)?;
     let hs = -s / sys.switch_rate(t, y, f)?;
     (hs > 0.0 && hs.is_finite()).then_some(hs)
+}
+
+/// How far inside a step of size h ending near time t [s] a kink's crossing must lie to be
+/// landed on [s]: a relative sliver (the narrower one while `aimed` steps remain after a
+/// landing aimed from a rejected step), and never less than [`landing_floor`].
+fn landing_sliver(aimed: u8, h: f64, t: f64) -> f64 {
+    let rel = if aimed > 0 { control::AIMED_SLIVER } else { control::LAND_SLIVER };
+    (rel * h).max(landing_floor(t))
 }
 
 /// The shortest step a landing on a kink may take at time t [s]: well above the smallest
