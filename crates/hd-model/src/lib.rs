@@ -17,6 +17,7 @@ pub mod closed_loop;
 pub mod control;
 pub mod cpu;
 pub mod error;
+pub mod fma;
 pub mod interp;
 pub mod laws;
 pub mod metrics;

@@ -2,6 +2,7 @@
 //! with its analytic Jacobian (docs/model.md §2.6).
 
 use crate::control::{Controller, CtlEval, Hold};
+use crate::fma::fmadd;
 use crate::laws::friction::{Friction, FrictionEval, FrictionLaw};
 use crate::laws::input::Input;
 use crate::laws::load::LoadTorque;
@@ -175,7 +176,7 @@ impl DriveSystem {
     #[inline(always)]
     fn gear_speeds(&self, y: &State) -> (f64, f64) {
         let (a, b) = self.v_coeffs();
-        (y[OMEGA_J] * self.inv_n - y[OMEGA_Z], a * y[OMEGA_J] + b * y[OMEGA_Z])
+        (fmadd(y[OMEGA_J], self.inv_n, -y[OMEGA_Z]), fmadd(a, y[OMEGA_J], b * y[OMEGA_Z]))
     }
 
     /// Evaluate the laws at (t, y), the friction law by `friction(v, Tb)` (sliding speed
@@ -224,7 +225,7 @@ impl DriveSystem {
     #[inline]
     fn gear_torques(&self, tb: f64, tf: f64) -> (f64, f64) {
         let t_out = tb + if self.friction_on_load() { tf } else { 0.0 };
-        (t_out, (tb + tf) * self.inv_n)
+        (t_out, fmadd(tf, self.inv_n, tb * self.inv_n))
     }
 
     /// The state rates from the laws' values `p` at (t, y).
@@ -242,9 +243,10 @@ impl DriveSystem {
         let (wj, wz) = (y[OMEGA_J], y[OMEGA_Z]);
         *d = State::zeros();
         d[THETA_J] = wj;
-        d[OMEGA_J] = (m.torque(p.i) - self.cj * wj - p.ta) * self.inv_jj;
+        // The gear's torque, ready last, meets one multiply–add.
+        d[OMEGA_J] = fmadd(-p.ta, self.inv_jj, fmadd(-self.cj, wj, m.torque(p.i)) * self.inv_jj);
         d[THETA] = p.theta_dot;
-        d[OMEGA_Z] = (p.t_out - self.cz * wz - p.tl) * self.inv_jz;
+        d[OMEGA_Z] = fmadd(p.t_out, self.inv_jz, -fmadd(self.cz, wz, p.tl) * self.inv_jz);
         d[Z] = p.st.z_rate;
         d[W] = p.fr.w_rate;
         if m.has_inductance() {

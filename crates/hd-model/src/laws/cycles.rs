@@ -11,6 +11,7 @@
 //! (callgrind) and rounded the argument twice; the sine input's whole evaluation now takes
 //! 57, and whole and half cycles give exact zeros.
 
+use crate::fma::fmadd;
 use std::f64::consts::TAU;
 
 /// 1/(2k+1)! for k = 1…8: the sine's series after its leading x, in powers of x².
@@ -39,7 +40,7 @@ const COS: [f64; 7] = [
 /// Horner evaluation of Σ c_k·u^k for k = 0…n−1.
 #[inline(always)]
 fn poly<const N: usize>(c: &[f64; N], u: f64) -> f64 {
-    c.iter().rev().fold(0.0, |acc, &ck| acc * u + ck)
+    c.iter().rev().fold(0.0, |acc, &ck| fmadd(acc, u, ck))
 }
 
 /// 1.5·2⁵²: adding and subtracting it rounds any |u| < 2⁵¹ to an integer (ties to even),
@@ -67,14 +68,14 @@ fn reduce(p: f64) -> (f64, f64) {
 #[inline(always)]
 fn sin_series(x: f64) -> f64 {
     let x2 = x * x;
-    x + x * x2 * poly(&SIN, x2)
+    fmadd(x * x2, poly(&SIN, x2), x)
 }
 
 /// cos x for |x| ≤ π/4.
 #[inline(always)]
 fn cos_series(x: f64) -> f64 {
     let x2 = x * x;
-    1.0 + x2 * (-0.5 + x2 * poly(&COS, x2))
+    fmadd(x2, fmadd(x2, poly(&COS, x2), -0.5), 1.0)
 }
 
 /// sin x and cos x for |x| ≤ π/4.

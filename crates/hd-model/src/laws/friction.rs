@@ -4,6 +4,7 @@
 //! `w = σ0·s` [N·m], which keeps the state well scaled when σ0 is large; the mean bristle
 //! deflection `s = w/σ0` [rad] is what the workbench reports.
 
+use crate::fma::fmadd;
 use serde::{Deserialize, Serialize};
 
 /// A friction law evaluated at one instant, with partial derivatives.
@@ -246,7 +247,7 @@ impl LuGre {
             (tc, 0.0)
         } else {
             let e = (-x).exp();
-            (tc + rise * e, e)
+            (fmadd(rise, e, tc), e)
         };
         let slope = rise * e * (-2.0 * r / self.ws);
         let d_tb = sg * (mc + (ms - mc) * e);
@@ -303,7 +304,7 @@ impl FrictionLaw for LuGre {
     fn implicit_state(&self, v: f64, base: f64, c: f64, tb: f64) -> (f64, FrictionEval) {
         let lv = self.stribeck_loaded(v, tb);
         let cs = c * self.sigma0;
-        let w = lv.0 * (base + cs * v) / (lv.0 + cs * v.abs());
+        let w = lv.0 * fmadd(cs, v, base) / fmadd(cs, v.abs(), lv.0);
         (w, self.eval_at_level(v, w, lv))
     }
     fn steady_torque(&self, v: f64) -> f64 {
@@ -346,11 +347,11 @@ impl LuGre {
         let av = v.abs();
         let sv = sign_or_zero(v);
         let s_rate_d_w = -av / level;
-        let s_rate = v + s_rate_d_w * w; // ṡ [rad/s]
+        let s_rate = fmadd(s_rate_d_w, w, v); // ṡ [rad/s]
         let s_rate_d_v = 1.0 - w * (sv * level - av * level_dv) / (level * level);
         let s_rate_d_tb = av * w * level_dtb / (level * level);
         FrictionEval {
-            torque: w + self.sigma1 * s_rate + self.sigma2 * v,
+            torque: fmadd(self.sigma1, s_rate, fmadd(self.sigma2, v, w)),
             d_v: self.sigma1 * s_rate_d_v + self.sigma2,
             d_w: 1.0 + self.sigma1 * s_rate_d_w,
             w_rate: self.sigma0 * s_rate,

@@ -1,5 +1,6 @@
 //! The armature-controlled DC motor (docs/model.md §2.6).
 
+use crate::fma::fmadd;
 use serde::{Deserialize, Serialize};
 
 /// DC motor: `u = R·i + L·di/dt + Ke·ωj`, `Tj = Km·i`.
@@ -23,7 +24,7 @@ impl DcMotor {
     /// Algebraic current without inductance, `(u − Ke·ωj)/R` [A].
     pub fn static_current(&self, u: f64, omega_j: f64) -> f64 {
         // 1/R does not depend on the state: its division is off the critical path.
-        (u - self.ke * omega_j) * (1.0 / self.r)
+        fmadd(-self.ke, omega_j, u) * (1.0 / self.r)
     }
     /// Current rate with inductance, `(u − R·i − Ke·ωj)/L` [A/s].
     pub fn current_rate(&self, u: f64, i: f64, omega_j: f64) -> f64 {

@@ -1,6 +1,7 @@
 //! Stiffness laws: the torque the gear transmits as a function of deflection and, for the
 //! hysteretic law, of a fading-memory state `z` (docs/model.md §2.1).
 
+use crate::fma::fmadd;
 use serde::{Deserialize, Serialize};
 
 /// A stiffness law evaluated at one instant, with the partial derivatives the implicit
@@ -90,11 +91,11 @@ pub struct CubicSpring {
 impl CubicSpring {
     /// f(θ) [N·m].
     pub fn torque(&self, theta: f64) -> f64 {
-        ((self.a * theta + self.b) * theta + self.c) * theta
+        fmadd(fmadd(self.a, theta, self.b), theta, self.c) * theta
     }
     /// f'(θ) [N·m/rad].
     pub fn slope(&self, theta: f64) -> f64 {
-        (3.0 * self.a * theta + 2.0 * self.b) * theta + self.c
+        fmadd(fmadd(3.0 * self.a, theta, 2.0 * self.b), theta, self.c)
     }
 }
 
@@ -160,7 +161,7 @@ pub struct FadingMemory {
 impl FadingMemory {
     /// ż [N·m/s].
     pub fn rate(&self, theta_dot: f64, z: f64) -> f64 {
-        self.a * theta_dot - self.b * z
+        fmadd(self.a, theta_dot, -self.b * z)
     }
 
     /// Exact solution of `ż = A·θ̇ − B·z` over an interval of length `h` [s] during which

@@ -39,6 +39,7 @@ pub mod switching;
 pub use dop853::Dense;
 pub use driver::{Step, solve};
 
+use crate::fma::fmadd;
 use nalgebra::{SMatrix, SVector};
 use serde::{Deserialize, Serialize};
 
@@ -294,12 +295,12 @@ pub(crate) fn combine_into<const D: usize>(
     for (cj, kj) in c.iter().zip(k) {
         let kj = &kj.as_slice()[..n];
         for (a, kv) in acc[..n].iter_mut().zip(kj) {
-            *a += cj * kv;
+            *a = fmadd(*cj, *kv, *a);
         }
     }
     let ys = &y.as_slice()[..n];
     for ((o, a), yv) in out.as_mut_slice()[..n].iter_mut().zip(&acc[..n]).zip(ys) {
-        *o = yv + h * a;
+        *o = fmadd(h, *a, *yv);
     }
 }
 
