@@ -5,7 +5,7 @@ use super::imex_tables::{ARK436, ARK548};
 use super::switching::{self, Switcher};
 use super::{
     Dense, Method, OdeSystem, SolverOptions, SolverStats, all_finite, control, dop853, dopri5,
-    error_norm, events, imex, rodas4,
+    error_norm, events, hair, imex, rodas4,
 };
 use crate::error::SolverError;
 use nalgebra::SVector;
@@ -126,6 +126,9 @@ pub fn solve<const D: usize, S: OdeSystem<D>>(
         let mut aimed: u8 = 0;
         // Whether the next step is cut to end on a kink's crossing (located or aimed at).
         let mut on_kink = false;
+        // Whether the next step finishes a landing that fell a hair short (tried with
+        // Heun's two-evaluation step first, see [`hair`]).
+        let mut hair_next = false;
         // ln of the previous accepted step's error norm (the PI controller's memory).
         let mut ln_err_prev: f64 = control::ERROR_FLOOR.ln();
         while t < seg_end {
@@ -148,15 +151,33 @@ pub fn solve<const D: usize, S: OdeSystem<D>>(
             }
             let mut stiffness = None;
             let mut dop853_stages = None;
-            let (mut y1, f1, err_norm) = match method {
-                Method::Dopri5 | Method::Auto => {
+            // The hair's Heun step, when its error passes; the running method otherwise.
+            let heun = if std::mem::take(&mut hair_next) {
+                stats.rhs_evals += 2;
+                let split = if method.is_imex() {
+                    imex_split.or_else(|| sys.stiff_split(t, &y)).map(|(k, _)| k)
+                } else {
+                    None
+                };
+                hair::attempt(sys, t, &y, &f, h, split, &scale, opts).map(|(tr, e)| (tr, split, e))
+            } else {
+                None
+            };
+            let (mut y1, f1, err_norm) = match (heun, method) {
+                (Some((trial, split, e)), _) => {
+                    if let (Some(k), Some(d1)) = (split, trial.d1) {
+                        imex_next = Some((k, d1));
+                    }
+                    (trial.y1, Some(trial.f1), e)
+                }
+                (None, Method::Dopri5 | Method::Auto) => {
                     let trial = dopri5::step(sys, t, &y, &f, h, &mut dopri_rates);
                     stats.rhs_evals += 6;
                     stiffness = Some(trial.stiffness);
                     let e = error_norm(&trial.err, &y, &trial.y1, &scale, opts, sys.coupled());
                     (trial.y1, Some(trial.f1), e)
                 }
-                Method::Dop853 => {
+                (None, Method::Dop853) => {
                     let trial = dop853::step(sys, t, &y, &f, h);
                     stats.rhs_evals += dop853::STAGES as u64;
                     stiffness = Some(trial.stiffness);
@@ -166,7 +187,8 @@ pub fn solve<const D: usize, S: OdeSystem<D>>(
                     dop853_stages = Some(trial.k);
                     (trial.y1, Some(trial.f1), dop853::combined_norm(n5, n3))
                 }
-                Method::Imex | Method::Imex5 => match imex_split.or_else(|| sys.stiff_split(t, &y))
+                (None, Method::Imex | Method::Imex5) => match imex_split
+                    .or_else(|| sys.stiff_split(t, &y))
                 {
                     Some((k, d0)) => {
                         imex_split = Some((k, d0));
@@ -187,7 +209,7 @@ pub fn solve<const D: usize, S: OdeSystem<D>>(
                         (trial.y1, Some(trial.f1), e)
                     }
                 },
-                Method::Rodas4 => {
+                (None, Method::Rodas4) => {
                     let (jac, dfdt) = match jac_cache {
                         Some(c) => c,
                         None => {
@@ -244,12 +266,15 @@ pub fn solve<const D: usize, S: OdeSystem<D>>(
                     // The step straddles a kink: retry it ending on the crossing. A
                     // crossing within a sliver of the start (after a landing, the next
                     // step may start a hair before it) or within the root's own precision
-                    // of the end is left inside the step.
+                    // of the end is left inside the step. So is one within the landing
+                    // floor of the end: a hair landing (a step of about 1e-9 s) whose
+                    // Newton step overshot by a few units of t's last place would
+                    // otherwise be rejected and taken again, a whole step for nothing.
                     let step =
                         Step { t0: t, t1, y0: &y, y1: &y1, f0: &f, f1: &f1, dense: dense.as_ref() };
                     let hs = events::crossing(sys, &step, s0, s1) - t;
                     if hs > landing_sliver(aimed, h, t1)
-                        && hs < (1.0 - control::LAND_END_SLIVER) * h
+                        && hs < h - (control::LAND_END_SLIVER * h).max(landing_floor(t1))
                     {
                         stats.rejected += 1;
                         // A second landing (the first one's root fell a hair short)
@@ -316,6 +341,7 @@ pub fn solve<const D: usize, S: OdeSystem<D>>(
                     h_resume = h_resume.max(h_next);
                     h_next = hs;
                     on_kink = true;
+                    hair_next = true;
                 }
                 if auto {
                     let next = switcher.accepted(h, stiffness, stats.steps);

@@ -30,6 +30,7 @@ mod dop853;
 mod dopri5;
 mod driver;
 mod events;
+mod hair;
 mod imex;
 mod imex_tables;
 mod lu;
