@@ -84,6 +84,12 @@ pub const AIMED_SLIVER: f64 = 1e-5;
 /// [–] (range 1e-3–1e-1): the distance is one Newton step, exact to its square.
 pub const HAIR: f64 = 1e-2;
 
+/// A step aimed at a kink's crossing predicted by extrapolation is shortened by this
+/// fraction of its length [–] (range 1e-5–1e-3), so that it ends a hair before the
+/// crossing (finished by a hair landing) rather than a hair after it (a straddle, a
+/// rejected step and a landing).
+pub const PREDICT_SHORT: f64 = 1e-4;
+
 /// A kink crossing closer than this fraction of the step to its end is left inside the
 /// step [–]: the crossing is located to 1e-10 of the step, so a step shortened to it ends
 /// there, and anything wider would leave a long step (DOP853's) visibly past the kink.

@@ -129,6 +129,9 @@ pub fn solve<const D: usize, S: OdeSystem<D>>(
         // Whether the next step finishes a landing that fell a hair short (tried with
         // Heun's two-evaluation step first, see [`hair`]).
         let mut hair_next = false;
+        // Whether the step after the next may not be longer than it (set when the next
+        // one is aimed at a predicted kink).
+        let mut hold = false;
         // ln of the previous accepted step's error norm (the PI controller's memory).
         let mut ln_err_prev: f64 = control::ERROR_FLOOR.ln();
         while t < seg_end {
@@ -308,6 +311,9 @@ pub fn solve<const D: usize, S: OdeSystem<D>>(
                 if method == Method::Rodas4 || method.is_imex() {
                     stats.implicit_steps += 1;
                 }
+                // The switching function's value and rate at the step's start, for
+                // extrapolating it past the end.
+                let switch_start = s_start.zip(sys.switch_rate(t, &y, &f));
                 t = t1;
                 y = y1;
                 f = f1;
@@ -320,7 +326,8 @@ pub fn solve<const D: usize, S: OdeSystem<D>>(
                     control::SAFETY * (beta * ln_err_prev - alpha * ln_err).exp()
                 };
                 ln_err_prev = ln_err.max(control::ERROR_FLOOR.ln());
-                let fac = if last_rejected { fac.min(1.0) } else { fac };
+                let fac =
+                    if last_rejected || std::mem::take(&mut hold) { fac.min(1.0) } else { fac };
                 h_next = h * fac.clamp(control::SHRINK_ACCEPTED_MIN, control::GROW_MAX);
                 if h_resume > 0.0 {
                     // After landing on a kink, resume with the step it cut short.
@@ -342,6 +349,24 @@ pub fn solve<const D: usize, S: OdeSystem<D>>(
                     h_next = hs;
                     on_kink = true;
                     hair_next = true;
+                } else if let Some(start) = switch_start
+                    && let Some(s1) = s_end
+                    && let Some(ds1) = sys.switch_rate(t, &y, &f)
+                    && let Some(hp) = events::predicted_crossing(h, start, (s1, ds1), h_next)
+                {
+                    // A crossing within the next step, placed by extrapolating the
+                    // switching function over this one: aim a hair short of it, so that
+                    // the step keeps its order and the hair landing above finishes it,
+                    // instead of straddling the kink and failing its error test.
+                    let aim = hp * (1.0 - control::PREDICT_SHORT);
+                    if aim > landing_sliver(2, h_next, t) {
+                        h_next = aim;
+                        on_kink = true;
+                        aimed = 2;
+                        // Past the kink the rates change their course: the step after
+                        // this one may not be longer (as after a rejected straddle).
+                        hold = true;
+                    }
                 }
                 if auto {
                     let next = switcher.accepted(h, stiffness, stats.steps);
