@@ -32,17 +32,28 @@ pub(crate) fn crossing<const D: usize, S: OdeSystem<D>>(
         let t = step.t0 + x * h;
         sys.switch_value(t, &step.interpolate(t)).unwrap_or(0.0)
     };
-    let (mut a, mut fa, mut b, mut fb) = (0.0, s0, 1.0, s1);
+    step.t0 + illinois(at, (0.0, s0), (1.0, s1), ROOT_TOL) * h
+}
+
+/// The root of `at` between `a` and `b > a`, where its values `fa` and `fb` have opposite
+/// signs, by the Illinois variant of regula falsi: until the bracket is `width` wide (or
+/// [`MAX_ITER`] evaluations), then its middle; an exact zero is returned at once.
+fn illinois(
+    at: impl Fn(f64) -> f64,
+    (mut a, mut fa): (f64, f64),
+    (mut b, mut fb): (f64, f64),
+    width: f64,
+) -> f64 {
     let mut side = 0i8;
     for _ in 0..MAX_ITER {
-        if b - a <= ROOT_TOL {
+        if b - a <= width {
             break;
         }
         let x = (a * fb - b * fa) / (fb - fa);
         let x = if x > a && x < b { x } else { 0.5 * (a + b) };
         let fx = at(x);
         if fx == 0.0 {
-            return step.t0 + x * h;
+            return x;
         }
         if (fx > 0.0) == (fb > 0.0) {
             b = x;
@@ -60,7 +71,7 @@ pub(crate) fn crossing<const D: usize, S: OdeSystem<D>>(
             side = -1;
         }
     }
-    step.t0 + 0.5 * (a + b) * h
+    0.5 * (a + b)
 }
 
 /// Where the switching function will cross zero within `ahead` [s] after a step of size
@@ -86,40 +97,13 @@ pub(crate) fn predicted_crossing(
         let [h00, h10, h01, h11] = crate::interp::hermite_basis(x);
         h00 * s0 + h10 * h * ds0 + h01 * s1 + h11 * h * ds1
     };
-    let (mut a, mut fa) = (1.0, s1);
-    let (mut b, mut fb) = (1.0 + ahead / h, at(1.0 + ahead / h));
-    if !fb.is_finite() || !straddles(fa, fb) {
+    let end = 1.0 + ahead / h;
+    let f_end = at(end);
+    if !f_end.is_finite() || !straddles(s1, f_end) {
         return None;
     }
-    // Illinois on the cubic, as in [`crossing`], to a far finer width (the cubic is cheap).
-    let mut side = 0i8;
-    for _ in 0..MAX_ITER {
-        if b - a <= 1e-14 * b {
-            break;
-        }
-        let x = (a * fb - b * fa) / (fb - fa);
-        let x = if x > a && x < b { x } else { 0.5 * (a + b) };
-        let fx = at(x);
-        if fx == 0.0 {
-            return Some((x - 1.0) * h);
-        }
-        if (fx > 0.0) == (fb > 0.0) {
-            b = x;
-            fb = fx;
-            if side == 1 {
-                fa *= 0.5;
-            }
-            side = 1;
-        } else {
-            a = x;
-            fa = fx;
-            if side == -1 {
-                fb *= 0.5;
-            }
-            side = -1;
-        }
-    }
-    Some((0.5 * (a + b) - 1.0) * h)
+    // As in [`crossing`], to a far finer width (the cubic is cheap).
+    Some((illinois(at, (1.0, s1), (end, f_end), 1e-14 * end) - 1.0) * h)
 }
 
 #[cfg(test)]
