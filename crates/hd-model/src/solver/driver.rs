@@ -115,9 +115,10 @@ pub fn solve<const D: usize, S: OdeSystem<D>>(
         }
         let mut jac_cache = None;
         let mut last_rejected = false;
-        // The switching function at the step's start, and the step size a landing on a
-        // kink interrupted (0 when none).
+        // The switching function and its rate at the step's start, and the step size a
+        // landing on a kink interrupted (0 when none).
         let mut s_start = sys.switch_value(t, &y);
+        let mut ds_start = s_start.and_then(|_| sys.switch_rate(t, &y, &f));
         // The implicit–explicit split at (t, y), when the last evaluation provided it.
         let mut imex_split: Option<(usize, f64)> = None;
         let mut imex_next: Option<(usize, f64)> = None;
@@ -311,9 +312,6 @@ pub fn solve<const D: usize, S: OdeSystem<D>>(
                 if method == Method::Rodas4 || method.is_imex() {
                     stats.implicit_steps += 1;
                 }
-                // The switching function's value and rate at the step's start, for
-                // extrapolating it past the end.
-                let switch_start = s_start.zip(sys.switch_rate(t, &y, &f));
                 t = t1;
                 y = y1;
                 f = f1;
@@ -334,14 +332,20 @@ pub fn solve<const D: usize, S: OdeSystem<D>>(
                     h_next = h_next.max(h_resume);
                     h_resume = 0.0;
                 }
+                // The switching function's value and rate at both ends of this step: the
+                // start's for extrapolating past the end, the end's (taken once) for that,
+                // for the Newton step below and as the next step's start.
+                let switch_start = s_start.zip(ds_start);
+                let ds_end = s_end.and_then(|_| sys.switch_rate(t, &y, &f));
                 s_start = s_end;
+                ds_start = ds_end;
                 last_rejected = false;
                 aimed = aimed.saturating_sub(1);
                 // A step that ended a hair short of a kink (a landing's root or secant can
                 // fall short by 1e-5 of the step), yet far enough for the next step's
                 // straddle to land on it at the cost of a rejection: one Newton step on the
                 // switching function finds the crossing, and the next step lands on it.
-                if let Some(hs) = kink_ahead(sys, t, &y, &f, s_end)
+                if let Some(hs) = kink_ahead(s_end, ds_end)
                     && hs > landing_sliver(aimed, h_next, t)
                     && hs < control::HAIR * h_next
                 {
@@ -350,9 +354,8 @@ pub fn solve<const D: usize, S: OdeSystem<D>>(
                     on_kink = true;
                     hair_next = true;
                 } else if let Some(start) = switch_start
-                    && let Some(s1) = s_end
-                    && let Some(ds1) = sys.switch_rate(t, &y, &f)
-                    && let Some(hp) = events::predicted_crossing(h, start, (s1, ds1), h_next)
+                    && let Some(end) = s_end.zip(ds_end)
+                    && let Some(hp) = events::predicted_crossing(h, start, end, h_next)
                 {
                     // A crossing within the next step, placed by extrapolating the
                     // switching function over this one: aim a hair short of it, so that
@@ -434,17 +437,12 @@ pub fn solve<const D: usize, S: OdeSystem<D>>(
     Ok((y, stats))
 }
 
-/// How far ahead of t [s] the switching function, `s` at (t, y) with rate f, reaches zero
-/// on its tangent; `None` when it moves away from zero, is zero already or has no rate.
-pub(super) fn kink_ahead<const D: usize, S: OdeSystem<D>>(
-    sys: &S,
-    t: f64,
-    y: &SVector<f64, D>,
-    f: &SVector<f64, D>,
-    s: Option<f64>,
-) -> Option<f64> {
+/// How far ahead [s] the switching function, value `s` and rate `ds` [its unit per s]
+/// ([`OdeSystem::switch_rate`]), reaches zero on its tangent; `None` when it moves away
+/// from zero, is zero already or has no rate.
+pub(super) fn kink_ahead(s: Option<f64>, ds: Option<f64>) -> Option<f64> {
     let s = s.filter(|&s| s != 0.0)?;
-    let hs = -s / sys.switch_rate(t, y, f)?;
+    let hs = -s / ds?;
     (hs > 0.0 && hs.is_finite()).then_some(hs)
 }
 

@@ -32,21 +32,22 @@ pub(crate) fn crossing<const D: usize, S: OdeSystem<D>>(
         let t = step.t0 + x * h;
         sys.switch_value(t, &step.interpolate(t)).unwrap_or(0.0)
     };
-    step.t0 + illinois(at, (0.0, s0), (1.0, s1), ROOT_TOL) * h
+    step.t0 + illinois(at, (0.0, s0), (1.0, s1), |_| ROOT_TOL) * h
 }
 
 /// The root of `at` between `a` and `b > a`, where its values `fa` and `fb` have opposite
-/// signs, by the Illinois variant of regula falsi: until the bracket is `width` wide (or
-/// [`MAX_ITER`] evaluations), then its middle; an exact zero is returned at once.
+/// signs, by the Illinois variant of regula falsi: until the bracket is at most `width(b)`
+/// wide for its current upper end b (or [`MAX_ITER`] evaluations), then its middle; an
+/// exact zero is returned at once.
 fn illinois(
     at: impl Fn(f64) -> f64,
     (mut a, mut fa): (f64, f64),
     (mut b, mut fb): (f64, f64),
-    width: f64,
+    width: impl Fn(f64) -> f64,
 ) -> f64 {
     let mut side = 0i8;
     for _ in 0..MAX_ITER {
-        if b - a <= width {
+        if b - a <= width(b) {
             break;
         }
         let x = (a * fb - b * fa) / (fb - fa);
@@ -103,7 +104,7 @@ pub(crate) fn predicted_crossing(
         return None;
     }
     // As in [`crossing`], to a far finer width (the cubic is cheap).
-    Some((illinois(at, (1.0, s1), (end, f_end), 1e-14 * end) - 1.0) * h)
+    Some((illinois(at, (1.0, s1), (end, f_end), |b| 1e-14 * b) - 1.0) * h)
 }
 
 #[cfg(test)]

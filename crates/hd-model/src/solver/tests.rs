@@ -276,7 +276,10 @@ fn the_kink_ahead_is_one_newton_step_along_the_switching_function() {
         let t = pi - delta;
         let y = Vector2::new(t.sin(), 0.0);
         let f = sys.rhs(t, &y);
-        let hs = super::driver::kink_ahead(&sys, t, &y, &f, sys.switch_value(t, &y)).unwrap();
+        let ahead = |t: f64, y: &Vector2<f64>, f: &Vector2<f64>| {
+            super::driver::kink_ahead(sys.switch_value(t, y), sys.switch_rate(t, y, f))
+        };
+        let hs = ahead(t, &y, &f).unwrap();
         // The tangent's root x/|cos t| (the default `switch_rate` differentiates along f,
         // exactly for this linear switching function but for rounding)…
         let newton = y[0] / -t.cos();
@@ -289,10 +292,14 @@ fn the_kink_ahead_is_one_newton_step_along_the_switching_function() {
         let t = pi + delta;
         let y = Vector2::new(t.sin(), 0.0);
         let f = sys.rhs(t, &y);
-        assert!(super::driver::kink_ahead(&sys, t, &y, &f, sys.switch_value(t, &y)).is_none());
+        assert!(ahead(t, &y, &f).is_none());
     }
     // No switching function, no kink.
     let sys = Kinked(false);
     let y = Vector2::new(1e-9, 0.0);
-    assert!(super::driver::kink_ahead(&sys, 3.0, &y, &sys.rhs(3.0, &y), None).is_none());
+    let f = sys.rhs(3.0, &y);
+    assert!(
+        super::driver::kink_ahead(sys.switch_value(3.0, &y), sys.switch_rate(3.0, &y, &f))
+            .is_none()
+    );
 }
