@@ -75,6 +75,79 @@ pub fn solve<const D: usize, S: OdeSystem<D>>(
     opts: &SolverOptions,
     observer: &mut dyn FnMut(&Step<D>),
 ) -> Result<(SVector<f64, D>, SolverStats), SolverError> {
+    integrate(sys, t0, y0, t_end, breakpoints, opts, observer, None)
+        .map(|done| (done.y, done.stats))
+}
+
+/// Where an integration stopped.
+struct Done<const D: usize> {
+    /// Final time [s] and state.
+    t: f64,
+    y: SVector<f64, D>,
+    stats: SolverStats,
+    /// Time reached when the attempt budget's warm-up ran out [s] (`t` if it never did).
+    t_warm: f64,
+}
+
+/// An attempt budget: stop after `total` attempts (accepted or rejected), noting the time
+/// reached after the first `warmup`.
+#[derive(Clone, Copy)]
+struct Budget {
+    warmup: u64,
+    total: u64,
+}
+
+/// Run a trial's shadow candidate `m` from (t, y) with first step `h` on a copy of the
+/// state, and return the time it advanced per counted attempt [s] (0 if it failed). The
+/// copy is dropped: the solution never sees the shadow's steps.
+#[allow(clippy::too_many_arguments)]
+fn shadow_run<const D: usize, S: OdeSystem<D>>(
+    sys: &S,
+    t: f64,
+    y: &SVector<f64, D>,
+    h: f64,
+    t_end: f64,
+    breakpoints: &[f64],
+    opts: &SolverOptions,
+    m: Method,
+    shadow: switching::Shadow,
+    stats: &mut SolverStats,
+) -> f64 {
+    let shadow_opts = SolverOptions { method: m, h_init: h, ..*opts };
+    let budget = Budget {
+        warmup: u64::from(shadow.warmup),
+        total: u64::from(shadow.warmup + shadow.counted),
+    };
+    match integrate(sys, t, *y, t_end, breakpoints, &shadow_opts, &mut |_| {}, Some(budget)) {
+        Ok(done) => {
+            stats.rhs_evals += done.stats.rhs_evals;
+            stats.jac_evals += done.stats.jac_evals;
+            stats.lu_decomps += done.stats.lu_decomps;
+            let attempts = done.stats.steps + done.stats.rejected;
+            // A shadow that reached the end within its warm-up is scored on all of it.
+            let (from, counted) = if attempts > budget.warmup {
+                (done.t_warm, attempts - budget.warmup)
+            } else {
+                (t, attempts)
+            };
+            (done.t - from) / counted.max(1) as f64
+        }
+        Err(_) => 0.0,
+    }
+}
+
+/// [`solve`], optionally stopped by an attempt budget.
+#[allow(clippy::too_many_arguments)]
+fn integrate<const D: usize, S: OdeSystem<D>>(
+    sys: &S,
+    t0: f64,
+    y0: SVector<f64, D>,
+    t_end: f64,
+    breakpoints: &[f64],
+    opts: &SolverOptions,
+    observer: &mut dyn FnMut(&Step<D>),
+    budget: Option<Budget>,
+) -> Result<Done<D>, SolverError> {
     let auto = opts.method == Method::Auto;
     let mut switcher = Switcher::new(
         if !sys.may_be_stiff() {
@@ -97,6 +170,7 @@ pub fn solve<const D: usize, S: OdeSystem<D>>(
     let scale = sys.abs_scale();
     let mut t = t0;
     let mut y = y0;
+    let mut t_warm = t0;
     let mut h_next = 0.0;
     // The explicit and IMEX stages' rates, cleared once per solve rather than per step.
     let mut dopri_rates: dopri5::Rates<D> = [SVector::zeros(); 7];
@@ -136,6 +210,15 @@ pub fn solve<const D: usize, S: OdeSystem<D>>(
         // ln of the previous accepted step's error norm (the PI controller's memory).
         let mut ln_err_prev: f64 = control::ERROR_FLOOR.ln();
         while t < seg_end {
+            if let Some(b) = budget {
+                let attempts = stats.steps + stats.rejected;
+                if attempts == b.warmup {
+                    t_warm = t;
+                }
+                if attempts >= b.total {
+                    return Ok(Done { t, y, stats, t_warm });
+                }
+            }
             if stats.steps + stats.rejected >= opts.max_steps {
                 return Err(SolverError::TooManySteps { time: t, steps: opts.max_steps });
             }
@@ -377,6 +460,19 @@ pub fn solve<const D: usize, S: OdeSystem<D>>(
                         method = next;
                         stats.switches = switcher.switches;
                     }
+                    if let Some(shadow) = switcher.take_shadow() {
+                        for &m in shadow.methods {
+                            let per_attempt = shadow_run(
+                                sys, t, &y, h_next, t_end, &stops, opts, m, shadow, &mut stats,
+                            );
+                            switcher.shadow_result(m, per_attempt);
+                        }
+                        let next = switcher.finish_trial(stats.steps);
+                        if next != method {
+                            method = next;
+                            stats.switches = switcher.switches;
+                        }
+                    }
                 }
             } else {
                 stats.rejected += 1;
@@ -434,7 +530,7 @@ pub fn solve<const D: usize, S: OdeSystem<D>>(
             }
         }
     }
-    Ok((y, stats))
+    Ok(Done { t, y, stats, t_warm })
 }
 
 /// How far ahead [s] the switching function, value `s` and rate `ds` [its unit per s]
