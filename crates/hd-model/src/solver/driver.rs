@@ -2,6 +2,7 @@
 //! observer callback and solver statistics.
 
 use super::imex_tables::{ARK436, ARK548};
+use super::shadow;
 use super::switching::{self, Switcher};
 use super::{
     Dense, Method, OdeSystem, SolverOptions, SolverStats, all_finite, control, dop853, dopri5,
@@ -64,8 +65,8 @@ impl<const D: usize> Step<'_, D> {
 
 /// Integrate `sys` from `(t0, y0)` to `t_end`, restarting at each of `breakpoints` inside
 /// the interval, and call `observer` after every accepted step. Returns the final state
-/// and the work done. With `Method::Auto` the driver switches between Dopri5 and Rodas4 by
-/// cost (see [`super::switching`]).
+/// and the work done. With `Method::Auto` the driver switches between Dopri5 and the stiff
+/// or higher-order methods by cost (see [`super::switching`]).
 pub fn solve<const D: usize, S: OdeSystem<D>>(
     sys: &S,
     t0: f64,
@@ -80,65 +81,26 @@ pub fn solve<const D: usize, S: OdeSystem<D>>(
 }
 
 /// Where an integration stopped.
-struct Done<const D: usize> {
+pub(super) struct Done<const D: usize> {
     /// Final time [s] and state.
-    t: f64,
-    y: SVector<f64, D>,
-    stats: SolverStats,
+    pub t: f64,
+    pub y: SVector<f64, D>,
+    pub stats: SolverStats,
     /// Time reached when the attempt budget's warm-up ran out [s] (`t` if it never did).
-    t_warm: f64,
+    pub t_warm: f64,
 }
 
 /// An attempt budget: stop after `total` attempts (accepted or rejected), noting the time
 /// reached after the first `warmup`.
 #[derive(Clone, Copy)]
-struct Budget {
-    warmup: u64,
-    total: u64,
-}
-
-/// Run a trial's shadow candidate `m` from (t, y) with first step `h` on a copy of the
-/// state, and return the time it advanced per counted attempt [s] (0 if it failed). The
-/// copy is dropped: the solution never sees the shadow's steps.
-#[allow(clippy::too_many_arguments)]
-fn shadow_run<const D: usize, S: OdeSystem<D>>(
-    sys: &S,
-    t: f64,
-    y: &SVector<f64, D>,
-    h: f64,
-    t_end: f64,
-    breakpoints: &[f64],
-    opts: &SolverOptions,
-    m: Method,
-    shadow: switching::Shadow,
-    stats: &mut SolverStats,
-) -> f64 {
-    let shadow_opts = SolverOptions { method: m, h_init: h, ..*opts };
-    let budget = Budget {
-        warmup: u64::from(shadow.warmup),
-        total: u64::from(shadow.warmup + shadow.counted),
-    };
-    match integrate(sys, t, *y, t_end, breakpoints, &shadow_opts, &mut |_| {}, Some(budget)) {
-        Ok(done) => {
-            stats.rhs_evals += done.stats.rhs_evals;
-            stats.jac_evals += done.stats.jac_evals;
-            stats.lu_decomps += done.stats.lu_decomps;
-            let attempts = done.stats.steps + done.stats.rejected;
-            // A shadow that reached the end within its warm-up is scored on all of it.
-            let (from, counted) = if attempts > budget.warmup {
-                (done.t_warm, attempts - budget.warmup)
-            } else {
-                (t, attempts)
-            };
-            (done.t - from) / counted.max(1) as f64
-        }
-        Err(_) => 0.0,
-    }
+pub(super) struct Budget {
+    pub warmup: u64,
+    pub total: u64,
 }
 
 /// [`solve`], optionally stopped by an attempt budget.
 #[allow(clippy::too_many_arguments)]
-fn integrate<const D: usize, S: OdeSystem<D>>(
+pub(super) fn integrate<const D: usize, S: OdeSystem<D>>(
     sys: &S,
     t0: f64,
     y0: SVector<f64, D>,
@@ -462,7 +424,7 @@ fn integrate<const D: usize, S: OdeSystem<D>>(
                     }
                     if let Some(shadow) = switcher.take_shadow() {
                         for &m in shadow.methods {
-                            let per_attempt = shadow_run(
+                            let per_attempt = shadow::run(
                                 sys, t, &y, h_next, t_end, &stops, opts, m, shadow, &mut stats,
                             );
                             switcher.shadow_result(m, per_attempt);

@@ -35,6 +35,7 @@ mod imex;
 mod imex_tables;
 mod lu;
 mod rodas4;
+mod shadow;
 pub mod switching;
 
 pub use dop853::Dense;
