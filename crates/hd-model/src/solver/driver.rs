@@ -86,7 +86,7 @@ pub(super) struct Done<const D: usize> {
     pub t: f64,
     pub y: SVector<f64, D>,
     pub stats: SolverStats,
-    /// Time reached when the attempt budget's warm-up ran out [s] (`t` if it never did).
+    /// Time reached when the attempt budget's warm-up ran out [s] (the start if it never did).
     pub t_warm: f64,
 }
 
