@@ -294,6 +294,9 @@ impl DriveSystem {
 
 impl OdeSystem<DIM> for DriveSystem {
     const COUPLED: usize = COUPLED;
+    // The plant and the controller's integrator: two vector registers. Open loop the
+    // integrator's rate is zero, so the stages leave it at zero.
+    const COUPLED_LEAD: usize = PLANT + 1;
 
     fn coupled(&self) -> usize {
         if self.ctl.is_some() { COUPLED } else { PLANT }

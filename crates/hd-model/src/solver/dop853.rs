@@ -10,7 +10,7 @@
 // The coefficients keep every digit of the published values.
 #![allow(clippy::excessive_precision)]
 
-use super::{OdeSystem, combine, combine_into, stiffness_indicator};
+use super::{OdeSystem, combine, combine_coupled, combine_coupled_from, stiffness_indicator};
 use nalgebra::SVector;
 
 /// Number of stages (evaluations per step, counting the one at the new point).
@@ -219,13 +219,13 @@ pub(crate) fn step<const D: usize, S: OdeSystem<D>>(
     // Each stage rewrites the coupled block only (no rate reads a quadrature).
     let mut y_last = *y;
     for i in 1..STAGES {
-        combine_into(&mut y_last, y, h, &A[i][..i], &k, S::COUPLED);
+        combine_coupled(sys, &mut y_last, y, h, &A[i][..i], &k);
         sys.rhs_into(t + C[i] * h, &y_last, &mut k[i]);
     }
     let y1 = combine(y, h, &B, &k, n);
     let f1 = sys.rhs(t + h, &y1);
-    let err5 = combine(&SVector::zeros(), h, &E5, &k, S::COUPLED);
-    let err3 = combine(&SVector::zeros(), h, &E3, &k, S::COUPLED);
+    let err5 = combine_coupled_from(sys, &SVector::zeros(), h, &E5, &k);
+    let err3 = combine_coupled_from(sys, &SVector::zeros(), h, &E3, &k);
     let stiffness = stiffness_indicator(h, (&y_last, &k[STAGES - 1]), (&y1, &f1), sys.coupled());
     Trial { y1, f1, err5, err3, stiffness, k }
 }
@@ -400,7 +400,7 @@ impl<const D: usize> Dense<D> {
         all[STAGES] = *f1;
         for (e, (a, c)) in A_DENSE.iter().zip(C_DENSE).enumerate() {
             let i = STAGES + 1 + e;
-            let yi = combine(y, h, &a[..i], &all, S::COUPLED);
+            let yi = combine_coupled_from(sys, y, h, &a[..i], &all);
             sys.rhs_into(t + c * h, &yi, &mut all[i]);
         }
         let dy = y1 - y;

@@ -1,6 +1,6 @@
 //! One step of the Dormand–Prince 5(4) pair (first-same-as-last).
 
-use super::{OdeSystem, combine, combine_into, stiffness_indicator};
+use super::{OdeSystem, combine, combine_coupled, combine_coupled_from, stiffness_indicator};
 use nalgebra::SVector;
 
 const C: [f64; 7] = [0.0, 1.0 / 5.0, 3.0 / 10.0, 4.0 / 5.0, 8.0 / 9.0, 1.0, 1.0];
@@ -51,19 +51,18 @@ pub(crate) fn step<const D: usize, S: OdeSystem<D>>(
 ) -> Trial<D> {
     let n = sys.live();
     // Stage states need only the coupled block: no rate reads a quadrature.
-    let m = S::COUPLED;
     k[0] = *f0;
     let stages: [&[f64]; 4] = [&A2, &A3, &A4, &A5];
     let mut yi = *y;
     for (i, a) in stages.into_iter().enumerate() {
-        combine_into(&mut yi, y, h, a, k, m);
+        combine_coupled(sys, &mut yi, y, h, a, k);
         sys.rhs_into(t + C[i + 1] * h, &yi, &mut k[i + 1]);
     }
-    let y6 = combine(y, h, &A6, k, m);
+    let y6 = combine_coupled_from(sys, y, h, &A6, k);
     sys.rhs_into(t + C[5] * h, &y6, &mut k[5]);
     let y1 = combine(y, h, &B, k, n);
     sys.rhs_into(t + h, &y1, &mut k[6]);
-    let err = combine(&SVector::zeros(), h, &E, k, m);
+    let err = combine_coupled_from(sys, &SVector::zeros(), h, &E, k);
     let stiffness = stiffness_indicator(h, (&y6, &k[5]), (&y1, &k[6]), sys.coupled());
     Trial { y1, f1: k[6], err, stiffness }
 }

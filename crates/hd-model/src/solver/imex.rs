@@ -15,7 +15,7 @@
 //! an explicit step to about 3.3/7.6e4 s on the seed case, no longer limits the step.
 
 use super::imex_tables::Tableau;
-use super::{OdeSystem, combine, combine_into};
+use super::{OdeSystem, combine, combine_coupled, combine_coupled_from};
 use nalgebra::SVector;
 
 /// Result of a trial step.
@@ -53,7 +53,7 @@ pub(crate) fn step<const D: usize, const N: usize, S: OdeSystem<D>>(
     // stays y's.
     let mut yi = *y;
     for i in 1..N {
-        combine_into(&mut yi, y, h, &tab.ae[i][..i], f, S::COUPLED);
+        combine_coupled(sys, &mut yi, y, h, &tab.ae[i][..i], f);
         // Component k's whole rate is implicit (its forcing g grows with the relaxation
         // rate too, so it must not be explicit): base with the implicit part's row, then
         // the stage's own term.
@@ -67,9 +67,8 @@ pub(crate) fn step<const D: usize, const N: usize, S: OdeSystem<D>>(
     }
     let y1 = combine(y, h, &tab.b, f, n);
     let diff: [f64; N] = std::array::from_fn(|j| tab.b[j] - tab.bhat[j]);
-    // Error control reads the coupled components only (k is one of them; `COUPLED` is
-    // a constant, so the loop keeps a fixed length).
-    let mut err = combine(&SVector::zeros(), h, &diff, f, S::COUPLED);
+    // Error control reads the coupled components only (k is one of them).
+    let mut err = combine_coupled_from(sys, &SVector::zeros(), h, &diff, f);
     // Filter the stiff component's estimate through the stage's implicit factor (as
     // SDIRK, Radau and Rosenbrock codes do): the raw difference overstates its error by
     // about h·γ·|d| when the component relaxes fast.
