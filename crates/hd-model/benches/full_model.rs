@@ -1,8 +1,8 @@
 //! Solver benchmarks on the seed case (24 V sine at 50 Hz, seed parameters, from rest).
 //!
 //! - `full_1s_rtol1e-8`: the full model, 1 s simulated, rtol 1e-8, atol 1e-11 (the case
-//!   `benches/scipy_compare.py` times in scipy), with Rodas4 (what `Method::Auto` picks for
-//!   the full model) and with Dopri5 for comparison;
+//!   `benches/scipy_compare.py` times in scipy), with Rodas4 and with Dopri5 (`auto` runs
+//!   the full model on an implicit–explicit pair; `stage_floor` times that);
 //! - `full_0.2s_default`: the full model, 0.2 s, default tolerances (rtol 1e-6, atol 1e-9);
 //! - `damped_0.2s_default`: the `damped` variant, 0.2 s, default tolerances — one unit of
 //!   work of a parameter sweep.

@@ -145,6 +145,15 @@ struct Trial {
     shadow_due: bool,
 }
 
+impl Trial {
+    /// Keep `m` as the best candidate if its `score` [s] beats the best so far.
+    fn offer(&mut self, m: Method, score: f64) {
+        if self.best.is_none_or(|(_, b)| score > b) {
+            self.best = Some((m, score));
+        }
+    }
+}
+
 /// A shadow run the driver owes a trial: the candidates after the first are run from
 /// where the first one's stint ended, for `warmup` and then `counted` attempts, on a copy
 /// of the state that is then dropped ([`Switcher::shadow_result`] takes their scores).
@@ -316,10 +325,7 @@ impl Switcher {
                         // Time advanced per attempt over the attempt's cost: a rejected
                         // step costs as much as an accepted one.
                         let per_attempt = trial.sum / f64::from(counted);
-                        let score = per_attempt / cost_ratio(self.current);
-                        if trial.best.is_none_or(|(_, b)| score > b) {
-                            trial.best = Some((self.current, score));
-                        }
+                        trial.offer(self.current, per_attempt / cost_ratio(self.current));
                         if trial.candidates.len() > 1 {
                             // The others are tried in shadow from here (the driver runs
                             // them, then calls `finish_trial`).
@@ -426,10 +432,7 @@ impl Switcher {
     /// attempt [s] (0 when it failed).
     pub(crate) fn shadow_result(&mut self, m: Method, per_attempt: f64) {
         if let Some(trial) = self.trial.as_mut() {
-            let score = per_attempt / cost_ratio(m) / SHADOW_MARGIN;
-            if trial.best.is_none_or(|(_, b)| score > b) {
-                trial.best = Some((m, score));
-            }
+            trial.offer(m, per_attempt / cost_ratio(m) / SHADOW_MARGIN);
         }
     }
 
