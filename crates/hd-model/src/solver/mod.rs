@@ -288,27 +288,14 @@ pub(crate) fn combine<const D: usize>(
     n: usize,
 ) -> SVector<f64, D> {
     let mut out = *y;
-    combine_into(&mut out, y, h, c, k, n);
+    combine_range(&mut out, y, h, c, k, 0, n);
     out
 }
 
-/// [`combine`] written over the first `n` components of `out`, whose other components are
-/// left as they are: a stage loop copies y into its stage state once, not per stage.
-#[inline(always)]
-pub(crate) fn combine_into<const D: usize>(
-    out: &mut SVector<f64, D>,
-    y: &SVector<f64, D>,
-    h: f64,
-    c: &[f64],
-    k: &[SVector<f64, D>],
-    n: usize,
-) {
-    combine_range(out, y, h, c, k, 0, n);
-}
-
-/// [`combine_into`] over the coupled block of `sys`: the leading
-/// [`OdeSystem::COUPLED_LEAD`] components in a loop of constant length, the rest only when
-/// the instance couples them.
+/// `out`'s coupled block set to `y + h·Σ_j c_j·k_j` (as [`combine`]), its other
+/// components left as they are (a stage loop copies y into its stage state once, not per
+/// stage): the leading [`OdeSystem::COUPLED_LEAD`] components in a loop of constant
+/// length, the rest only when the instance couples them.
 #[inline(always)]
 pub(crate) fn combine_coupled<const D: usize, S: OdeSystem<D>>(
     sys: &S,
@@ -339,7 +326,8 @@ pub(crate) fn combine_coupled_from<const D: usize, S: OdeSystem<D>>(
     out
 }
 
-/// [`combine_into`] over the components `lo..hi` of `out` only.
+/// `out`'s components `lo..hi` set to `y + h·Σ_j c_j·k_j` (the sum formed first, then
+/// scaled), the others left as they are.
 #[inline(always)]
 fn combine_range<const D: usize>(
     out: &mut SVector<f64, D>,
