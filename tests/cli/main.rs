@@ -2,6 +2,7 @@
 
 mod common;
 mod datasheet_cli;
+mod docs;
 mod explore_cli;
 mod fit_bad_data;
 mod fit_cli;

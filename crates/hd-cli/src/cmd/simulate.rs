@@ -255,6 +255,9 @@ pub fn run(args: SimulateArgs) -> Result<()> {
         .into_iter()
         .map(|(k, v)| (k.to_string(), json!(finite(v))))
         .collect();
+    let notes = hd_model::metrics::notes(&cfg, &out.metrics);
+    let undefined: serde_json::Map<String, serde_json::Value> =
+        notes.undefined.iter().map(|(k, why)| (k.to_string(), json!(why))).collect();
     let params: serde_json::Map<String, serde_json::Value> =
         cfg.params.to_pairs().into_iter().map(|(k, v)| (k.to_string(), json!(v))).collect();
     let doc = json!({
@@ -266,6 +269,8 @@ pub fn run(args: SimulateArgs) -> Result<()> {
         "controller": cfg.controller,
         "load_torque": cfg.load_torque,
         "metrics": metrics,
+        "undefined_metrics": undefined,
+        "metric_warnings": notes.warnings,
         "parameters": params,
         "solver": {
             "method": out.stats.method,
@@ -302,13 +307,26 @@ pub fn run(args: SimulateArgs) -> Result<()> {
             m.torque_est_rms_nofric
         );
     }
+    for w in &notes.warnings {
+        eprintln!("warning: {w}");
+    }
+    // The amplitude of a periodic run; the peak (and why there is no amplitude) otherwise.
+    let response = if out.metrics.thz_amp.is_finite() {
+        format!("θz amplitude {} rad", hd_text::sci(out.metrics.thz_amp, 5))
+    } else {
+        let why = notes.undefined.iter().find(|(k, _)| *k == "thz_amp").map(|(_, w)| w.as_str());
+        format!(
+            "θz peak {} rad (no amplitude: {})",
+            hd_text::sci(out.metrics.thz_peak, 5),
+            why.unwrap_or("undefined")
+        )
+    };
     eprintln!(
-        "{} variant, {} steps ({} rejected) in {:.1} ms; θz amplitude {:.4e} rad; wrote {}",
+        "{} variant, {} steps ({} rejected) in {:.1} ms; {response}; wrote {}",
         cfg.variant,
         out.stats.steps,
         out.stats.rejected,
         out.wall_time * 1e3,
-        out.metrics.thz_amp,
         dir.display()
     );
     Ok(())

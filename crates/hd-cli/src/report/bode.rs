@@ -20,7 +20,7 @@ pub fn curves(d: &PartData) -> Vec<BodeCurve> {
     let others: Vec<&str> =
         d.part.axes.iter().map(|a| a.knob.name()).filter(|&n| n != "freq").collect();
     let key = |i: usize| {
-        let mut k = if d.variants().len() > 1 { d.text("variant", i) } else { String::new() };
+        let mut k = if d.variant_swept { d.text("variant", i) } else { String::new() };
         for n in &others {
             let v = if d.table.num(n).is_some() { fmt(d.num(n, i)) } else { d.text(n, i) };
             let sep = if k.is_empty() { "" } else { ", " };

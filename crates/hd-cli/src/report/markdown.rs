@@ -62,6 +62,7 @@ pub fn part_table(d: &PartData) -> String {
         if d.variant_swept {
             head.push("variant".into());
         }
+        head.extend(d.text_axes.iter().cloned());
         head.extend(d.numeric_axes.iter().map(|a| a.0.clone()));
         head.extend(metrics.iter().map(|m| m.to_string()));
         head.push("status".into());
@@ -72,6 +73,7 @@ pub fn part_table(d: &PartData) -> String {
             if d.variant_swept {
                 cells.push(d.text("variant", i));
             }
+            cells.extend(d.text_axes.iter().map(|a| d.text(a, i)));
             cells.extend(d.numeric_axes.iter().map(|a| fmt(d.num(&a.0, i))));
             cells.extend(metrics.iter().map(|m| fmt(d.num(m, i))));
             cells.push(d.text("status", i));
@@ -116,7 +118,8 @@ pub fn failures(d: &PartData) -> String {
     md
 }
 
-/// Compact number formatting for tables.
+/// A number in a report table: [`hd_text::number`], the one format of every table hdw
+/// prints; `> run` for a time past the end of the run (infinite), `–` for undefined.
 pub fn fmt(x: f64) -> String {
     if x == f64::INFINITY {
         return "> run".into();
@@ -124,9 +127,5 @@ pub fn fmt(x: f64) -> String {
     if !x.is_finite() {
         return "–".into();
     }
-    if x != 0.0 && (x.abs() < 1e-3 || x.abs() >= 1e5) {
-        format!("{x:.4e}")
-    } else {
-        format!("{x:.4}")
-    }
+    hd_text::number(x)
 }

@@ -11,6 +11,9 @@ pub struct PartData<'a> {
     pub rows: Vec<usize>,
     /// Numeric swept axes (name, is log-spaced), grid axes first.
     pub numeric_axes: Vec<(String, bool)>,
+    /// Swept axes whose values are names (`stiffness`, `compensation`): shown by value in
+    /// tables and drawn as separate curves, never as numbers.
+    pub text_axes: Vec<String>,
     /// Whether the variant is swept.
     pub variant_swept: bool,
     /// Metrics with at least one finite value in this part.
@@ -31,10 +34,13 @@ impl<'a> PartData<'a> {
         let status = table.text("status").unwrap_or(&[]);
         let failed = rows.iter().filter(|&&i| status[i].as_deref() != Some("ok")).count();
         let mut numeric_axes = Vec::new();
+        let mut text_axes = Vec::new();
         let mut variant_swept = false;
         for a in &part.axes {
+            let named = !a.values.iter().any(|v| matches!(v, hd_sweep::axis::Value::Num(_)));
             match a.knob {
                 hd_sweep::axis::Knob::Variant => variant_swept = true,
+                k if named => text_axes.push(k.name().to_string()),
                 k => {
                     let xs: Vec<f64> = a
                         .values
@@ -56,7 +62,7 @@ impl<'a> PartData<'a> {
             .copied()
             .filter(|m| table.num(m).is_some_and(|c| rows.iter().any(|&i| c[i].is_finite())))
             .collect();
-        PartData { part, rows, numeric_axes, variant_swept, metrics, failed, table }
+        PartData { part, rows, numeric_axes, text_axes, variant_swept, metrics, failed, table }
     }
 
     /// Value of a numeric column at a row.
@@ -78,11 +84,21 @@ impl<'a> PartData<'a> {
         v
     }
 
-    /// Distinct variants over the part, in order of appearance.
+    /// The curve a row belongs to: its variant, then the value of each text axis
+    /// (`full, stiffness = bouc-wen`).
+    pub fn curve(&self, row: usize) -> String {
+        let mut name = self.text("variant", row);
+        for a in &self.text_axes {
+            name.push_str(&format!(", {a} = {}", self.text(a, row)));
+        }
+        name
+    }
+
+    /// Distinct curves ([`Self::curve`]) over the part, in order of appearance.
     pub fn variants(&self) -> Vec<String> {
         let mut out: Vec<String> = Vec::new();
         for &i in &self.rows {
-            let v = self.text("variant", i);
+            let v = self.curve(i);
             if !out.contains(&v) {
                 out.push(v);
             }

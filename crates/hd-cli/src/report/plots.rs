@@ -42,7 +42,7 @@ pub fn part_plots(dir: &Path, study: &str, d: &PartData, traces: Option<&Table>)
                 for v in &variants {
                     let mut values = vec![f64::NAN; xs.len() * ys.len()];
                     for &i in &d.rows {
-                        if &d.text("variant", i) != v {
+                        if &d.curve(i) != v {
                             continue;
                         }
                         let (x, y) = (d.num(xn, i), d.num(yn, i));
@@ -98,7 +98,7 @@ fn lines(dir: &Path, study: &str, d: &PartData, x: usize, group: Option<usize>) 
                 let mut pts: Vec<(f64, f64)> = d
                     .rows
                     .iter()
-                    .filter(|&&i| &d.text("variant", i) == v)
+                    .filter(|&&i| &d.curve(i) == v)
                     .filter(|&&i| match (group, gv) {
                         (Some(g), Some(val)) => d.num(&d.numeric_axes[g].0, i) == *val,
                         _ => true,
@@ -152,7 +152,7 @@ fn trace_overlay(dir: &Path, study: &str, d: &PartData, t: &Table) -> Result<Str
         if idx.is_empty() {
             continue;
         }
-        let mut name = d.text("variant", i);
+        let mut name = d.curve(i);
         for (a, _) in &d.numeric_axes {
             let _ = write!(name, " {a}={}", super::markdown::fmt(d.num(a, i)));
         }

@@ -3,8 +3,9 @@
 use super::FitReport;
 use std::fmt::Write;
 
+/// A fitted value in the column's fixed width: six significant digits, as every hdw table.
 fn sci(v: f64) -> String {
-    if v == 0.0 { "0".to_string() } else { format!("{v:.5e}") }
+    if v == 0.0 { "0".to_string() } else { hd_text::sci_fixed(v, 6) }
 }
 
 impl FitReport {

@@ -67,30 +67,10 @@ pub fn render(report: &Report, format: Format) -> String {
     }
 }
 
-/// A number in about six significant digits: integers as integers, very small or large
-/// magnitudes in scientific notation.
+/// A number as every hdw table prints it: [`hd_text::number`] (about six significant
+/// digits, whole numbers exactly, never a digit dropped).
 pub fn short_number(x: f64) -> String {
-    if !x.is_finite() {
-        return if x.is_nan() { "NaN".into() } else { format!("{x}") };
-    }
-    let a = x.abs();
-    if x.fract() == 0.0 && a < 1e15 {
-        return format!("{x:.0}");
-    }
-    if (1e-3..1e6).contains(&a) {
-        let decimals = (5 - a.log10().floor() as i32).max(0) as usize;
-        let s = format!("{x:.decimals$}");
-        let s = s.trim_end_matches('0').trim_end_matches('.');
-        return s.to_string();
-    }
-    let s = format!("{x:.4e}");
-    // 1.2300e5 → 1.23e5
-    match s.split_once('e') {
-        Some((m, e)) if m.contains('.') => {
-            format!("{}e{e}", m.trim_end_matches('0').trim_end_matches('.'))
-        }
-        _ => s,
-    }
+    hd_text::number(x)
 }
 
 /// Cell text for people: short numbers, `—` for missing values.
@@ -260,6 +240,9 @@ mod tests {
         assert_eq!(short_number(1.5), "1.5");
         assert_eq!(short_number(2.5e-5), "2.5e-5");
         assert_eq!(short_number(1.23e7 + 0.5), "1.23e7");
+        // The pivot's row keys: a trailing zero of the integer part is a digit.
+        assert_eq!(short_number(142_510.27), "142510");
+        assert_eq!(short_number(744_380.4), "744380");
     }
 
     #[test]

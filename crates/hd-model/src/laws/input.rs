@@ -107,6 +107,18 @@ impl Default for Input {
 }
 
 impl Input {
+    /// The input's kind as a study file and the CLI name it (`sine`, `step`, `recorded`, …).
+    pub fn kind_name(&self) -> &'static str {
+        match self {
+            Input::Sine { .. } => "sine",
+            Input::Step { .. } => "step",
+            Input::Constant { .. } => "constant",
+            Input::Chirp { .. } => "chirp",
+            Input::SteppedSine { .. } => "stepped sine",
+            Input::Recorded(_) => "recorded",
+        }
+    }
+
     /// Voltage u(t) [V] and its time derivative du/dt [V/s].
     pub fn value_and_rate(&self, t: f64) -> (f64, f64) {
         match self {
@@ -144,10 +156,12 @@ impl Input {
         }
     }
 
-    /// The drive frequency of a periodic input [Hz], if it has one.
+    /// The drive frequency of a periodic input [Hz], if it has one: the sine's, or that of a
+    /// recorded profile that repeats ([`super::periodicity::period_of`]).
     pub fn drive_frequency(&self) -> Option<f64> {
         match self {
             Input::Sine { freq, .. } => Some(*freq),
+            Input::Recorded(p) => super::periodicity::period_of(&p.t, &p.u).map(|p| 1.0 / p),
             _ => None,
         }
     }

@@ -12,5 +12,6 @@ pub mod input;
 pub mod load;
 pub mod maxwell_slip;
 pub mod motor;
+pub mod periodicity;
 pub mod slip_set;
 pub mod stiffness;

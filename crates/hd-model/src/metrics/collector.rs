@@ -46,16 +46,22 @@ pub struct Collector {
     ctl_dt: f64,
     is_step: bool,
     step_time: Option<f64>,
+    /// Lowest and highest open-loop input over the final window of a non-periodic run [V]:
+    /// an oscillation under a varying input is forced, not a limit cycle.
+    drive_range: (f64, f64),
 }
 
 impl Collector {
     /// A collector for a run of `sys` from `y_start` at t = 0 to `t_end`.
     pub fn new(sys: &DriveSystem, settings: MetricSettings, y_start: State, t_end: f64) -> Self {
-        let periodic = sys.drive_frequency().and_then(|f| {
-            let whole = (t_end * f + 1e-9).floor() as usize;
-            let cycles = settings.cycles.min(whole);
-            (cycles > 0).then(|| (f, t_end - cycles as f64 / f, cycles))
-        });
+        let open_input = sys.ctl.is_none().then_some(&sys.input);
+        let periodic = super::window::periodic_window(
+            sys.drive_frequency(),
+            open_input,
+            t_end,
+            settings.cycles,
+        )
+        .ok();
         let run_samples = if periodic.is_some() { 0 } else { settings.run_samples.max(2) };
         let window_samples =
             periodic.map_or(0, |(_, _, cycles)| cycles * settings.samples_per_cycle.max(8));
@@ -89,6 +95,7 @@ impl Collector {
                 Input::Constant { .. } if sys.ctl.is_none() => Some(0.0),
                 _ => None,
             },
+            drive_range: (f64::INFINITY, f64::NEG_INFINITY),
             settings,
             t_end,
             periodic,
@@ -178,11 +185,22 @@ impl Collector {
                 } else {
                     s.components(tk, [OMEGA_Z, THETA])
                 };
+                if tk >= t_final && sys.ctl.is_none() {
+                    let u = sys.input.value(tk);
+                    self.drive_range = (self.drive_range.0.min(u), self.drive_range.1.max(u));
+                }
                 self.run_t.push(tk);
                 self.run_wz.push(wz);
                 self.run_theta.push(th);
             }
         }
+    }
+
+    /// Whether the open-loop input holds still over the final window (to 1e-9 of its
+    /// level), so that an oscillation there is the drive's own; closed loop: always.
+    fn input_steady(&self) -> bool {
+        let (lo, hi) = self.drive_range;
+        lo > hi || hi - lo <= 1e-9 * lo.abs().max(hi.abs()).max(1e-300)
     }
 
     /// Sample the closed-loop signals on the uniform grid inside step `s`.
@@ -270,10 +288,12 @@ impl Collector {
             let t_final = self.t_end * (1.0 - self.settings.final_fraction);
             let k0 = self.run_t.partition_point(|&t| t < t_final);
             let tail_t = &self.run_t[k0..];
-            let [flag, amp, period] = limit_cycle::detect(tail_t, &self.run_wz[k0..]);
-            m.limit_cycle = flag;
-            m.lc_amplitude = amp;
-            m.lc_period = period;
+            if self.input_steady() {
+                let [flag, amp, period] = limit_cycle::detect(tail_t, &self.run_wz[k0..]);
+                m.limit_cycle = flag;
+                m.lc_amplitude = amp;
+                m.lc_period = period;
+            }
             if let Some(t_step) = self.step_time {
                 let [rise, over, settle, fin] = step::step_metrics(
                     &self.run_t,

@@ -6,16 +6,20 @@ mod collector;
 mod extrema;
 mod limit_cycle;
 mod periodic;
+mod reasons;
 mod schema;
 mod step;
 mod tracking;
 mod transfer;
+mod window;
 
 pub use collector::Collector;
 pub use extrema::cubic_extrema;
 pub use periodic::fit_fundamental;
+pub use reasons::{Notes, notes};
 pub use schema::{METRICS, MetricColumn};
 pub use transfer::{gain_phase, gain_phase_of, to_db, unwrap_deg};
+pub use window::periodic_window;
 
 use serde::{Deserialize, Serialize};
 
