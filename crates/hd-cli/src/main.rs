@@ -5,6 +5,7 @@
 
 mod cmd;
 mod report;
+mod stages;
 
 use clap::{Parser, Subcommand};
 use std::process::ExitCode;

@@ -104,11 +104,15 @@ pub static SENSITIVITY_COLUMNS: &[ColumnDoc] = &[
     col("ST", "-", "total Sobol' index"),
     col("ST_lo", "-", "lower end of the 95 % bootstrap interval of ST"),
     col("ST_hi", "-", "upper end of that interval"),
-    col("mu", "", "Morris mean elementary effect (metric unit per parameter range)"),
-    col("mu_star", "", "Morris mean absolute elementary effect (metric unit per parameter range)"),
+    col("mu", "metric unit", "Morris mean elementary effect (metric unit per parameter range)"),
+    col(
+        "mu_star",
+        "metric unit",
+        "Morris mean absolute elementary effect (metric unit per parameter range)",
+    ),
     col(
         "sigma",
-        "",
+        "metric unit",
         "standard deviation of the elementary effects (metric unit per parameter range)",
     ),
     col("n_used", "-", "base rows or trajectories used"),

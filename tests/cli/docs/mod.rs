@@ -88,7 +88,7 @@ struct Tally {
 
 fn run_all(examples: &[Example], dir: &Path, path: &str, tally: &mut Tally) {
     for ex in examples {
-        let cmd = match (&ex.skip, translate(&ex.command)) {
+        let cmd = match (ex.skip.clone(), translate(&ex.command)) {
             (Some(reason), _) | (None, Err(reason)) => {
                 tally.skipped.push(format!("{}: `{}` — {reason}", ex.place, ex.command));
                 continue;
@@ -119,7 +119,8 @@ fn run_all(examples: &[Example], dir: &Path, path: &str, tally: &mut Tally) {
         }
         if !ex.expect.is_empty() {
             tally.checked += 1;
-            let printed: Vec<&str> = stdout.lines().chain(stderr.lines()).map(str::trim_end).collect();
+            let printed: Vec<&str> =
+                stdout.lines().chain(stderr.lines()).map(str::trim_end).collect();
             let mut at = 0;
             for want in ex.expect.iter().filter(|l| l.trim() != "...") {
                 match printed[at..].iter().position(|l| same_line(want, l)) {
@@ -235,11 +236,26 @@ fn every_help_example_runs() {
         }
         all.push((sub.clone(), ex));
     }
-    for (name, examples) in &all {
-        // Each help page's examples from a clean folder, in the order written.
-        let (dir, path) = workdir(&format!("help-{name}"));
+    // One folder for all, in the order `hdw --help` lists the subcommands, as a user going
+    // through the help pages would: later pages use what earlier ones wrote (explore and plot
+    // read the study's results).
+    let (dir, path) = workdir("help");
+    for (_, examples) in &all {
         run_all(examples, &dir, &path, &mut tally);
-        let _ = std::fs::remove_dir_all(&dir);
     }
+    let _ = std::fs::remove_dir_all(&dir);
     report("help-examples-summary", &tally);
+}
+
+#[test]
+fn every_shipped_study_is_in_the_studies_table() {
+    let readme = std::fs::read_to_string(repo_path("studies/README.md")).unwrap();
+    let mut missing = Vec::new();
+    for e in std::fs::read_dir(repo_path("studies")).unwrap().flatten() {
+        let name = e.file_name().to_string_lossy().into_owned();
+        if name.ends_with(".toml") && !readme.contains(&format!("| `{name}` |")) {
+            missing.push(name);
+        }
+    }
+    assert!(missing.is_empty(), "studies/README.md's table lacks {missing:?}");
 }

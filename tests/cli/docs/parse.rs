@@ -99,14 +99,14 @@ pub fn markdown(name: &str, text: &str) -> Result<Vec<Example>, String> {
             out.push(Example { place: place(0), command, skip: None, expect: vec![] });
         } else if lang == "text" && body.first().is_some_and(|l| l.starts_with("$ ")) {
             out.extend(transcript(body, &place));
-        } else if lang.is_empty() || lang == "console" || lang == "bash" {
-            if let Some(j) = body.iter().position(|l| l.trim_start().starts_with("hdw ")) {
-                return Err(format!(
-                    "{}: an hdw command in a block fenced ```{lang}: fence it as ```sh (run by \
-                     this test) or ```sh skip=REASON",
-                    place(j)
-                ));
-            }
+        } else if (lang.is_empty() || lang == "console" || lang == "bash")
+            && let Some(j) = body.iter().position(|l| l.trim_start().starts_with("hdw "))
+        {
+            return Err(format!(
+                "{}: an hdw command in a block fenced ```{lang}: fence it as ```sh (run by \
+                 this test) or ```sh skip=REASON",
+                place(j)
+            ));
         }
         k = end + 1;
     }

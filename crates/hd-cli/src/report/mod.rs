@@ -81,7 +81,9 @@ fn write_report(
         writeln!(md, "## The seed paper's claims against the model\n")?;
         md.push_str(&compare::section(study, &table));
     }
+    let mut progress = crate::stages::Stages::new(study.parts.len(), "report");
     for part in &study.parts {
+        progress.stage(&format!("part {}: tables and plots", part.name));
         let data = PartData::new(part, &table, &study.keep_metrics);
         writeln!(
             md,
@@ -94,7 +96,9 @@ fn write_report(
         md.push_str(&plots::part_plots(dir, &study.name, &data, trace_table.as_ref())?);
         md.push_str(&markdown::part_table(&data));
         md.push_str(&markdown::failures(&data));
+        progress.done();
     }
+    progress.finish();
     let path = dir.join("report.md");
     hd_io::atomic::write_atomically(&path, |f| {
         use std::io::Write;
