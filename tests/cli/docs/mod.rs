@@ -147,7 +147,8 @@ fn same_line(want: &str, got: &str) -> bool {
         (want.split_whitespace().collect(), got.split_whitespace().collect());
     w.len() == g.len()
         && w.iter().zip(&g).all(|(a, b)| {
-            if a == b {
+            // `[..]` stands for a figure the docs do not pin (a rounding residual).
+            if a == b || *a == "[..]" {
                 return true;
             }
             let num = |t: &str| t.trim_end_matches([',', ';', ')']).parse::<f64>().ok();
@@ -164,6 +165,7 @@ fn documented_lines_match_with_number_slack_only() {
     assert!(!same_line("142510  x", "14251  x"));
     assert!(!same_line("tb 0.819788", "tb 0.819855"));
     assert!(!same_line("a b", "a b c"));
+    assert!(same_line("rms [..] N·m", "rms 2.9e-8 N·m"));
 }
 
 fn tail(s: &str) -> String {

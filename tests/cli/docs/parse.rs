@@ -85,7 +85,16 @@ pub fn markdown(name: &str, text: &str) -> Result<Vec<Example>, String> {
         while end < lines.len() && !lines[end].trim_start().starts_with("```") {
             end += 1;
         }
-        let body = &lines[start..end.min(lines.len())];
+        // A block inside a list item is indented as its fence is; the body loses that indent.
+        let indent = lines[k].len() - lines[k].trim_start().len();
+        let body: Vec<&str> = lines[start..end.min(lines.len())]
+            .iter()
+            .map(|l| {
+                let lead = l.len() - l.trim_start_matches(' ').len();
+                &l[lead.min(indent)..]
+            })
+            .collect();
+        let body = &body[..];
         let place = |j: usize| format!("{name}:{}", start + j + 1);
         let lang = info.split_whitespace().next().unwrap_or("");
         if lang == "sh" {
