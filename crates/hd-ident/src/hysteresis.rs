@@ -119,6 +119,21 @@ impl Separable for HysteresisProblem<'_> {
             })
             .collect())
     }
+    /// ∂Tb/∂B = ∂z/∂B, carried along the record with the memory's exact step.
+    fn predict_dq(&self, beta: &[f64], q: f64) -> Option<Result<Vec<f64>, FitError>> {
+        let m = FadingMemory { a: beta[3], b: q };
+        let (t, th) = (self.data.t(), self.data.theta());
+        let mut out = Vec::with_capacity(t.len());
+        let (mut z, mut dz) = (0.0, 0.0);
+        out.push(dz);
+        for k in 1..t.len() {
+            let (z1, d_z0, d_b) = m.step_linear_grad(z, th[k] - th[k - 1], t[k] - t[k - 1]);
+            dz = d_z0 * dz + d_b;
+            z = z1;
+            out.push(dz);
+        }
+        Some(Ok(out))
+    }
     fn explain(&self, name: &str, values: &[(&'static str, f64)]) -> Explanation {
         let range = format!("max |θ| = {:.2e} rad", self.theta_max());
         let b = values.iter().find(|(n, _)| *n == "mem_B").map_or(f64::NAN, |v| v.1);

@@ -47,6 +47,12 @@ pub trait Separable: Sync {
     /// What parameter `name` does and which data would reveal it, given the fitted
     /// `values` (all parameters, in [`Separable::names`] order).
     fn explain(&self, name: &str, values: &[(&'static str, f64)]) -> Explanation;
+    /// The exact derivative of [`Separable::predict`] with respect to q at fixed `beta`
+    /// [N·m per unit of q], when the problem carries its state's sensitivity; `None`
+    /// (the default) falls back to a central difference in ln q.
+    fn predict_dq(&self, _beta: &[f64], _q: f64) -> Option<Result<Vec<f64>, FitError>> {
+        None
+    }
     /// Relative step in ln q for the finite-difference sensitivity to q.
     fn fd_step(&self) -> f64 {
         1e-4
@@ -178,11 +184,17 @@ pub fn fit_separable<P: Separable>(problem: &P, fixed: &Fixed) -> Result<Separab
         }
     }
     if q_fixed.is_none() {
-        let h = problem.fd_step();
-        let up = problem.predict(&beta, q * h.exp())?;
-        let down = problem.predict(&beta, q * (-h).exp())?;
-        let dq = q * (h.exp() - (-h).exp());
-        jac.push(up.iter().zip(&down).map(|(u, d)| (u - d) / dq).collect());
+        let column = match problem.predict_dq(&beta, q) {
+            Some(col) => col?,
+            None => {
+                let h = problem.fd_step();
+                let up = problem.predict(&beta, q * h.exp())?;
+                let down = problem.predict(&beta, q * (-h).exp())?;
+                let dq = q * (h.exp() - (-h).exp());
+                up.iter().zip(&down).map(|(u, d)| (u - d) / dq).collect()
+            }
+        };
+        jac.push(column);
         jac_names.push(qname);
     }
     let cov = covariance(&jac, rss);

@@ -15,6 +15,9 @@ use hd_model::laws::friction::{FrictionLaw, LuGre};
 /// Parameters of the dynamic stage, in report order.
 pub const DYNAMIC_PARAMS: [&str; 2] = ["sigma1", "sigma0"];
 
+/// Position of σ0 in the bristle run's gradient ([`hd_model::laws::lugre_step::SHAPE_PARAMS`]).
+const SIGMA0_SLOT: usize = 3;
+
 /// Search range of σ0 in terms of the pre-sliding displacement Ts/σ0: from ten times the
 /// whole displacement range of the record (the bristles never saturate) down to a
 /// hundredth of the median displacement per sample (the transition is over within a
@@ -118,6 +121,15 @@ impl Separable for TransientProblem<'_> {
         let law = self.law(q, beta[0]);
         let w = bristle_states(self.data.t(), self.data.omega(), &law, self.data.torque()[0])?;
         Ok(self.data.omega().iter().zip(&w).map(|(&v, &wk)| law.eval(v, wk).torque).collect())
+    }
+    /// ∂Tf/∂σ0 = ∂w/∂σ0 + σ1·∂ṡ/∂σ0, from the bristle run's carried sensitivities.
+    fn predict_dq(&self, beta: &[f64], q: f64) -> Option<Result<Vec<f64>, FitError>> {
+        let law = self.law(q, beta[0]);
+        let (t, omega) = (self.data.t(), self.data.omega());
+        Some(bristle_run(t, omega, &law, self.data.torque()[0], true).map(|run| {
+            let k = SIGMA0_SLOT;
+            run.d_w.iter().zip(&run.d_slip).map(|(dw, ds)| dw[k] + beta[0] * ds[k]).collect()
+        }))
     }
     fn explain(&self, name: &str, values: &[(&'static str, f64)]) -> Explanation {
         let sigma0 = values.iter().find(|(n, _)| *n == "sigma0").map_or(f64::NAN, |v| v.1);

@@ -467,3 +467,6 @@ pub fn fit_joint(
     )?;
     Ok(fit)
 }
+
+#[cfg(test)]
+mod tests;
