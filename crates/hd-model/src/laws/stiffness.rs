@@ -173,10 +173,25 @@ impl FadingMemory {
         if h <= 0.0 {
             return z + self.a * d_theta;
         }
+        let (decay, gain) = self.step_factors(h);
+        self.step_with(z, d_theta, decay, gain)
+    }
+
+    /// The factors of [`FadingMemory::step_linear`] for an interval of `h` > 0 seconds:
+    /// `(e^{−B·h}, (1 − e^{−B·h})/(B·h))` [–]. A record sampled at a constant interval
+    /// needs them once ([`FadingMemory::step_with`] then takes each step).
+    #[inline]
+    pub fn step_factors(&self, h: f64) -> (f64, f64) {
         let bh = self.b * h;
         // (1 − e^{−Bh})/(Bh), accurate for small Bh.
         let gain = if bh.abs() < 1e-12 { 1.0 } else { -(-bh).exp_m1() / bh };
-        (-bh).exp() * z + self.a * d_theta * gain
+        ((-bh).exp(), gain)
+    }
+
+    /// [`FadingMemory::step_linear`] with its factors from [`FadingMemory::step_factors`].
+    #[inline]
+    pub fn step_with(&self, z: f64, d_theta: f64, decay: f64, gain: f64) -> f64 {
+        decay * z + self.a * d_theta * gain
     }
 
     /// [`FadingMemory::step_linear`] with its derivatives: returns `(z₁, ∂z₁/∂z₀,
