@@ -103,7 +103,7 @@ impl MemoryProfile {
         let u = DVector::from_column_slice(&u[..k]);
         let r = self.r0.transpose().solve_lower_triangular(&u)?;
         let rho2 = zz - r.norm_squared();
-        if !(rho2 > MIN_INDEPENDENCE * zz) {
+        if rho2.is_nan() || rho2 <= MIN_INDEPENDENCE * zz {
             return None;
         }
         let rho = rho2.sqrt();

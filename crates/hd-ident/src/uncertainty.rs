@@ -64,8 +64,8 @@ pub fn covariance(jac: &[Vec<f64>], rss: f64) -> Covariance {
     let mut qr = crate::qr_stream::StreamingQr::new(p);
     let mut row = vec![0.0; p];
     for i in 0..n {
-        for (j, x) in row.iter_mut().enumerate() {
-            *x = if norms[j] > 0.0 { jac[j][i] / norms[j] } else { 0.0 };
+        for ((x, col), norm) in row.iter_mut().zip(jac).zip(&norms) {
+            *x = if *norm > 0.0 { col[i] / norm } else { 0.0 };
         }
         qr.push(&row);
     }

@@ -2,15 +2,12 @@
 //! parameter from the bristle run's carried sensitivities, and the Jacobian of the
 //! variable-projection residual built from them (no finite differences).
 //!
-//! With the free linear columns A (those not held at a bound), the residual is
-//! `r = y − w − A·β̂` with `β̂ = (AᵀA)⁻¹Aᵀ(y − w − fixed terms)`. For a nonlinear parameter
-//! p, let `d = ∂(w + σ1·ṡ)/∂p` at fixed β (the only column that moves with p is ṡ's).
-//! Differentiating β̂ gives `∂β̂/∂p = (AᵀA)⁻¹(∂Aᵀ/∂p·r − Aᵀd)`, hence
-//! `∂model/∂p = d + A·∂β̂/∂p`, exact for the active set of the bounds at that point.
+//! For a nonlinear parameter p, `d = ∂(w + σ1·ṡ)/∂p` at fixed β, and the only linear
+//! column that moves with p is ṡ's ([`crate::varpro`] assembles the rest).
 
 use super::{JointProblem, NONLINEAR_ALL, Projected};
 use crate::error::FitError;
-use nalgebra::{DMatrix, DVector};
+use crate::varpro::{Moving, projected_jacobian};
 
 impl JointProblem<'_> {
     /// Indices into the bristle run's gradient that parameter `name` moves (the
@@ -57,46 +54,27 @@ impl JointProblem<'_> {
         let v = self.values(x);
         let proj = self.project_with(&v, true)?;
         let r = &proj.residuals;
-        // The linear columns that move freely here, scaled to unit norm.
-        let active: Vec<usize> = (0..self.linear.len())
+        // The linear columns that move freely here.
+        let free: Vec<usize> = (0..self.linear.len())
             .filter(|&j| self.linear[j].1.is_none() && !proj.at_bound[j])
             .collect();
-        let n = r.len();
         let cols = &proj.pieces.columns;
-        let norms: Vec<f64> = active
+        let active: Vec<&[f64]> = free.iter().map(|&j| cols[j].as_slice()).collect();
+        let slip_slot = free.iter().position(|&j| self.linear[j].0 == "sigma1");
+        let sens = self.nonlinear_columns(&proj);
+        let params = sens
             .iter()
-            .map(|&j| cols[j].iter().map(|c| c * c).sum::<f64>().sqrt().max(f64::MIN_POSITIVE))
+            .map(|(d, d_slip)| Moving {
+                d: d.clone(),
+                column: slip_slot.map(|s| (s, d_slip.as_slice())),
+            })
             .collect();
-        let m = active.len();
-        let gram = DMatrix::from_fn(m, m, |a, b| {
-            let (ca, cb) = (&cols[active[a]], &cols[active[b]]);
-            ca.iter().zip(cb).map(|(p, q)| p * q).sum::<f64>() / (norms[a] * norms[b])
-        });
-        let gram_inv = gram.clone().try_inverse();
-        let slip_slot = active.iter().position(|&j| self.linear[j].0 == "sigma1");
-        let mut jac = Vec::with_capacity(self.nonlinear.len());
-        for ((d, d_slip), name) in self.nonlinear_columns(&proj).into_iter().zip(&self.nonlinear) {
+        let mut jac = projected_jacobian(&active, r, params);
+        // ∂/∂ln p = p·∂/∂p.
+        for (col, name) in jac.iter_mut().zip(&self.nonlinear) {
             let k = NONLINEAR_ALL.iter().position(|nm| nm == name).expect("a nonlinear name");
-            let mut col = d;
-            if let (Some(inv), true) = (&gram_inv, m > 0) {
-                // rhs = Âᵀ(∂A/∂p·β-free part)ᵀr − Âᵀd, with Â = A scaled.
-                let mut rhs = DVector::from_fn(m, |a, _| {
-                    -cols[active[a]].iter().zip(&col).map(|(c, x)| c * x).sum::<f64>() / norms[a]
-                });
-                if let Some(s) = slip_slot {
-                    rhs[s] += d_slip.iter().zip(r).map(|(a, b)| a * b).sum::<f64>() / norms[s];
-                }
-                let coef = inv * rhs;
-                for (a, &j) in active.iter().enumerate() {
-                    let c = coef[a] / norms[a];
-                    col.iter_mut().zip(&cols[j]).for_each(|(x, y)| *x += c * y);
-                }
-            }
-            // ∂/∂ln p = p·∂/∂p.
             let p = v[k];
             col.iter_mut().for_each(|x| *x *= p);
-            debug_assert_eq!(col.len(), n);
-            jac.push(col);
         }
         Ok((proj.residuals, jac))
     }
