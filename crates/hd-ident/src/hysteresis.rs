@@ -10,9 +10,11 @@
 use crate::data::HysteresisData;
 use crate::error::FitError;
 use crate::fix::Fixed;
+use crate::memory_profile::MemoryProfile;
 use crate::report::Explanation;
 use crate::separable::{Basis, Separable, SeparableFit, fit_separable};
 use hd_model::laws::stiffness::{CubicSpring, FadingMemory, Hysteretic, StiffnessLaw};
+use std::sync::OnceLock;
 
 /// Parameters of the hysteresis fit, in report order.
 pub const HYSTERESIS_PARAMS: [&str; 5] = ["a", "b", "c", "mem_A", "mem_B"];
@@ -28,22 +30,21 @@ pub const B_HIGH_PER_SAMPLE: f64 = 10.0;
 /// The hysteresis identification problem on one record.
 pub struct HysteresisProblem<'a> {
     data: &'a HysteresisData,
-    cubic_cols: [Vec<f64>; 3],
     offset: bool,
+    /// The spring's part of the design, factorised on first use.
+    profile: OnceLock<MemoryProfile>,
 }
 
 impl<'a> HysteresisProblem<'a> {
     /// Set up the problem on `data`.
     pub fn new(data: &'a HysteresisData) -> Self {
-        let unit = |a, b, c| {
-            let law = CubicSpring { a, b, c };
-            data.theta().iter().map(|&th| law.torque(th)).collect::<Vec<f64>>()
-        };
-        Self {
-            data,
-            cubic_cols: [unit(1.0, 0.0, 0.0), unit(0.0, 1.0, 0.0), unit(0.0, 0.0, 1.0)],
-            offset: false,
-        }
+        Self { data, offset: false, profile: OnceLock::new() }
+    }
+
+    /// The spring's unit column `CubicSpring { a, b, c }` along the record.
+    fn spring_column(&self, a: f64, b: f64, c: f64) -> Vec<f64> {
+        let law = CubicSpring { a, b, c };
+        self.data.theta().iter().map(|&th| law.torque(th)).collect()
     }
 
     /// The same problem with a constant torque offset of the measurement fitted too
@@ -97,8 +98,12 @@ impl Separable for HysteresisProblem<'_> {
     }
     fn basis(&self, q: f64) -> Result<Basis, FitError> {
         let zeta = self.memory(&FadingMemory { a: 1.0, b: q });
-        let [c3, c2, c1] = self.cubic_cols.clone();
-        let mut columns = vec![c3, c2, c1, zeta];
+        let mut columns = vec![
+            self.spring_column(1.0, 0.0, 0.0),
+            self.spring_column(0.0, 1.0, 0.0),
+            self.spring_column(0.0, 0.0, 1.0),
+            zeta,
+        ];
         if self.offset {
             columns.push(vec![1.0; self.data.len()]);
         }
@@ -118,6 +123,26 @@ impl Separable for HysteresisProblem<'_> {
                 law.eval(th[k], rate, z[k]).torque + offset
             })
             .collect())
+    }
+    fn profile(&self, q: f64, lo: &[f64], hi: &[f64]) -> Option<(f64, Vec<f64>)> {
+        let d = self.data;
+        let p = self.profile.get_or_init(|| MemoryProfile::new(d.theta(), d.torque(), self.offset));
+        p.at(d.t(), d.theta(), d.torque(), q, lo, hi)
+    }
+    /// ∂Tb/∂B = ∂z/∂B, carried along the record with the memory's exact step.
+    fn predict_dq(&self, beta: &[f64], q: f64) -> Option<Result<Vec<f64>, FitError>> {
+        let m = FadingMemory { a: beta[3], b: q };
+        let (t, th) = (self.data.t(), self.data.theta());
+        let mut out = Vec::with_capacity(t.len());
+        let (mut z, mut dz) = (0.0, 0.0);
+        out.push(dz);
+        for k in 1..t.len() {
+            let (z1, d_z0, d_b) = m.step_linear_grad(z, th[k] - th[k - 1], t[k] - t[k - 1]);
+            dz = d_z0 * dz + d_b;
+            z = z1;
+            out.push(dz);
+        }
+        Some(Ok(out))
     }
     fn explain(&self, name: &str, values: &[(&'static str, f64)]) -> Explanation {
         let range = format!("max |θ| = {:.2e} rad", self.theta_max());

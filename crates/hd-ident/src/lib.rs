@@ -5,7 +5,8 @@
 //!
 //! The objectives evaluate the hd-model laws themselves ([`hd_model::laws`]): the memory
 //! runs along the measured deflection with [`FadingMemory::step_linear`], the bristle state
-//! along the measured speed with hd-model's Rodas4, never a copy of the equations.
+//! along the measured speed with the LuGre law's exact sample updates (with their parameter
+//! sensitivities), never a copy of the equations.
 //!
 //! Main items:
 //! - data sets [`HysteresisData`], [`SteadyData`], [`TransientData`], validated on
@@ -30,8 +31,10 @@ pub mod friction;
 pub mod hysteresis;
 pub mod linear;
 pub mod lm;
+pub mod memory_profile;
 pub mod nnls;
 pub mod path;
+pub mod qr_stream;
 pub mod report;
 pub mod search;
 pub mod separable;
@@ -39,6 +42,7 @@ pub mod stiffness;
 pub mod student_t;
 pub mod synth;
 pub mod uncertainty;
+pub mod varpro;
 
 pub use data::{HysteresisData, SteadyData, TransientData};
 pub use error::{DataError, FitError};

@@ -3,8 +3,9 @@
 //! fail — an integration that breaks down, a non-finite value — and such a trial is simply
 //! a rejected step (its cost counts as infinite), never the end of the fit.
 //!
-//! The Jacobian is a forward difference, its columns evaluated in parallel (rayon); the
-//! damped normal equations use Marquardt's diagonal scaling, so parameters of very
+//! The Jacobian is the model's own where it has one ([`levenberg_marquardt_exact`]: the
+//! joint friction fit carries exact sensitivities), otherwise a forward difference with its
+//! columns evaluated in parallel (rayon); the damped normal equations use Marquardt's diagonal scaling, so parameters of very
 //! different size (ln σ0 next to ln ωs) are treated alike.
 
 use crate::error::{FitError, chain};
@@ -62,9 +63,14 @@ fn cost_of(r: &[f64]) -> f64 {
     r.iter().map(|v| v * v).sum()
 }
 
+/// Residuals and, when the model has them, its exact derivatives (one column per
+/// parameter, ∂model/∂x = −∂r/∂x) at one trial point.
+type Trial = (Vec<f64>, Option<Vec<Vec<f64>>>);
+
 /// Minimise ‖r(x)‖² from `x0`. `residuals` returns the residual vector (always of the
 /// same length) or an error; an error or a non-finite entry rejects the trial. Fails only
-/// when the starting point itself cannot be evaluated.
+/// when the starting point itself cannot be evaluated. The Jacobian is a forward
+/// difference (columns in parallel).
 pub fn levenberg_marquardt<F>(
     residuals: &F,
     x0: &[f64],
@@ -73,12 +79,56 @@ pub fn levenberg_marquardt<F>(
 where
     F: Fn(&[f64]) -> Result<Vec<f64>, FitError> + Sync,
 {
+    let trial = |x: &[f64]| residuals(x).map(|r| (r, None));
+    lm_core(&trial, Some(residuals), x0, opts)
+}
+
+/// [`levenberg_marquardt`] for a model that returns its exact Jacobian with the
+/// residuals: `model(x)` gives `(r, J)` with J's columns ∂model/∂x_j (r = data − model).
+/// Every trial evaluates both, so an accepted step needs no further pass.
+pub fn levenberg_marquardt_exact<F>(
+    model: &F,
+    x0: &[f64],
+    opts: &LmOptions,
+) -> Result<LmOutcome, FitError>
+where
+    F: Fn(&[f64]) -> Result<(Vec<f64>, Vec<Vec<f64>>), FitError> + Sync,
+{
+    let trial = |x: &[f64]| model(x).map(|(r, j)| (r, Some(j)));
+    lm_core::<_, fn(&[f64]) -> Result<Vec<f64>, FitError>>(&trial, None, x0, opts)
+}
+
+fn finite(t: &Trial) -> bool {
+    t.0.iter().all(|v| v.is_finite())
+        && t.1.as_ref().is_none_or(|j| j.iter().flatten().all(|v| v.is_finite()))
+}
+
+fn lm_core<T, F>(
+    model: &T,
+    residuals: Option<&F>,
+    x0: &[f64],
+    opts: &LmOptions,
+) -> Result<LmOutcome, FitError>
+where
+    T: Fn(&[f64]) -> Result<Trial, FitError> + Sync,
+    F: Fn(&[f64]) -> Result<Vec<f64>, FitError> + Sync,
+{
     let evaluations = AtomicUsize::new(0);
     let failed = AtomicUsize::new(0);
-    let eval = |x: &[f64]| -> Option<Vec<f64>> {
+    let eval = |x: &[f64]| -> Option<Trial> {
         evaluations.fetch_add(1, Ordering::Relaxed);
-        match residuals(x) {
-            Ok(r) if r.iter().all(|v| v.is_finite()) => Some(r),
+        match model(x) {
+            Ok(t) if finite(&t) => Some(t),
+            _ => {
+                failed.fetch_add(1, Ordering::Relaxed);
+                None
+            }
+        }
+    };
+    let eval_r = |x: &[f64]| -> Option<Vec<f64>> {
+        evaluations.fetch_add(1, Ordering::Relaxed);
+        match residuals.map(|f| f(x)) {
+            Some(Ok(r)) if r.iter().all(|v| v.is_finite()) => Some(r),
             _ => {
                 failed.fetch_add(1, Ordering::Relaxed);
                 None
@@ -87,8 +137,8 @@ where
     };
     let p = x0.len();
     let mut x = x0.to_vec();
-    let mut r = match residuals(x0) {
-        Ok(r) if r.iter().all(|v| v.is_finite()) => r,
+    let (mut r, mut exact) = match model(x0) {
+        Ok(t) if finite(&t) => t,
         Ok(_) => {
             return Err(FitError::Optimiser(
                 "the starting point gives non-finite residuals".into(),
@@ -113,23 +163,29 @@ where
     let mut radius = opts.max_step;
     while p > 0 && !converged && iterations < opts.max_iterations {
         iterations += 1;
-        // Forward-difference Jacobian, one column per parameter, in parallel; a column
-        // whose trial fails is tried backwards, then left at zero (frozen this iteration).
-        let h = opts.fd_step;
-        let columns: Vec<Vec<f64>> = (0..p)
-            .into_par_iter()
-            .map(|j| {
-                for step in [h, -h] {
-                    let mut xj = x.clone();
-                    xj[j] += step;
-                    if let Some(rj) = eval(&xj) {
-                        // Residual = data − model, so ∂model/∂x = −∂r/∂x.
-                        return rj.iter().zip(&r).map(|(a, b)| -(a - b) / step).collect();
-                    }
-                }
-                vec![0.0; n]
-            })
-            .collect();
+        let columns: Vec<Vec<f64>> = match exact.take() {
+            Some(j) => j,
+            None => {
+                // Forward-difference Jacobian, one column per parameter, in parallel; a
+                // column whose trial fails is tried backwards, then left at zero (frozen
+                // this iteration).
+                let h = opts.fd_step;
+                (0..p)
+                    .into_par_iter()
+                    .map(|j| {
+                        for step in [h, -h] {
+                            let mut xj = x.clone();
+                            xj[j] += step;
+                            if let Some(rj) = eval_r(&xj) {
+                                // Residual = data − model, so ∂model/∂x = −∂r/∂x.
+                                return rj.iter().zip(&r).map(|(a, b)| -(a - b) / step).collect();
+                            }
+                        }
+                        vec![0.0; n]
+                    })
+                    .collect()
+            }
+        };
         let jac = DMatrix::from_fn(n, p, |i, j| columns[j][i]);
         let a = jac.transpose() * &jac;
         let g = jac.transpose() * DVector::from_column_slice(&r); // = Jᵀ(y − f)
@@ -157,11 +213,12 @@ where
             }
             let trial: Vec<f64> = x.iter().zip(delta.iter()).map(|(a, d)| a + d).collect();
             match eval(&trial) {
-                Some(rt) if cost_of(&rt) < cost => {
+                Some((rt, jt)) if cost_of(&rt) < cost => {
                     let new_cost = cost_of(&rt);
                     let gain = (cost - new_cost) / cost.max(f64::MIN_POSITIVE);
                     x = trial;
                     r = rt;
+                    exact = jt;
                     cost = new_cost;
                     lambda = (lambda * 0.3).max(1e-12);
                     radius = (2.0 * radius).min(opts.max_step);
@@ -193,6 +250,11 @@ where
         failed_trials: failed.into_inner(),
         termination,
     })
+}
+
+/// Whether an outcome's termination says the iteration budget ran out.
+pub fn hit_budget(termination: &str) -> bool {
+    termination.starts_with("iteration budget")
 }
 
 #[cfg(test)]

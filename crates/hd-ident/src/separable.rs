@@ -47,6 +47,19 @@ pub trait Separable: Sync {
     /// What parameter `name` does and which data would reveal it, given the fitted
     /// `values` (all parameters, in [`Separable::names`] order).
     fn explain(&self, name: &str, values: &[(&'static str, f64)]) -> Explanation;
+    /// RSS(q) [N·m²] and the linear parameters at q by a shortcut that holds no column
+    /// (one streaming pass), when the problem has one; `None` (the default, or where the
+    /// shortcut is unsafe or a parameter leaves `[lo, hi]`): the full bounded solve.
+    /// Not used when a linear parameter is fixed.
+    fn profile(&self, _q: f64, _lo: &[f64], _hi: &[f64]) -> Option<(f64, Vec<f64>)> {
+        None
+    }
+    /// The exact derivative of [`Separable::predict`] with respect to q at fixed `beta`
+    /// [N·m per unit of q], when the problem carries its state's sensitivity; `None`
+    /// (the default) falls back to a central difference in ln q.
+    fn predict_dq(&self, _beta: &[f64], _q: f64) -> Option<Result<Vec<f64>, FitError>> {
+        None
+    }
     /// Relative step in ln q for the finite-difference sensitivity to q.
     fn fd_step(&self) -> f64 {
         1e-4
@@ -148,6 +161,9 @@ pub fn fit_separable<P: Separable>(problem: &P, fixed: &Fixed) -> Result<Separab
     let hi: Vec<f64> = infos.iter().map(|i| i.2).collect();
     let qinfo = lookup(qname)?;
 
+    let any_fixed = lin_fixed.iter().any(Option::is_some);
+    let quick = |q: f64| if any_fixed { None } else { problem.profile(q, &lo, &hi) };
+
     // Global stage over ln q, or the closed form when q is fixed.
     let (q, outcome) = match q_fixed {
         Some(q) => (q, None),
@@ -155,12 +171,21 @@ pub fn fit_separable<P: Separable>(problem: &P, fixed: &Fixed) -> Result<Separab
             let (mut a, mut b) = problem.search_range();
             a = a.max(qinfo.min).max(f64::MIN_POSITIVE);
             b = b.min(qinfo.max);
-            let cost = |q: f64| solve_inner(problem, q, &lin_fixed, &lo, &hi).map(|s| s.rss);
+            let cost = |q: f64| match quick(q) {
+                Some((rss, _)) => Ok(rss),
+                None => solve_inner(problem, q, &lin_fixed, &lo, &hi).map(|s| s.rss),
+            };
             let out = search_log(&cost, a, b)?;
             (out.value, Some(out))
         }
     };
-    let inner = solve_inner(problem, q, &lin_fixed, &lo, &hi)?;
+    let inner = match quick(q) {
+        Some((rss, beta)) => {
+            Inner { at_bound: vec![false; beta.len()], beta, rss, basis: problem.basis(q)? }
+        }
+        None => solve_inner(problem, q, &lin_fixed, &lo, &hi)?,
+    };
+    let _ = inner.rss;
     let beta = inner.beta.clone();
     let fitted = problem.predict(&beta, q)?;
     let residuals: Vec<f64> = y.iter().zip(&fitted).map(|(a, b)| a - b).collect();
@@ -171,18 +196,25 @@ pub fn fit_separable<P: Separable>(problem: &P, fixed: &Fixed) -> Result<Separab
     // Jacobian of the prediction over the free parameters.
     let mut jac: Vec<Vec<f64>> = Vec::new();
     let mut jac_names: Vec<&'static str> = Vec::new();
-    for (j, name) in lin.iter().enumerate() {
+    let at_bound = inner.at_bound;
+    for ((j, name), col) in lin.iter().enumerate().zip(inner.basis.columns) {
         if lin_fixed[j].is_none() {
-            jac.push(inner.basis.columns[j].clone());
+            jac.push(col);
             jac_names.push(name);
         }
     }
     if q_fixed.is_none() {
-        let h = problem.fd_step();
-        let up = problem.predict(&beta, q * h.exp())?;
-        let down = problem.predict(&beta, q * (-h).exp())?;
-        let dq = q * (h.exp() - (-h).exp());
-        jac.push(up.iter().zip(&down).map(|(u, d)| (u - d) / dq).collect());
+        let column = match problem.predict_dq(&beta, q) {
+            Some(col) => col?,
+            None => {
+                let h = problem.fd_step();
+                let up = problem.predict(&beta, q * h.exp())?;
+                let down = problem.predict(&beta, q * (-h).exp())?;
+                let dq = q * (h.exp() - (-h).exp());
+                up.iter().zip(&down).map(|(u, d)| (u - d) / dq).collect()
+            }
+        };
+        jac.push(column);
         jac_names.push(qname);
     }
     let cov = covariance(&jac, rss);
@@ -212,7 +244,7 @@ pub fn fit_separable<P: Separable>(problem: &P, fixed: &Fixed) -> Result<Separab
             (Some(o), true) if o.at_edge => Some((o.lo, o.hi)),
             _ => None,
         };
-        let at_bound = (!nonlinear && inner.at_bound[j]).then_some(value);
+        let at_bound = (!nonlinear && at_bound[j]).then_some(value);
         let judgement = Judgement {
             name,
             unit,

@@ -60,8 +60,16 @@ pub fn covariance(jac: &[Vec<f64>], rss: f64) -> Covariance {
     if p == 0 || n < p {
         return out;
     }
-    let js = DMatrix::from_fn(n, p, |i, j| if norms[j] > 0.0 { jac[j][i] / norms[j] } else { 0.0 });
-    let r = js.qr().r();
+    // R of the column-scaled Jacobian, accumulated in blocks (no n×p copy).
+    let mut qr = crate::qr_stream::StreamingQr::new(p);
+    let mut row = vec![0.0; p];
+    for i in 0..n {
+        for ((x, col), norm) in row.iter_mut().zip(jac).zip(&norms) {
+            *x = if *norm > 0.0 { col[i] / norm } else { 0.0 };
+        }
+        qr.push(&row);
+    }
+    let r = qr.finish();
     let svd = r.svd(false, true);
     let Some(vt) = svd.v_t else { return out };
     let s = &svd.singular_values;

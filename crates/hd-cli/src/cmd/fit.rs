@@ -5,6 +5,7 @@ use super::common::ensure_dir;
 use super::fit_input::{
     FrictionUnits, column_names, data_context, friction_series, load, scale, source,
 };
+use super::fit_progress::FitProgress;
 use anyhow::{Context, Result, bail};
 use clap::{Args, Subcommand};
 use hd_ident::{
@@ -102,6 +103,11 @@ pub(crate) fn report_out(dir: &Path, report: &FitReport) -> Result<()> {
     // The table is a summary: a closed pipe (`| head`) is not an error.
     use std::io::Write;
     let _ = writeln!(std::io::stdout().lock(), "{}", report.table());
+    // Warnings (an iteration budget reached, a sampling error that matters) also go to
+    // stderr, where they are seen when the table is redirected.
+    for remark in report.remarks.iter().filter(|r| r.starts_with("warning")) {
+        eprintln!("{remark}");
+    }
     Ok(())
 }
 
@@ -171,8 +177,12 @@ fn run_friction(args: FrictionArgs) -> Result<()> {
     };
     let opts =
         FrictionOptions { asymmetric: args.asymmetric, offset: args.offset || args.asymmetric };
-    let fit = fit_friction_with(steady.as_ref(), transient.as_ref(), &fixed, opts)
-        .context("friction fit")?;
+    let samples =
+        steady.as_ref().map_or(0, |d| d.len()) + transient.as_ref().map_or(0, |d| d.len());
+    let progress = FitProgress::start(format!("fitting friction to {samples} samples"));
+    let fit = fit_friction_with(steady.as_ref(), transient.as_ref(), &fixed, opts);
+    progress.finish();
+    let fit = fit.context("friction fit")?;
     let dir = ensure_dir(&args.out)?;
     let mut report = fit.report.clone();
     report.data = sources;

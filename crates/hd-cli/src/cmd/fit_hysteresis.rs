@@ -3,6 +3,7 @@
 use super::common::ensure_dir;
 use super::fit::report_out;
 use super::fit_input::{angle_factor, column_names, data_context, load, scale, source};
+use super::fit_progress::FitProgress;
 use anyhow::{Context, Result};
 use clap::Args;
 use hd_ident::stiffness::{Law, LawFit, LawOptions, compare_laws, fit_law};
@@ -72,7 +73,10 @@ pub fn run(args: HysteresisArgs) -> Result<()> {
     let dir = ensure_dir(&args.out)?;
     if args.law == "all" {
         let started = std::time::Instant::now();
+        let progress =
+            FitProgress::start(format!("fitting every stiffness law to {} samples", data.len()));
         let cmp = compare_laws(&data, &opts);
+        progress.finish();
         for fit in &cmp.fits {
             let sub = ensure_dir(&dir.join(fit.law.name()))?;
             outputs(&sub, &data, fit, &src)?;
@@ -98,8 +102,11 @@ pub fn run(args: HysteresisArgs) -> Result<()> {
         return Ok(());
     }
     let law = Law::parse(&args.law).context("--law")?;
-    let fit =
-        fit_law(&data, law, &opts).with_context(|| format!("fitting {}", args.file.display()))?;
+    let progress =
+        FitProgress::start(format!("fitting the {} law to {} samples", law.name(), data.len()));
+    let fit = fit_law(&data, law, &opts);
+    progress.finish();
+    let fit = fit.with_context(|| format!("fitting {}", args.file.display()))?;
     outputs(&dir, &data, &fit, &src)?;
     eprintln!(
         "fitted the {} law to {} samples in {:.3} s; wrote {}",

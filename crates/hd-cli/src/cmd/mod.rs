@@ -9,6 +9,7 @@ pub mod explore;
 pub mod fit;
 pub mod fit_hysteresis;
 pub mod fit_input;
+pub mod fit_progress;
 pub mod plot;
 pub mod report;
 pub mod report_check;

@@ -1,6 +1,7 @@
 //! The friction fits: the static stage (Tc, Ts, ωs, σ2 from a steady-state sweep), the
 //! dynamic stage (σ0, σ1 from a time series, static parameters held) and the two in order.
 
+pub mod bristle;
 mod combined;
 pub mod joint;
 mod propagate;
@@ -13,4 +14,4 @@ pub use combined::{
 };
 pub use joint::{FrictionOptions, OFFSET, fit_joint};
 pub use steady::{STATIC_PARAMS, SteadyOptions, SteadyProblem};
-pub use transient::{DYNAMIC_PARAMS, TransientProblem, bristle_states, solver_options};
+pub use transient::{DYNAMIC_PARAMS, TransientProblem, bristle_states};

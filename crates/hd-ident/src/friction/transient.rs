@@ -1,20 +1,22 @@
 //! The dynamic friction stage: σ0 and σ1 from a time series, with Tc, Ts, ωs and σ2 held.
 //!
-//! The bristle state w = σ0·s runs along the measured speed (linear between samples) by
-//! integrating [`LuGre::eval`]'s rate with hd-model's Rodas4. The friction torque
+//! The bristle state w = σ0·s runs along the measured speed by the LuGre law's exact
+//! sample updates ([`super::bristle`]). The friction torque
 //! `Tf = w + σ1·ṡ + σ2·v` is linear in σ1 for a given σ0 (w and ṡ do not depend on σ1),
 //! so σ0 comes from the global search over ln σ0.
 
+use super::bristle::bristle_run;
 use crate::data::TransientData;
 use crate::error::FitError;
-use crate::path::{BristleAlong, Sampled, state_at_samples};
 use crate::report::Explanation;
 use crate::separable::{Basis, Separable};
 use hd_model::laws::friction::{FrictionLaw, LuGre};
-use hd_model::solver::{Method, SolverOptions};
 
 /// Parameters of the dynamic stage, in report order.
 pub const DYNAMIC_PARAMS: [&str; 2] = ["sigma1", "sigma0"];
+
+/// Position of σ0 in the bristle run's gradient ([`hd_model::laws::lugre_step::SHAPE_PARAMS`]).
+const SIGMA0_SLOT: usize = 3;
 
 /// Search range of σ0 in terms of the pre-sliding displacement Ts/σ0: from ten times the
 /// whole displacement range of the record (the bristles never saturate) down to a
@@ -24,33 +26,20 @@ pub const SIGMA0_LOW_SPAN: f64 = 10.0;
 /// See [`SIGMA0_LOW_SPAN`].
 pub const SIGMA0_HIGH_PER_SAMPLE: f64 = 100.0;
 
-/// Integrator settings for the bristle state: Rodas4, tight tolerances so that the
-/// finite-difference sensitivity to σ0 is clean.
-pub fn solver_options() -> SolverOptions {
-    SolverOptions { method: Method::Rodas4, rtol: 1e-8, atol: 1e-8, ..Default::default() }
-}
-
 /// The bristle state w [N·m] at every sample under `law`, starting from the first
 /// measured torque `first_torque` held inside the bristles' range at the first speed
 /// (a record rarely starts exactly at rest or in steady sliding: a speed derived from an
 /// encoder is never exactly zero, and a start in steady state at a tiny negative speed
-/// would put w at −Ts where the torque says 0).
+/// would put w at −Ts where the torque says 0). The speed is read as linear between
+/// samples and each interval stepped exactly at its mean speed
+/// ([`hd_model::laws::friction::LuGre::step_interval`]).
 pub fn bristle_states(
     t: &[f64],
     omega: &[f64],
     law: &LuGre,
     first_torque: f64,
 ) -> Result<Vec<f64>, FitError> {
-    let v0 = omega[0].abs();
-    let hi = law.stribeck(v0).0;
-    let lo = -law.stribeck(-v0.max(f64::MIN_POSITIVE)).0;
-    let w0 = if lo <= hi { first_torque.clamp(lo, hi) } else { 0.0 };
-    let speed = Sampled::new(t, omega);
-    let sys = BristleAlong { law: *law, speed: &speed };
-    state_at_samples(&sys, t, w0, &solver_options()).map_err(|source| FitError::Solver {
-        what: format!("the LuGre bristle state with sigma0 = {:e} N·m/rad", law.sigma0),
-        source,
-    })
+    Ok(bristle_run(t, omega, law, first_torque, false)?.w)
 }
 
 /// The dynamic friction problem on one time series, static parameters given.
@@ -132,6 +121,15 @@ impl Separable for TransientProblem<'_> {
         let law = self.law(q, beta[0]);
         let w = bristle_states(self.data.t(), self.data.omega(), &law, self.data.torque()[0])?;
         Ok(self.data.omega().iter().zip(&w).map(|(&v, &wk)| law.eval(v, wk).torque).collect())
+    }
+    /// ∂Tf/∂σ0 = ∂w/∂σ0 + σ1·∂ṡ/∂σ0, from the bristle run's carried sensitivities.
+    fn predict_dq(&self, beta: &[f64], q: f64) -> Option<Result<Vec<f64>, FitError>> {
+        let law = self.law(q, beta[0]);
+        let (t, omega) = (self.data.t(), self.data.omega());
+        Some(bristle_run(t, omega, &law, self.data.torque()[0], true).map(|run| {
+            let k = SIGMA0_SLOT;
+            run.d_w.iter().zip(&run.d_slip).map(|(dw, ds)| dw[k] + beta[0] * ds[k]).collect()
+        }))
     }
     fn explain(&self, name: &str, values: &[(&'static str, f64)]) -> Explanation {
         let sigma0 = values.iter().find(|(n, _)| *n == "sigma0").map_or(f64::NAN, |v| v.1);

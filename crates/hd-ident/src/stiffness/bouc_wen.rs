@@ -89,8 +89,16 @@ pub fn fit(data: &HysteresisData, opts: &LawOptions) -> Result<LawFit, FitError>
     let res = |x: &[f64]| problem.residuals(x);
     let mut best: Option<crate::lm::LmOutcome> = None;
     let (mut iterations, mut evaluations, mut failed) = (0, starts.len(), 0);
-    for (_, x0) in scored.iter().take(2) {
-        let Ok(out) = levenberg_marquardt(&res, x0, &lm_opts) else { continue };
+    // The two best grid points refined in parallel.
+    let outs: Vec<_> = scored
+        .iter()
+        .take(2)
+        .collect::<Vec<_>>()
+        .into_par_iter()
+        .map(|(_, x0)| levenberg_marquardt(&res, x0, &lm_opts))
+        .collect();
+    for out in outs {
+        let Ok(out) = out else { continue };
         iterations += out.iterations;
         evaluations += out.evaluations;
         failed += out.failed_trials;
@@ -163,6 +171,12 @@ pub fn fit(data: &HysteresisData, opts: &LawOptions) -> Result<LawFit, FitError>
     }
     if failed > 0 {
         remarks.push(format!("{failed} trial(s) failed and were rejected"));
+    }
+    if crate::lm::hit_budget(&out.termination) {
+        remarks.push(format!(
+            "warning: the shape's refinement stopped on its iteration budget ({}) before converging; the fit may improve further",
+            lm_opts.max_iterations
+        ));
     }
     if opts.offset {
         remarks.push(OFFSET_REMARK.into());

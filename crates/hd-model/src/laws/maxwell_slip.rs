@@ -57,6 +57,22 @@ impl SlipElement {
         (held, (trial - held).abs())
     }
 
+    /// [`SlipElement::step`] with the sensitivity of the deflection to the yield deflection
+    /// δ (at fixed k) carried: from e [rad] and ∂e/∂δ [–] returns the new pair. Where the
+    /// element ends clamped at ±δ the derivative is ±1; while it sticks, e moves with θ
+    /// and keeps the derivative it had.
+    pub fn step_grad(&self, e: f64, d_e: f64, d_theta: f64) -> (f64, f64) {
+        let d = self.yield_deflection();
+        let trial = e + d_theta;
+        if trial > d {
+            (d, 1.0)
+        } else if trial < -d {
+            (-d, -1.0)
+        } else {
+            (trial, d_e)
+        }
+    }
+
     /// Rate of the element's deflection ė [rad/s] at deflection rate θ̇ [rad/s] (the form
     /// an ODE integrator needs): θ̇, or 0 while the slider slips.
     pub fn rate(&self, e: f64, theta_dot: f64) -> f64 {

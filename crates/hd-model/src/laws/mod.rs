@@ -10,6 +10,7 @@ pub mod cycles;
 pub mod friction;
 pub mod input;
 pub mod load;
+pub mod lugre_step;
 pub mod maxwell_slip;
 pub mod motor;
 pub mod periodicity;

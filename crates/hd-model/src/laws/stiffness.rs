@@ -173,10 +173,50 @@ impl FadingMemory {
         if h <= 0.0 {
             return z + self.a * d_theta;
         }
+        let (decay, gain) = self.step_factors(h);
+        self.step_with(z, d_theta, decay, gain)
+    }
+
+    /// The factors of [`FadingMemory::step_linear`] for an interval of `h` > 0 seconds:
+    /// `(e^{−B·h}, (1 − e^{−B·h})/(B·h))` [–]. A record sampled at a constant interval
+    /// needs them once ([`FadingMemory::step_with`] then takes each step).
+    #[inline]
+    pub fn step_factors(&self, h: f64) -> (f64, f64) {
         let bh = self.b * h;
         // (1 − e^{−Bh})/(Bh), accurate for small Bh.
         let gain = if bh.abs() < 1e-12 { 1.0 } else { -(-bh).exp_m1() / bh };
-        (-bh).exp() * z + self.a * d_theta * gain
+        ((-bh).exp(), gain)
+    }
+
+    /// [`FadingMemory::step_linear`] with its factors from [`FadingMemory::step_factors`].
+    #[inline]
+    pub fn step_with(&self, z: f64, d_theta: f64, decay: f64, gain: f64) -> f64 {
+        decay * z + self.a * d_theta * gain
+    }
+
+    /// [`FadingMemory::step_linear`] with its derivatives: returns `(z₁, ∂z₁/∂z₀,
+    /// ∂z₁/∂B)` [N·m, –, N·m·s], the last at fixed z₀:
+    /// `∂z₁/∂B = h·(−e^{−Bh}·z₀ + A·d_theta·φ′(Bh))` with `φ(x) = (1 − e^{−x})/x`.
+    /// Carried along a record (`∂z/∂B ← ∂z₁/∂z₀·∂z/∂B + ∂z₁/∂B`) this is the exact
+    /// sensitivity of the memory to B.
+    pub fn step_linear_grad(&self, z: f64, d_theta: f64, h: f64) -> (f64, f64, f64) {
+        if h <= 0.0 {
+            return (z + self.a * d_theta, 1.0, 0.0);
+        }
+        let x = self.b * h;
+        let decay = (-x).exp();
+        let z1 = self.step_linear(z, d_theta, h);
+        (z1, decay, h * (-decay * z + self.a * d_theta * phi_slope(x)))
+    }
+}
+
+/// φ′(x) for φ(x) = (1 − e^{−x})/x: `(e^{−x}·(1 + x) − 1)/x²`, by its series where that
+/// difference cancels (|x| < 1e-2: the next term is below 1e-13 of the sum).
+fn phi_slope(x: f64) -> f64 {
+    if x.abs() < 1e-2 {
+        -0.5 + x * (1.0 / 3.0 + x * (-1.0 / 8.0 + x * (1.0 / 30.0 - x / 144.0)))
+    } else {
+        ((-x).exp() * (1.0 + x) - 1.0) / (x * x)
     }
 }
 
@@ -229,6 +269,38 @@ pub use super::composed::Stiffness;
 
 #[cfg(test)]
 mod tests {
+    /// The carried sensitivity ∂z/∂B along an uneven record against central differences
+    /// in B, across the switch between φ′'s series and its closed form (Bh from 3e-4
+    /// to 3): 1e-6 of the column's largest entry.
+    #[test]
+    fn memory_sensitivity_to_b_matches_central_differences() {
+        let times: Vec<f64> = (0..=300).map(|k| 1e-4 * (k as f64).powf(1.3)).collect();
+        let theta = |t: f64| 1e-3 * (2.0 * std::f64::consts::PI * 40.0 * t).sin();
+        for b in [3.0, 300.0, 3e3] {
+            let run = |b: f64| {
+                let m = FadingMemory { a: 4e4, b };
+                let (mut z, mut dz) = (0.0, 0.0);
+                let mut out = Vec::new();
+                for w in times.windows(2) {
+                    let (z1, dz0, db) =
+                        m.step_linear_grad(z, theta(w[1]) - theta(w[0]), w[1] - w[0]);
+                    dz = dz0 * dz + db;
+                    z = z1;
+                    out.push((z, dz));
+                }
+                out
+            };
+            let h = 1e-6 * b;
+            let (up, down, exact) = (run(b + h), run(b - h), run(b));
+            let scale = exact.iter().fold(0.0f64, |m, v| m.max(v.1.abs()));
+            let worst = (0..exact.len())
+                .map(|k| ((up[k].0 - down[k].0) / (2.0 * h) - exact[k].1).abs())
+                .fold(0.0, f64::max);
+            println!("B {b}: {worst:.1e} of {scale:.3e}");
+            assert!(scale > 0.0 && worst <= 1e-6 * scale, "B {b}: {worst:e} of {scale:e}");
+        }
+    }
+
     use super::FadingMemory;
 
     /// `step_linear` against a fine RK4 integration of `rate()` along a piecewise-linear

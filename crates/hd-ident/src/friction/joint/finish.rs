@@ -6,7 +6,6 @@ use crate::report::free_estimate;
 use crate::report::{Correlation, Estimate, FitReport, Judgement, Parameters, SearchSummary};
 use crate::separable::SeparableFit;
 use crate::uncertainty::covariance;
-use rayon::prelude::*;
 use std::time::Instant;
 
 /// Estimates, covariance and report at the optimum `v`.
@@ -22,47 +21,18 @@ pub(super) fn finish(
     termination: &str,
     starts: usize,
 ) -> Result<SeparableFit, FitError> {
-    let proj = problem.project(v)?;
+    let proj = problem.project_with(v, true)?;
     let y = problem.data.torque();
     let n = y.len();
     let fitted: Vec<f64> = y.iter().zip(&proj.residuals).map(|(a, r)| a - r).collect();
     let rss: f64 = proj.residuals.iter().map(|r| r * r).sum();
 
-    // Sensitivities of the full prediction: nonlinear parameters by central differences
-    // in ln p (with the linear ones held), linear ones are their columns.
-    let h: f64 = 1e-4;
-    let beta = proj.beta.clone();
-    let predict = |vals: &[f64; 6]| -> Result<Vec<f64>, FitError> {
-        let p = problem.pieces(vals)?;
-        let mut out = p.w;
-        for (j, col) in p.columns.iter().enumerate() {
-            out.iter_mut().zip(col).for_each(|(o, c)| *o += beta[j] * c);
-        }
-        Ok(out)
-    };
-    let mut names: Vec<&'static str> = Vec::new();
-    let mut jac: Vec<Vec<f64>> = Vec::new();
-    let nl_cols: Vec<Result<Vec<f64>, FitError>> = problem
-        .nonlinear
-        .par_iter()
-        .map(|name| {
-            let k = NONLINEAR_ALL.iter().position(|n| n == name).unwrap();
-            let (mut up, mut down) = (*v, *v);
-            up[k] *= h.exp();
-            down[k] *= (-h).exp();
-            if !problem.asymmetric && k < 2 {
-                up[k + 4] = up[k];
-                down[k + 4] = down[k];
-            }
-            let (a, b) = (predict(&up)?, predict(&down)?);
-            let dp = v[k] * (h.exp() - (-h).exp());
-            Ok(a.iter().zip(&b).map(|(a, b)| (a - b) / dp).collect())
-        })
-        .collect();
-    for (name, col) in problem.nonlinear.iter().zip(nl_cols) {
-        names.push(name);
-        jac.push(col?);
-    }
+    // Sensitivities of the full prediction: the nonlinear parameters' exact columns (the
+    // bristle run's carried sensitivities, linear parameters held), the linear ones their
+    // columns.
+    let mut names: Vec<&'static str> = problem.nonlinear.clone();
+    let mut jac: Vec<Vec<f64>> =
+        problem.nonlinear_columns(&proj).into_iter().map(|(d, _)| d).collect();
     for (j, (name, fixed)) in problem.linear.iter().enumerate() {
         if fixed.is_none() {
             names.push(name);

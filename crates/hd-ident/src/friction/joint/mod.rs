@@ -2,8 +2,9 @@
 //! torque, with no steady-state sweep.
 //!
 //! The model is `Tf = w + σ1·ṡ + σ2·v (+ offset)`, where the bristle torque w = σ0·s runs
-//! along the measured speed ([`bristle_states`], hd-model's LuGre law integrated by its
-//! Rodas4). For given levels and rates (Tc, Ts, ωs, σ0 and, with `asymmetric`, Tc_neg,
+//! along the measured speed by the LuGre law's exact sample updates, its sensitivities
+//! carried beside it ([`super::bristle`]), so every trial gives the residuals and their
+//! exact Jacobian in one pass. For given levels and rates (Tc, Ts, ωs, σ0 and, with `asymmetric`, Tc_neg,
 //! Ts_neg) w and ṡ are fixed, so σ1, σ2 and the offset follow by bounded linear least
 //! squares (variable projection); the nonlinear ones are refined together by
 //! Levenberg–Marquardt over their logarithms ([`crate::lm`]).
@@ -18,21 +19,23 @@
 //! 4. standard errors, intervals, correlations and determined flags from the Jacobian at
 //!    the optimum, as for every fit.
 
+mod exact;
 mod finish;
 mod start;
 
-use super::transient::bristle_states;
+use super::bristle::{BristleRun, bristle_run};
 use crate::data::{TransientData, require_samples};
 use crate::error::{FitError, chain};
 use crate::fix::Fixed;
 use crate::linear::bounded_least_squares;
-use crate::lm::{LmOptions, levenberg_marquardt};
+use crate::lm::{LmOptions, hit_budget, levenberg_marquardt_exact};
 use crate::report::{Explanation, SearchSummary};
 use crate::search::{GRID_POINTS, search_log};
 use crate::separable::SeparableFit;
 use finish::finish;
-use hd_model::laws::friction::{FrictionLaw, LuGre};
+use hd_model::laws::friction::LuGre;
 use hd_model::registry::lookup;
+use rayon::prelude::*;
 use start::{speed_range, static_start};
 use std::time::Instant;
 
@@ -49,6 +52,9 @@ pub use crate::fix::OFFSET;
 
 /// Perturbed starts refined besides the main one (ωs and σ0 moved by a factor each way).
 pub const EXTRA_STARTS: usize = 4;
+/// Iteration budget of each Levenberg–Marquardt refinement (an iteration is one pass
+/// over the record with the sensitivities carried).
+pub const MAX_ITERATIONS: usize = 200;
 /// Factor by which the extra starts move ωs and σ0.
 pub const START_FACTOR: f64 = 5.0;
 
@@ -78,8 +84,9 @@ pub struct JointProblem<'a> {
 
 /// The model's pieces for one set of nonlinear values.
 struct Pieces {
-    /// Torque with σ1 = σ2 = 0 and no offset: the bristle torque w [N·m].
-    w: Vec<f64>,
+    /// The bristle run: w (the torque with σ1 = σ2 = 0 and no offset) [N·m], ṡ, and
+    /// their sensitivities when asked.
+    run: BristleRun,
     /// One column per model linear parameter.
     columns: Vec<Vec<f64>>,
 }
@@ -148,8 +155,9 @@ impl<'a> JointProblem<'a> {
             .collect()
     }
 
-    fn pieces(&self, v: &[f64; 6]) -> Result<Pieces, FitError> {
-        let law = LuGre {
+    /// The LuGre law with nonlinear values `v` and no linear terms.
+    fn law(&self, v: &[f64; 6]) -> LuGre {
+        LuGre {
             sigma0: v[3],
             sigma1: 0.0,
             sigma2: 0.0,
@@ -159,35 +167,36 @@ impl<'a> JointProblem<'a> {
             tc_neg: v[4],
             ts_neg: v[5],
             mu: hd_model::laws::friction::LoadFactors::default(),
-        };
+        }
+    }
+
+    /// The model's pieces at nonlinear values `v`; with `grad`, the bristle run carries
+    /// its sensitivities too.
+    fn pieces_with(&self, v: &[f64; 6], grad: bool) -> Result<Pieces, FitError> {
+        let law = self.law(v);
         let (t, omega) = (self.data.t(), self.data.omega());
-        let w = bristle_states(t, omega, &law, self.data.torque()[0] - self.first_bias)?;
+        let run = bristle_run(t, omega, &law, self.data.torque()[0] - self.first_bias, grad)?;
         let mut columns = Vec::with_capacity(self.linear.len());
         for (name, _) in &self.linear {
             let col: Vec<f64> = match *name {
-                "sigma1" => omega
-                    .iter()
-                    .zip(&w)
-                    .map(|(&o, &wk)| law.eval(o, wk).w_rate / law.sigma0)
-                    .collect(),
+                "sigma1" => run.slip.clone(),
                 "sigma2" => omega.to_vec(),
                 _ => vec![1.0; omega.len()],
             };
             columns.push(col);
         }
-        if w.iter().chain(columns.iter().flatten()).any(|v| !v.is_finite()) {
-            return Err(FitError::Optimiser(format!(
-                "non-finite bristle state with sigma0 = {:e}",
-                law.sigma0
-            )));
-        }
-        Ok(Pieces { w, columns })
+        Ok(Pieces { run, columns })
     }
 
     fn project(&self, v: &[f64; 6]) -> Result<Projected, FitError> {
-        let pieces = self.pieces(v)?;
+        self.project_with(v, false)
+    }
+
+    /// [`JointProblem::project`], the bristle run carrying its sensitivities with `grad`.
+    fn project_with(&self, v: &[f64; 6], grad: bool) -> Result<Projected, FitError> {
+        let pieces = self.pieces_with(v, grad)?;
         let y = self.data.torque();
-        let mut target: Vec<f64> = y.iter().zip(&pieces.w).map(|(a, b)| a - b).collect();
+        let mut target: Vec<f64> = y.iter().zip(&pieces.run.w).map(|(a, b)| a - b).collect();
         let mut free = Vec::new();
         for (j, (_, fixed)) in self.linear.iter().enumerate() {
             match fixed {
@@ -379,17 +388,16 @@ pub fn fit_joint(
             starts.push(v);
         }
     }
-    let residuals = residuals_of(&problem);
-    let lm = LmOptions::default();
+    let lm = LmOptions { max_iterations: MAX_ITERATIONS, ..Default::default() };
+    let model = |x: &[f64]| problem.residuals_and_jacobian(x);
     let refined: Vec<Result<Refined, FitError>> = starts
-        .iter()
+        .par_iter()
         .map(|v| {
             let x0 = problem.x_of(v);
-            let out = levenberg_marquardt(&residuals, &x0, &lm)?;
+            let out = levenberg_marquardt_exact(&model, &x0, &lm)?;
             Ok(Refined::from_outcome(&problem, out))
         })
         .collect();
-    drop(residuals);
     let mut best: Option<Refined> = None;
     let mut iterations = 0usize;
     let mut start_failures = Vec::new();
@@ -434,11 +442,17 @@ pub fn fit_joint(
     if bias != 0.0 {
         problem.first_bias = bias;
         let x0 = problem.x_of(&best.values);
-        if let Ok(out) = levenberg_marquardt(&residuals_of(&problem), &x0, &lm) {
+        let model = |x: &[f64]| problem.residuals_and_jacobian(x);
+        if let Ok(out) = levenberg_marquardt_exact(&model, &x0, &lm) {
             iterations += out.iterations;
             evaluations += out.evaluations;
             best = Refined::from_outcome(&problem, out);
         }
+    }
+    if hit_budget(&best.termination) {
+        remarks.push(format!(
+            "warning: the best start's refinement stopped on its iteration budget ({MAX_ITERATIONS}) before converging; the optimum may lie further on (try --fix on a poorly determined parameter)"
+        ));
     }
     let fit = finish(
         &problem,
@@ -454,12 +468,5 @@ pub fn fit_joint(
     Ok(fit)
 }
 
-/// The projected residuals as a function of the free nonlinear parameters' logarithms.
-fn residuals_of<'p, 'a: 'p>(
-    problem: &'p JointProblem<'a>,
-) -> impl Fn(&[f64]) -> Result<Vec<f64>, FitError> + Sync + 'p {
-    move |x: &[f64]| {
-        let v = problem.values(x);
-        Ok(problem.project(&v)?.residuals)
-    }
-}
+#[cfg(test)]
+mod tests;

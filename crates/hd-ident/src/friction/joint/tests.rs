@@ -1,0 +1,63 @@
+//! The joint fit's exact Jacobian against central differences of its own residuals.
+
+use super::*;
+
+/// A record with reversals and slow stretches, and a torque that the model at the test
+/// point does not fit exactly (so the residual-dependent term of the Jacobian counts).
+fn data(asymmetric: bool) -> TransientData {
+    let n = 3000;
+    let t: Vec<f64> = (0..n).map(|k| 2e-3 * k as f64 + 1e-4 * (0.7 * k as f64).sin()).collect();
+    let omega: Vec<f64> = t
+        .iter()
+        .map(|&t| 0.03 * (std::f64::consts::TAU * 0.8 * t).sin() + 0.004 * (9.0 * t).cos())
+        .collect();
+    let sym = LuGre::symmetric(5e4, 0.5, 0.02, 0.2, 0.35, 0.01);
+    let law = if asymmetric { LuGre { tc_neg: 0.16, ts_neg: 0.3, ..sym } } else { sym };
+    let run = bristle_run(&t, &omega, &law, 0.0, false).unwrap();
+    let torque: Vec<f64> = (0..n)
+        .map(|k| {
+            run.w[k] + 0.5 * run.slip[k] + 0.02 * omega[k] + 0.03 + 0.01 * (1.3 * k as f64).sin()
+        })
+        .collect();
+    TransientData::new(t, omega, torque).unwrap()
+}
+
+#[test]
+fn exact_jacobian_matches_central_differences() {
+    for opts in [
+        FrictionOptions { asymmetric: false, offset: true },
+        FrictionOptions { asymmetric: true, offset: true },
+    ] {
+        let start = [
+            ("Tc", 0.19),
+            ("Ts", 0.37),
+            ("ws", 0.011),
+            ("sigma0", 4.5e4),
+            ("Tc_neg", if opts.asymmetric { 0.165 } else { 0.19 }),
+            ("Ts_neg", if opts.asymmetric { 0.29 } else { 0.37 }),
+        ];
+        let d = data(opts.asymmetric);
+        let problem = JointProblem::new(&d, &Fixed::none(), opts, &start);
+        let x = problem.x_of(&problem.base);
+        let proj = problem.project(&problem.values(&x)).unwrap();
+        assert!(proj.at_bound.iter().all(|b| !b), "at a bound: {:?}", proj.beta);
+        let (_, jac) = problem.residuals_and_jacobian(&x).unwrap();
+        assert_eq!(jac.len(), problem.nonlinear.len());
+        let h = 1e-5;
+        for (j, name) in problem.nonlinear.iter().enumerate() {
+            let at = |dx: f64| {
+                let mut xj = x.clone();
+                xj[j] += dx;
+                problem.project(&problem.values(&xj)).unwrap().residuals
+            };
+            let (up, down) = (at(h), at(-h));
+            // ∂model/∂x = −∂r/∂x.
+            let fd: Vec<f64> = up.iter().zip(&down).map(|(a, b)| -(a - b) / (2.0 * h)).collect();
+            let scale = jac[j].iter().fold(0.0f64, |m, v| m.max(v.abs()));
+            let worst = fd.iter().zip(&jac[j]).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
+            println!("{opts:?} ∂/∂ln {name}: {worst:.1e} of {scale:.3e}");
+            assert!(scale > 0.0, "{name}: zero column");
+            assert!(worst <= 1e-6 * scale, "{name}: {worst:e} of {scale:e}");
+        }
+    }
+}
