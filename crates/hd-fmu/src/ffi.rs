@@ -105,14 +105,16 @@ pub fn guarded(c: *mut c_void, f: impl FnOnce(&mut Component) -> Status) -> Stat
     // SAFETY: a non-null instance pointer is one this library returned from instantiate
     // and has not freed (the FMI contract); the host calls it from one thread at a time.
     let comp = unsafe { &mut *(c as *mut Component) };
-    let (logger, name) = (comp.logger, comp.name.clone());
+    // The name stays where it is while `f` runs (only freeing moves the component).
+    let (logger, name) = (comp.logger, comp.name.as_ptr());
     match catch_unwind(AssertUnwindSafe(|| f(comp))) {
         Ok(status) => status,
         Err(panic) => {
             let what = panic_message(&panic);
             log_to(
                 logger,
-                &name,
+                // SAFETY: the component's name, alive as said above.
+                unsafe { CStr::from_ptr(name) },
                 Status::Fatal,
                 "logStatusFatal",
                 &format!("internal error: {what}"),

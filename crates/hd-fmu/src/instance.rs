@@ -46,6 +46,12 @@ pub struct Instance {
     run: Option<Stepper>,
     /// Whether parameters changed since the run's system was built.
     params_changed: bool,
+    /// Times where the exported drive's own signals jump (a closed loop's reference) [s].
+    breakpoints: Vec<f64>,
+    /// The solver's step size in the last communication step [s], the next one's first
+    /// step (0: the solver's own choice): each communication step restarts the solver,
+    /// and its starting-step estimate costs more than a short step does.
+    h_hint: f64,
     /// Life-cycle phase.
     pub phase: Phase,
 }
@@ -56,6 +62,8 @@ impl Instance {
         Self {
             vars: variables(&cfg),
             params: cfg.params.clone(),
+            breakpoints: cfg.breakpoints(),
+            h_hint: 0.0,
             cfg,
             u: 0.0,
             t_load: 0.0,
@@ -204,15 +212,20 @@ impl Instance {
         self.hold_inputs(h);
         self.rates = [0.0; 2];
         let target = t + h - self.start_time;
-        let breakpoints = self.cfg.breakpoints();
-        let opts = self.cfg.solver;
+        let mut opts = self.cfg.solver;
+        if opts.h_init == 0.0 && self.h_hint > 0.0 {
+            opts.h_init = self.h_hint.min(h);
+        }
         let Some(run) = self.run.as_mut() else {
             return Err("the run was not assembled".to_string());
         };
-        if let Err(e) = run.advance(target, &breakpoints, &opts, &mut |_, _| {}) {
+        let steps = run.stats.steps;
+        if let Err(e) = run.advance(target, &self.breakpoints, &opts, &mut |_, _| {}) {
             self.phase = Phase::Failed;
             return Err(format!("step from t = {t} s by {h} s failed: {e}"));
         }
+        // Steps after the first show the solver's own step size.
+        self.h_hint = h / (run.stats.steps - steps).saturating_sub(1).max(1) as f64;
         Ok(())
     }
 
