@@ -11,7 +11,8 @@ DataFrames when polars is installed (dicts of numpy arrays otherwise).
     >>> runs = hdw.simulate_many([{"c": 4e4}, {"c": 6e4}])
 
 Functions: :func:`parameters`, :func:`metrics`, :func:`simulate`, :func:`simulate_many`,
-:func:`run_study`, :func:`fit_hysteresis`, :func:`fit_friction`, :func:`sobol_indices`.
+:func:`run_study`, :func:`fit_hysteresis`, :func:`fit_friction`, :func:`sobol_indices`,
+:func:`export_fmu` (an FMU of the drive, through the hdw command line).
 Errors: ``ValueError`` for bad input (naming the field and what was expected),
 :class:`SimulationError` when the integrator cannot finish a run.
 """
@@ -22,6 +23,7 @@ from typing import Any, List
 
 from . import _hdw
 from ._fit import FitResult, fit_friction, fit_hysteresis
+from ._fmu import export_fmu
 from ._run import SimResult, simulate, simulate_many
 from ._sensitivity import sobol_indices
 from ._study import run_study
@@ -34,6 +36,7 @@ __all__ = [
     "FitResult",
     "SimResult",
     "SimulationError",
+    "export_fmu",
     "fit_friction",
     "fit_hysteresis",
     "metrics",

@@ -21,5 +21,9 @@ CARGO_TARGET_DIR="$PWD/target/py-build" \
     "$venv/bin/python" -m pip install -q --disable-pip-version-check ./python
 echo "python package: built and installed in $(( $(date +%s) - start )) s"
 [ -x "${HDW:-target/debug/hdw}" ] || cargo build -p hd-cli
+# The FMU binary `hdw export fmu` packs (test_fmu.py): hd-fmu's shared library, which cargo
+# leaves beside target/debug/hdw (deps/ when hd-fmu was built as hdw's dependency).
+[ -n "${HDW:-}" ] || [ -e target/debug/libhd_fmu.so ] || [ -e target/debug/deps/libhd_fmu.so ] \
+    || cargo build -p hd-fmu
 # From the repository root, so that the installed package is imported, not python/hdw.
 HDW="${HDW:-$PWD/target/debug/hdw}" "$venv/bin/python" -m pytest -q tests/python

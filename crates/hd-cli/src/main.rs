@@ -43,6 +43,8 @@ enum Command {
     Explore(cmd::explore::ExploreArgs),
     /// Heatmaps and line plots of result tables; trace signals and Tb–θ loops of runs.
     Plot(cmd::plot::PlotArgs),
+    /// Export the drive for other tools: `hdw export fmu` writes a co-simulation FMU.
+    Export(cmd::export::ExportArgs),
 }
 
 fn main() -> ExitCode {
@@ -61,6 +63,7 @@ fn main() -> ExitCode {
         Command::Sensitivity(args) => cmd::sensitivity::run(args),
         Command::Explore(args) => cmd::explore::run(args),
         Command::Plot(args) => cmd::plot::run(args),
+        Command::Export(args) => cmd::export::run(args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -31,6 +31,7 @@ pub mod signals;
 pub mod simulate;
 pub mod solver;
 pub mod state;
+pub mod stepper;
 pub mod system;
 pub mod trace;
 pub mod variant;

@@ -1,15 +1,16 @@
 //! One simulation run: check the configuration, assemble the system, integrate, and
 //! return the trace (optional), the metrics and the solver statistics.
 
-use crate::control::{Controller, ControllerConfig, Hold};
+use crate::control::{Controller, ControllerConfig};
 use crate::error::{ConfigError, SolverError};
 use crate::laws::input::Input;
 use crate::laws::load::LoadTorque;
 use crate::metrics::{Collector, MetricSettings, Metrics};
 use crate::params::Params;
 use crate::signals::{Sample, Thresholds};
-use crate::solver::{SolverOptions, SolverStats, Step, solve};
-use crate::state::{CMP_Q, DIM, State};
+use crate::solver::{SolverOptions, SolverStats, Step};
+use crate::state::{DIM, State};
+use crate::stepper::Stepper;
 use crate::system::{DriveSystem, FrictionVelocity};
 use crate::trace::Trace;
 use crate::variant::{HystLaw, StiffnessKind, Variant};
@@ -230,69 +231,41 @@ pub fn simulate_streaming(
     cfg: &SimConfig,
     mut sink: Option<&mut dyn FnMut(&Sample)>,
 ) -> Result<SimOutput, SimError> {
-    cfg.validate()?;
-    let mut sys = cfg.system()?;
+    let mut run = Stepper::new(cfg)?;
     // `auto` switches by cost; a non-stiff variant only between the explicit pairs
     // (`OdeSystem::may_be_stiff`).
     let opts = cfg.solver;
-    let y0 = sys.rest_state();
-    // A sampled controller computes its first command at t = 0, before anything moves.
-    let period = sys.ctl.as_ref().filter(|c| c.is_sampled()).map(|c| c.cfg.period);
-    if let (Some(_), Some(c)) = (period, sys.ctl.as_ref()) {
-        sys.hold = c.sample(0.0, &sys.measured(&y0), y0[CMP_Q], &Hold::default(), true);
-    }
     let dt = cfg.output_interval();
     let eps = Thresholds::default();
     let mut last_t = 0.0;
     if let Some(f) = sink.as_mut() {
-        f(&sys.sample(0.0, &y0, &eps));
+        f(&run.sys.sample(0.0, &run.y, &eps));
     }
-    let mut collector = Collector::new(&sys, cfg.metrics, y0, cfg.t_end);
+    let mut collector = Collector::new(&run.sys, cfg.metrics, run.y, cfg.t_end);
     let mut next_k: u64 = 1;
     let breakpoints = cfg.breakpoints();
     let start = Instant::now();
     // Open loop and continuous control: one solve. Sampled control: one solve per
     // sampling period, the controller updating its held command in between.
-    let stops: Vec<f64> = match period {
-        Some(p) => {
-            let n = (cfg.t_end / p).ceil() as usize;
-            (1..=n).map(|k| (k as f64 * p).min(cfg.t_end)).collect()
-        }
-        None => vec![cfg.t_end],
-    };
-    let (mut t, mut y) = (0.0, y0);
-    let mut stats = SolverStats { method: opts.method, ..Default::default() };
-    for &t1 in &stops {
-        if t1 <= t {
-            continue;
-        }
-        if t > 0.0
-            && let Some(c) = sys.ctl.as_ref()
-        {
-            sys.hold = c.sample(t, &sys.measured(&y), y[CMP_Q], &sys.hold, false);
-        }
-        let sys_ref = &sys;
-        let mut observer = |s: &Step<DIM>| {
-            collector.on_step(sys_ref, s);
-            if let Some(f) = sink.as_mut() {
-                loop {
-                    let tk = (next_k as f64 * dt).min(cfg.t_end);
-                    if tk > s.t1 || tk <= last_t {
-                        break;
-                    }
-                    let y = if tk == s.t1 { *s.y1 } else { s.interpolate(tk) };
-                    f(&sys_ref.sample(tk, &y, &eps));
-                    last_t = tk;
-                    next_k += 1;
+    let mut observer = |sys: &DriveSystem, s: &Step<DIM>| {
+        collector.on_step(sys, s);
+        if let Some(f) = sink.as_mut() {
+            loop {
+                let tk = (next_k as f64 * dt).min(cfg.t_end);
+                if tk > s.t1 || tk <= last_t {
+                    break;
                 }
+                let y = if tk == s.t1 { *s.y1 } else { s.interpolate(tk) };
+                f(&sys.sample(tk, &y, &eps));
+                last_t = tk;
+                next_k += 1;
             }
-        };
-        let (y1, st) = solve(&sys, t, y, t1, &breakpoints, &opts, &mut observer)?;
-        stats.accumulate(&st);
-        (t, y) = (t1, y1);
-    }
+        }
+    };
+    run.advance(cfg.t_end, &breakpoints, &opts, &mut observer)?;
+    let (sys, y, stats) = (&run.sys, run.y, run.stats);
     let wall_time = start.elapsed().as_secs_f64();
-    let metrics = collector.finish(&sys, &y);
+    let metrics = collector.finish(sys, &y);
     Ok(SimOutput { trace: None, metrics, stats, wall_time, final_state: y })
 }
 

@@ -6,6 +6,7 @@ pub mod control_args;
 pub mod datasheet;
 pub mod envelope;
 pub mod explore;
+pub mod export;
 pub mod fit;
 pub mod fit_hysteresis;
 pub mod fit_input;
