@@ -219,24 +219,38 @@ fn every_help_example_runs() {
         let out = Command::new(env!("CARGO_BIN_EXE_hdw")).args(args).output().unwrap();
         String::from_utf8_lossy(&out.stdout).into_owned()
     };
+    // The subcommands a help text lists under `Commands:`.
+    let listed = |text: &str| -> Vec<String> {
+        text.lines()
+            .skip_while(|l| !l.starts_with("Commands:"))
+            .skip(1)
+            .take_while(|l| l.starts_with("  "))
+            .filter_map(|l| l.split_whitespace().next().map(str::to_string))
+            .filter(|c| c != "help")
+            .collect()
+    };
     let top = help(&["--help"]);
-    let subcommands: Vec<String> = top
-        .lines()
-        .skip_while(|l| !l.starts_with("Commands:"))
-        .skip(1)
-        .take_while(|l| l.starts_with("  "))
-        .filter_map(|l| l.split_whitespace().next().map(str::to_string))
-        .filter(|c| c != "help")
-        .collect();
+    let subcommands = listed(&top);
     assert!(subcommands.len() >= 8, "subcommands: {subcommands:?}");
     let mut tally = Tally::default();
     let mut all = vec![("hdw".to_string(), parse::help_examples("", &top))];
     for sub in &subcommands {
-        let ex = parse::help_examples(sub, &help(&[sub, "--help"]));
-        if ex.is_empty() {
-            tally.failures.push(format!("hdw {sub} --help has no worked example"));
+        let text = help(&[sub, "--help"]);
+        // A command with subcommands of its own (`hdw export fmu`): each of those ends with
+        // the worked example.
+        let nested = listed(&text);
+        let pages: Vec<(String, String)> = if nested.is_empty() {
+            vec![(sub.clone(), text)]
+        } else {
+            nested.iter().map(|n| (format!("{sub} {n}"), help(&[sub, n, "--help"]))).collect()
+        };
+        for (name, text) in pages {
+            let ex = parse::help_examples(&name, &text);
+            if ex.is_empty() {
+                tally.failures.push(format!("hdw {name} --help has no worked example"));
+            }
+            all.push((name, ex));
         }
-        all.push((sub.clone(), ex));
     }
     // One folder for all, in the order `hdw --help` lists the subcommands, as a user going
     // through the help pages would: later pages use what earlier ones wrote (explore and plot
