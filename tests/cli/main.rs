@@ -3,11 +3,13 @@
 mod common;
 mod datasheet_cli;
 mod explore_cli;
+mod fault_injection;
 mod fit_bad_data;
 mod fit_cli;
 mod fit_laws;
 mod fit_rig_files;
 mod fit_shipped_data;
+mod refusals;
 mod report_cli;
 mod sensitivity_cli;
 mod shipped_studies;

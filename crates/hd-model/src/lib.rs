@@ -32,6 +32,7 @@ pub mod simulate;
 pub mod solver;
 pub mod state;
 pub mod system;
+pub mod text_file;
 pub mod trace;
 pub mod variant;
 
