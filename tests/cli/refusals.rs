@@ -85,9 +85,10 @@ fn study_files_with_repeats_zero_budgets_or_escaping_names_are_refused() {
     assert_one_line_error(&hdw(&["study", s(&f), "--out", s(&o)]), &["max_steps"]);
     let f = write("name = \"../../escape\"\n");
     assert_one_line_error(&hdw(&["study", s(&f)]), &["not a folder name"]);
+    let f = write("name = \"t\"\n");
     assert_one_line_error(
-        &hdw(&["study", s(&f), "--threads", "100000"]),
-        &["--threads 100000", "at most"],
+        &hdw(&["study", s(&f), "--threads", "100000", "--out", s(&o)]),
+        &["--threads 100000", "expected 1 to"],
     );
     assert!(!o.exists());
 }
