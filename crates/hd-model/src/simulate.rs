@@ -119,7 +119,7 @@ impl SimConfig {
         let bad = |field: &str, value: f64, expected: &str| {
             Err(ConfigError::Invalid {
                 field: field.to_string(),
-                value: value.to_string(),
+                value: crate::error::num(value),
                 expected: expected.to_string(),
             })
         };

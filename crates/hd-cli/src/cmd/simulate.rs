@@ -228,9 +228,20 @@ pub fn config(args: &SimulateArgs) -> Result<SimConfig> {
     Ok(cfg)
 }
 
-/// Run `hdw simulate`.
+/// Run `hdw simulate`. A failed run leaves `--out` as it was: an earlier run's files
+/// untouched, and no empty folder where there was none.
 pub fn run(args: SimulateArgs) -> Result<()> {
-    let cfg = config(&args)?;
+    let existed = args.out.exists();
+    let result = run_into(&args);
+    if result.is_err() && !existed {
+        // Only succeeds while empty.
+        let _ = std::fs::remove_dir(&args.out);
+    }
+    result
+}
+
+fn run_into(args: &SimulateArgs) -> Result<()> {
+    let cfg = config(args)?;
     let expected = cfg.t_end / cfg.output_interval();
     if cfg.record_trace {
         check_output_size(expected, TRACE_COLUMNS.len(), args.max_output_values)?;
