@@ -76,7 +76,7 @@ fn run_all(
         None => None,
     };
     let rows = py.detach(|| {
-        let go = || run_batch(&specs, 1, &|_| {});
+        let go = || run_batch(&specs, 1, &|_| {}, None);
         match &pool {
             Some(p) => p.install(go),
             None => go(),

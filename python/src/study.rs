@@ -59,7 +59,7 @@ pub fn run_study(
         .map_err(|e| value_error(format!("study.json: {e}")))?;
     let decimate = study.traces.decimate;
     let rows = py.detach(|| -> Result<_, String> {
-        let go = || run_batch(&runs, decimate, &|_| {});
+        let go = || run_batch(&runs, decimate, &|_| {}, None);
         match threads {
             Some(n) => Ok(rayon::ThreadPoolBuilder::new()
                 .num_threads(n)

@@ -145,17 +145,22 @@ fn duplicated_runs_are_kept_once() {
 fn failed_runs_are_reported_and_foreign_runs_refused() {
     let dir = scratch("report-failed");
     let text = FAILING_STUDY;
-    let (file, out) = sharded(&dir, text, 2);
+    let (_, out) = sharded(&dir, text, 2);
     let done = hdw_ok(&["report", s(&out)]);
     assert!(stderr(&done).contains("failed: index 1 (id"), "{}", stderr(&done));
     assert!(stderr(&done).contains("3 of 3 planned runs"), "{}", stderr(&done));
 
     // Shards of another study in the same folder would mix two studies in one report.
+    // `hdw study` refuses to run another study into the folder …
     let other = dir.join("other.toml");
     std::fs::write(&other, NINE).unwrap();
-    hdw_ok(&["study", s(&other), "--out", s(&out), "--shard", "3/3"]);
-    // study.json now plans the nine-run study; put the failing study's plan back.
-    hdw_ok(&["study", s(&file), "--out", s(&out), "--shard", "1/2", "--resume"]);
+    let r = hdw(&["study", s(&other), "--out", s(&out), "--shard", "3/3"]);
+    assert_one_line_error(&r, &["holds the results of study 'failing', not 'nine'"]);
+    // … and a shard table copied in from elsewhere is refused by the report.
+    let elsewhere = dir.join("elsewhere");
+    hdw_ok(&["study", s(&other), "--out", s(&elsewhere), "--shard", "3/3"]);
+    let shard = "runs-shard-3-of-3.parquet";
+    std::fs::copy(elsewhere.join(shard), out.join(shard)).unwrap();
     let refused = hdw(&["report", s(&out)]);
     assert_one_line_error(&refused, &["rows belong to no run of", "runs-shard-3-of-3.parquet"]);
 }

@@ -53,6 +53,12 @@ fn main() -> ExitCode {
         return ExitCode::FAILURE;
     }
     let cli = Cli::parse();
+    // Ctrl-C, `kill` or a closed terminal: remove the temporaries of unfinished outputs
+    // (and a study's lock) before exiting; what was committed stays.
+    if let Err(e) = hd_io::pending::remove_on_signal() {
+        eprintln!("error: cannot install the interrupt handler: {e}");
+        return ExitCode::FAILURE;
+    }
     let result = match cli.command {
         Command::Simulate(args) => cmd::simulate::run(args),
         Command::Fit(args) => cmd::fit::run(args),

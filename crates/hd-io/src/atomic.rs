@@ -1,40 +1,158 @@
 //! Atomic file writes: the data goes to a temporary file beside the target, which is then
-//! renamed over it (tempfile's `persist`), so a reader never sees a half-written file and a
-//! killed writer leaves the old file intact.
+//! renamed over it, so a reader never sees a half-written file and a failed or killed
+//! writer leaves the old file intact.
+//!
+//! Several files that belong together (a run's trace, metrics and plot) are staged one by
+//! one ([`Staged`]) and renamed into place together by [`commit`]; a failure before that
+//! point removes every temporary and leaves the folder as it was. Temporaries are
+//! registered in [`crate::pending`], so an interrupt removes them too.
+//!
+//! Temporaries are created with mode 0666 less the umask, like any file a program creates
+//! (tempfile's 0600 made every result private whatever the umask).
 //!
 //! Writers get the file behind a buffer: Parquet's footer is encoded a few bytes at a
 //! time, and unbuffered it cost one system call per piece (20 427 writes for a one-run
 //! study's runs.parquet, measured with strace).
 
 use crate::error::IoError;
+use crate::pending;
 use std::fs::File;
 use std::io::{BufWriter, Write};
-use std::path::Path;
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicU64, Ordering};
+
+/// Distinguishes the temporaries of one process.
+static COUNTER: AtomicU64 = AtomicU64::new(0);
+
+/// A file being written under a temporary name beside its destination. Dropped without
+/// [`commit`], the temporary is removed.
+#[derive(Debug)]
+pub struct Staged {
+    tmp: PathBuf,
+    dest: PathBuf,
+    file: Option<File>,
+}
+
+impl Staged {
+    /// Create the temporary for `dest` (and `dest`'s folder). Its name is hidden and holds
+    /// `.tmp-` (folder readers skip it) and keeps `dest`'s extension (plot backends choose
+    /// their format by it): `.response.tmp-PID-N.svg` for `response.svg`.
+    pub fn new(dest: &Path) -> Result<Self, IoError> {
+        let dir = match dest.parent().filter(|d| !d.as_os_str().is_empty()) {
+            Some(dir) => {
+                std::fs::create_dir_all(dir).map_err(|e| IoError::fs(dir, e))?;
+                dir
+            }
+            None => Path::new("."),
+        };
+        let stem = dest.file_stem().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
+        let ext = dest.extension().map(|e| format!(".{}", e.to_string_lossy())).unwrap_or_default();
+        let pid = std::process::id();
+        loop {
+            let n = COUNTER.fetch_add(1, Ordering::Relaxed);
+            let tmp = dir.join(format!(".{stem}.tmp-{pid}-{n}{ext}"));
+            let mut opts = std::fs::OpenOptions::new();
+            opts.write(true).create_new(true);
+            #[cfg(unix)]
+            std::os::unix::fs::OpenOptionsExt::mode(&mut opts, 0o666);
+            // Registered before it exists, so no interrupt can leave it behind.
+            pending::register(&tmp);
+            match opts.open(&tmp) {
+                Ok(file) => return Ok(Staged { tmp, dest: dest.to_path_buf(), file: Some(file) }),
+                Err(e) => {
+                    pending::unregister(&tmp);
+                    if e.kind() != std::io::ErrorKind::AlreadyExists {
+                        return Err(IoError::fs(dest, e));
+                    }
+                }
+            }
+        }
+    }
+
+    /// The temporary file's path (for writers that open files by name, e.g. plots).
+    pub fn path(&self) -> &Path {
+        &self.tmp
+    }
+
+    /// The destination.
+    pub fn dest(&self) -> &Path {
+        &self.dest
+    }
+
+    /// Let `write` fill the temporary through a buffer, then flush it to disk.
+    pub fn write_with<T>(
+        &mut self,
+        write: impl FnOnce(&mut BufWriter<&mut File>) -> Result<T, IoError>,
+    ) -> Result<T, IoError> {
+        let (tmp, dest) = (&self.tmp, &self.dest);
+        let file = match self.file.as_mut() {
+            Some(f) => f,
+            None => return Err(IoError::format(dest, "written twice (internal error)")),
+        };
+        let mut buf = BufWriter::with_capacity(1 << 16, &mut *file);
+        let out = write(&mut buf)?;
+        buf.flush().map_err(|e| IoError::fs(dest, e))?;
+        drop(buf);
+        file.sync_all().map_err(|e| IoError::fs(tmp, e))?;
+        self.file = None;
+        Ok(out)
+    }
+}
+
+impl Drop for Staged {
+    fn drop(&mut self) {
+        self.file = None;
+        if !self.tmp.as_os_str().is_empty() {
+            let _ = std::fs::remove_file(&self.tmp);
+            pending::unregister(&self.tmp);
+        }
+    }
+}
+
+/// Rename every staged file into place, together: an interrupt cannot fall between two
+/// of the renames. `remove` lists earlier outputs this group replaces by nothing (a
+/// metrics-only run's old trace), deleted in the same step so the folder never mixes two
+/// runs. On an error the files not yet renamed are removed.
+pub fn commit(mut files: Vec<Staged>, remove: &[PathBuf]) -> Result<(), IoError> {
+    pending::with_registry(|registry| {
+        let mut result = Ok(());
+        for p in remove {
+            match std::fs::remove_file(p) {
+                Err(e) if e.kind() != std::io::ErrorKind::NotFound => {
+                    result = Err(IoError::fs(p, e));
+                    break;
+                }
+                _ => {}
+            }
+        }
+        // Every file is settled here, under the lock (a drop would lock the registry again).
+        for s in files.iter_mut() {
+            s.file = None;
+            if result.is_ok() {
+                if let Err(e) = std::fs::rename(&s.tmp, &s.dest) {
+                    result = Err(IoError::fs(&s.dest, e));
+                    let _ = std::fs::remove_file(&s.tmp);
+                }
+            } else {
+                let _ = std::fs::remove_file(&s.tmp);
+            }
+            if let Some(k) = registry.iter().rposition(|p| p == &s.tmp) {
+                registry.swap_remove(k);
+            }
+            s.tmp = PathBuf::new();
+        }
+        result
+    })
+}
 
 /// Create a temporary file beside `path`, let `write` fill it (through a buffer), then
-/// move it to `path`.
+/// move it to `path`. On an error the temporary is removed and `path` is untouched.
 pub fn write_atomically<T>(
     path: &Path,
     write: impl FnOnce(&mut BufWriter<&mut File>) -> Result<T, IoError>,
 ) -> Result<T, IoError> {
-    let dir = match path.parent().filter(|d| !d.as_os_str().is_empty()) {
-        Some(dir) => {
-            std::fs::create_dir_all(dir).map_err(|e| IoError::fs(dir, e))?;
-            dir
-        }
-        None => Path::new("."),
-    };
-    let name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
-    // Hidden and marked `.tmp`, so folder readers skip it while it is being written.
-    let mut tmp = tempfile::Builder::new()
-        .prefix(&format!(".{name}.tmp-"))
-        .tempfile_in(dir)
-        .map_err(|e| IoError::fs(dir, e))?;
-    let mut buf = BufWriter::with_capacity(1 << 16, tmp.as_file_mut());
-    let out = write(&mut buf)?;
-    buf.flush().map_err(|e| IoError::fs(path, e))?;
-    drop(buf);
-    tmp.as_file().sync_all().map_err(|e| IoError::fs(tmp.path(), e))?;
-    tmp.persist(path).map_err(|e| IoError::fs(path, e.error))?;
+    let mut staged = Staged::new(path)?;
+    let out = staged.write_with(write)?;
+    commit(vec![staged], &[])?;
     Ok(out)
 }

@@ -25,6 +25,9 @@ enum FileKind {
 
 /// The file's kind from its extension, after checking it exists.
 fn file_kind(path: &Path) -> Result<FileKind, IoError> {
+    if path.is_dir() {
+        return Err(IoError::format(path, "is a folder: expected a data file"));
+    }
     if !path.is_file() {
         return Err(IoError::fs(
             path,
@@ -34,13 +37,30 @@ fn file_kind(path: &Path) -> Result<FileKind, IoError> {
     let ext = path.extension().and_then(|e| e.to_str()).unwrap_or("").to_ascii_lowercase();
     match ext.as_str() {
         "parquet" | "pq" => Ok(FileKind::Parquet),
-        "csv" | "tsv" | "txt" | "dat" => Ok(FileKind::Text),
+        "csv" | "tsv" | "txt" | "dat" => {
+            refuse_binary(path)?;
+            Ok(FileKind::Text)
+        }
         _ => Err(IoError::format(
             path,
             format!(
                 "unknown file type '.{ext}': expected delimited text (.csv, .tsv, .txt, .dat) or .parquet"
             ),
         )),
+    }
+}
+
+/// Refuse a text-named file whose first bytes say it is compressed or binary (its bytes
+/// would otherwise end up in an error message about its header).
+fn refuse_binary(path: &Path) -> Result<(), IoError> {
+    use std::io::Read;
+    let mut head = Vec::with_capacity(4096);
+    File::open(path)
+        .and_then(|f| f.take(4096).read_to_end(&mut head))
+        .map_err(|e| IoError::fs(path, e))?;
+    match hd_model::text_file::binary_kind(&head) {
+        Some(kind) => Err(IoError::format(path, format!("is {kind}: expected delimited text"))),
+        None => Ok(()),
     }
 }
 
@@ -275,6 +295,16 @@ fn read_text_columns(path: &Path, names: &[&str]) -> Result<Vec<Vec<f64>>, IoErr
                 f.len(),
                 separator_name(sep),
                 k + 1,
+                present.len()
+            )));
+        }
+        // More fields than the header (a decimal comma in a comma-separated file) shift
+        // the values of the row; empty fields past the header's are trailing separators.
+        if f.len() > present.len() && f[present.len()..].iter().any(|x| !x.trim().is_empty()) {
+            return Err(at(format!(
+                "row {row}: {} {}-separated fields but the header has {}; a decimal comma in a comma-separated file? (quote such values or use ';' as separator)",
+                f.len(),
+                separator_name(sep),
                 present.len()
             )));
         }

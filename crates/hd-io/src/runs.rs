@@ -3,9 +3,10 @@
 //! are built by `hd_sweep::tables` and written by [`crate::parquet_out`]. Sweeps merge with
 //! [`merge_runs`] and [`concat_files`], which hold one window of rows at a time.
 
-use crate::atomic::write_atomically;
+use crate::atomic::{Staged, write_atomically};
 use crate::error::IoError;
 use crate::parquet_out::write_frame;
+use crate::trace::STREAM_CHUNK;
 use polars::prelude::*;
 use std::collections::HashSet;
 use std::path::{Path, PathBuf};
@@ -200,14 +201,48 @@ fn dedupe_and_sort(df: DataFrame, out: &Path) -> Result<DataFrame, IoError> {
         .map_err(IoError::polars(out, "cannot sort by run_index"))
 }
 
-/// Stack files (traces) into `out` one file at a time, in order: rows of one part file
-/// are held at once, never the whole table. Returns the number of rows.
+/// Stack Parquet files (traces) into `out` in order, [`STREAM_CHUNK`] rows at a time:
+/// memory does not grow with the files' length. Returns the number of rows.
 pub fn concat_files(files: &[PathBuf], out: &Path) -> Result<usize, IoError> {
-    write_atomically(out, |file| {
+    write_atomically(out, |file| concat_into(files, out, file))
+}
+
+/// [`concat_files`] into the staged file `staged` (committed by the caller).
+pub fn concat_files_into(files: &[PathBuf], staged: &mut Staged) -> Result<usize, IoError> {
+    let out = staged.dest().to_path_buf();
+    staged.write_with(|file| concat_into(files, &out, file))
+}
+
+/// The rows `[from, from + len)` of the Parquet file `path`.
+fn read_slice(path: &Path, from: usize, len: usize) -> Result<DataFrame, IoError> {
+    let f = std::fs::File::open(path).map_err(|e| IoError::fs(path, e))?;
+    ParquetReader::new(f)
+        .with_slice(Some((from, len)))
+        .finish()
+        .map_err(IoError::polars(path, "cannot read Parquet"))
+}
+
+/// Rows in the Parquet file `path` (from its footer).
+fn row_count(path: &Path) -> Result<usize, IoError> {
+    let f = std::fs::File::open(path).map_err(|e| IoError::fs(path, e))?;
+    ParquetReader::new(f).num_rows().map_err(IoError::polars(path, "cannot read Parquet"))
+}
+
+fn concat_into(
+    files: &[PathBuf],
+    out: &Path,
+    file: &mut std::io::BufWriter<&mut std::fs::File>,
+) -> Result<usize, IoError> {
+    {
         let mut writer = None;
         let mut written = 0usize;
-        for f in files {
-            let mut df = crate::columns::read_frame(f)?;
+        let slices =
+            files.iter().map(|f| Ok((f, row_count(f)?))).collect::<Result<Vec<_>, IoError>>()?;
+        let chunks = slices.iter().flat_map(|(f, n)| {
+            (0..*n).step_by(STREAM_CHUNK).map(move |from| (*f, from, STREAM_CHUNK.min(n - from)))
+        });
+        for (f, from, len) in chunks {
+            let mut df = read_slice(f, from, len)?;
             if df.height() == 0 {
                 continue;
             }
@@ -238,7 +273,7 @@ pub fn concat_files(files: &[PathBuf], out: &Path) -> Result<usize, IoError> {
             }
         }
         Ok(written)
-    })
+    }
 }
 
 /// [`stack_files`] written atomically to `out`. Returns the number of rows.

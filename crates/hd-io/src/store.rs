@@ -26,8 +26,8 @@ pub struct RunStore {
 impl RunStore {
     /// Open `dir` for the shard `shard = Some((k, n))` or the whole study.
     pub fn open(dir: &Path, shard: Option<(usize, usize)>) -> Result<Self, IoError> {
-        let parts = dir.join("parts");
-        std::fs::create_dir_all(&parts).map_err(|e| IoError::fs(&parts, e))?;
+        // `parts/` is created by the first commit: a refused or failed start leaves no
+        // empty folder behind.
         let tag = match shard {
             Some((k, n)) => format!("shard-{k}-of-{n}"),
             None => "all".to_string(),
@@ -59,8 +59,12 @@ impl RunStore {
     fn part_files(&self, kind: &str) -> Result<Vec<PathBuf>, IoError> {
         let parts = self.dir.join("parts");
         let prefix = format!("{kind}-{}-", self.tag);
-        let mut files: Vec<PathBuf> = std::fs::read_dir(&parts)
-            .map_err(|e| IoError::fs(&parts, e))?
+        let entries = match std::fs::read_dir(&parts) {
+            Ok(entries) => entries,
+            Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(Vec::new()),
+            Err(e) => return Err(IoError::fs(&parts, e)),
+        };
+        let mut files: Vec<PathBuf> = entries
             .filter_map(|e| e.ok().map(|e| e.path()))
             .filter(|p| {
                 p.file_name()
@@ -129,23 +133,54 @@ impl RunStore {
         runs_part.with_file_name(name.replacen("runs-", "traces-", 1))
     }
 
+    /// Where the kept trace of run `run_index` is streamed before its part is committed
+    /// (its temporary, `.traces-TAG-run-INDEX.tmp-…`, is removed with this shard's others).
+    pub fn trace_scratch(&self, run_index: usize) -> PathBuf {
+        self.dir.join("parts").join(format!("traces-{}-run-{run_index}.parquet", self.tag))
+    }
+
+    /// Commit a batch of runs as one part whose kept traces were streamed to the Parquet
+    /// files `trace_files` (one per run, in run order; see [`Self::trace_scratch`]): they
+    /// are stacked a window of rows at a time into the part's traces table, then the runs
+    /// table that makes the batch count as done is written.
+    pub fn commit_streamed(
+        &mut self,
+        runs: &OutTable,
+        trace_files: &[PathBuf],
+    ) -> Result<(), IoError> {
+        if runs.height() == 0 {
+            return Ok(());
+        }
+        let path = self.next_part_path();
+        if !trace_files.is_empty() {
+            let mut staged = crate::atomic::Staged::new(&self.traces_twin(&path))?;
+            crate::runs::concat_files_into(trace_files, &mut staged)?;
+            crate::atomic::commit(vec![staged], &[])?;
+        }
+        write_out_table(&path, runs)
+    }
+
+    /// The path of the next runs part.
+    fn next_part_path(&mut self) -> PathBuf {
+        // Sequence numbers are zero-padded so that name order is commit order; skip any
+        // number already taken (parts left by an earlier, interrupted process).
+        let parts = self.dir.join("parts");
+        loop {
+            let path = parts.join(format!("runs-{}-{:06}.parquet", self.tag, self.next_seq));
+            self.next_seq += 1;
+            if !path.exists() {
+                return path;
+            }
+        }
+    }
+
     /// Commit a batch of runs as one part: its traces table (if any rows kept one) first,
     /// then the runs table that makes the batch count as done.
     pub fn commit(&mut self, runs: &OutTable, traces: Option<&OutTable>) -> Result<(), IoError> {
         if runs.height() == 0 {
             return Ok(());
         }
-        // Sequence numbers are zero-padded so that name order is commit order; skip any
-        // number already taken (parts left by an earlier, interrupted process).
-        let parts = self.dir.join("parts");
-        let mut path;
-        loop {
-            path = parts.join(format!("runs-{}-{:06}.parquet", self.tag, self.next_seq));
-            self.next_seq += 1;
-            if !path.exists() {
-                break;
-            }
-        }
+        let path = self.next_part_path();
         if let Some(t) = traces.filter(|t| t.height() > 0) {
             write_out_table(&self.traces_twin(&path), t)?;
         }

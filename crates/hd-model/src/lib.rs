@@ -33,6 +33,7 @@ pub mod solver;
 pub mod state;
 pub mod stepper;
 pub mod system;
+pub mod text_file;
 pub mod trace;
 pub mod variant;
 

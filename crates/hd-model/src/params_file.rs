@@ -79,6 +79,9 @@ pub fn line_of(text: &str, pos: usize) -> usize {
 /// error messages.
 pub fn apply_params_toml(base: &mut Params, text: &str, file: &str) -> Result<(), ParamError> {
     let table = spanned_table(text, file)?;
+    // Canonical name → the key that set it: `A` and `mem_A` in one file would leave one
+    // of the two values silently unused.
+    let mut seen: BTreeMap<&str, &str> = BTreeMap::new();
     for (key, value) in &table {
         if key.get_ref() == CONTROLLER_KEY || key.get_ref() == STIFFNESS_KEY {
             continue;
@@ -89,6 +92,13 @@ pub fn apply_params_toml(base: &mut Params, text: &str, file: &str) -> Result<()
             message,
         };
         let info = lookup(key.get_ref()).map_err(|e| at(e.to_string()))?;
+        if let Some(first) = seen.insert(info.name, key.get_ref()) {
+            return Err(at(format!(
+                "'{}' and '{first}' are two names for one parameter ({}): keep one",
+                key.get_ref(),
+                info.name
+            )));
+        }
         let v = match value.get_ref() {
             toml::Value::Float(f) => *f,
             toml::Value::Integer(i) => *i as f64,

@@ -120,7 +120,7 @@ impl SimConfig {
         let bad = |field: &str, value: f64, expected: &str| {
             Err(ConfigError::Invalid {
                 field: field.to_string(),
-                value: value.to_string(),
+                value: crate::error::num(value),
                 expected: expected.to_string(),
             })
         };
@@ -136,6 +136,9 @@ impl SimConfig {
         }
         if !(s.atol.is_finite() && s.atol > 0.0) {
             return bad("atol", s.atol, "an absolute tolerance > 0");
+        }
+        if s.max_steps == 0 {
+            return bad("max_steps", 0.0, "at least 1 step");
         }
         if s.h_max.is_nan() || s.h_max <= 0.0 {
             return bad("h_max", s.h_max, "a step bound > 0 [s]");

@@ -191,9 +191,14 @@ fn slip_set(p: &Params) -> Result<SlipSet, ConfigError> {
         return SlipSet::new(&used).map_err(|e| invalid("ms_k<i>, ms_f<i>", used.len(), e));
     }
     if p.ms_n.fract() != 0.0 {
-        return Err(invalid("ms_n", p.ms_n, "a whole number of elements in [1, 12]"));
+        return Err(invalid(
+            "ms_n",
+            crate::error::num(p.ms_n),
+            "a whole number of elements in [1, 12]",
+        ));
     }
-    SlipSet::even(p.ms_n as usize, p.ms_k, p.ms_delta).map_err(|e| invalid("ms_n", p.ms_n, e))
+    SlipSet::even(p.ms_n as usize, p.ms_k, p.ms_delta)
+        .map_err(|e| invalid("ms_n", crate::error::num(p.ms_n), e))
 }
 
 /// The catalogue law: the rounded three-segment curve, less the first-loading torque of

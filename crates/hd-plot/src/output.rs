@@ -62,27 +62,34 @@ pub(crate) fn render<F: Figure>(path: &Path, figure: &F) -> Result<(), PlotError
     };
     std::fs::create_dir_all(dir)
         .map_err(|source| PlotError::CreateDir { path: path.to_path_buf(), source })?;
+    let size = figure.size();
+    let draw = |target: &Path| match format {
+        Format::Svg => draw_on(&SVGBackend::new(target, size).into_drawing_area(), figure),
+        Format::Png => draw_on(&BitMapBackend::new(target, size).into_drawing_area(), figure),
+    };
+    let failed = |DrawError(message)| PlotError::Draw { path: path.to_path_buf(), message };
+    // A hidden target is already the caller's temporary (a run's outputs are staged and
+    // renamed together): drawn in place.
+    if path.file_name().is_some_and(|n| n.to_string_lossy().starts_with('.')) {
+        return draw(path).map_err(failed);
+    }
     // Drawn into a hidden temporary file beside the target, then moved over it (tempfile's
     // persist), so a reader never sees half a plot. It keeps the extension because the PNG
-    // encoder picks its format from it; it is removed if drawing fails.
+    // encoder picks its format from it; it is removed if drawing fails. Mode 0666 less
+    // the umask, like any other file (tempfile's default, 0600, made plots private).
     let ext = path.extension().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
-    let tmp = tempfile::Builder::new()
-        .prefix(".plot.tmp-")
-        .suffix(&format!(".{ext}"))
+    let suffix = format!(".{ext}");
+    let mut builder = tempfile::Builder::new();
+    builder.prefix(".plot.tmp-").suffix(&suffix);
+    #[cfg(unix)]
+    builder.permissions(std::os::unix::fs::PermissionsExt::from_mode(0o666));
+    let tmp = builder
         .tempfile_in(dir)
         .map_err(|source| PlotError::Write { path: path.to_path_buf(), source })?;
-    let size = figure.size();
-    let drawn = match format {
-        Format::Svg => draw_on(&SVGBackend::new(tmp.path(), size).into_drawing_area(), figure),
-        Format::Png => draw_on(&BitMapBackend::new(tmp.path(), size).into_drawing_area(), figure),
-    };
-    match drawn {
-        Ok(()) => tmp
-            .persist(path)
-            .map(|_| ())
-            .map_err(|e| PlotError::Write { path: path.to_path_buf(), source: e.error }),
-        Err(DrawError(message)) => Err(PlotError::Draw { path: path.to_path_buf(), message }),
-    }
+    draw(tmp.path()).map_err(failed)?;
+    tmp.persist(path)
+        .map(|_| ())
+        .map_err(|e| PlotError::Write { path: path.to_path_buf(), source: e.error })
 }
 
 /// Fill white, draw, and flush to the file.

@@ -16,7 +16,7 @@ fn damped_grid(c: &mut Criterion) {
     for threads in [1usize, 2] {
         let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
         group.bench_function(format!("{threads} thread(s)"), |b| {
-            b.iter(|| pool.install(|| run_batch(&runs, 1, &|_| {})))
+            b.iter(|| pool.install(|| run_batch(&runs, 1, &|_| {}, None)))
         });
     }
     group.finish();

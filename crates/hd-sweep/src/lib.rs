@@ -21,5 +21,5 @@ pub use manifest::StudyManifest;
 pub use parse::{load_study, parse_study};
 pub use plan::{MAX_RUNS, RunPlan, TooManyRuns};
 pub use row::{RunRow, RunStatus};
-pub use runner::run_batch;
+pub use runner::{TraceSink, TracedRun, run_batch};
 pub use study::{RunSpec, Study};

@@ -2,10 +2,11 @@
 //! catalogue stiffness law (three spring rates, rounded corners, optional hysteresis loss)
 //! and the seed law's spring a, b, c matched over the rated range, with a plot of both.
 
-use super::common::{ensure_dir, write_json};
-use anyhow::{Result, anyhow};
+use super::common::{ensure_dir, stage_json};
+use anyhow::{Result, anyhow, bail};
 use clap::Args;
 use hd_ident::datasheet::{lost_motion, match_spring};
+use hd_io::atomic::Staged;
 use hd_model::laws::catalogue::{CatalogueCurve, loop_width, with_loss};
 use hd_model::laws::stiffness::ElasticCurve;
 use hd_plot::{Series, overlay_plot};
@@ -18,6 +19,7 @@ const ARCMIN: f64 = std::f64::consts::PI / (180.0 * 60.0);
 /// Parameters from a catalogue's stiffness data.
 #[derive(Args, Debug)]
 #[command(
+    allow_negative_numbers = true,
     after_help = "The catalogue curve: K1 up to T1, K2 from T1 to T2, K3 beyond, the same in both directions, each\n\
 corner rounded over 10 % of the shorter segment so the slope is continuous (outside the corners the\n\
 curve is exactly the three segments). A hysteresis loss (the loop width at zero torque after loading\n\
@@ -58,12 +60,14 @@ pub struct DatasheetArgs {
     pub out: PathBuf,
 }
 
-fn write_text(path: &std::path::Path, text: &str) -> Result<()> {
-    hd_io::atomic::write_atomically(path, |f| {
+/// `text` written to a temporary beside `path`, committed with the other outputs.
+fn stage_text(path: &std::path::Path, text: &str) -> Result<Staged> {
+    let mut staged = Staged::new(path)?;
+    staged.write_with(|f| {
         use std::io::Write;
         f.write_all(text.as_bytes()).map_err(|e| hd_io::IoError::fs(path, e))
     })?;
-    Ok(())
+    Ok(staged)
 }
 
 /// Run `hdw datasheet`.
@@ -87,6 +91,45 @@ pub fn run(a: DatasheetArgs) -> Result<()> {
     let th_r = m.rated_deflection;
     let model_loss = loop_width(&law, th_r) / ARCMIN;
     let model_lm = lost_motion(&law, rated) / ARCMIN;
+    // Values the files will hold must be ones `hdw simulate` accepts: extreme inputs
+    // (1e308) overflow the match to zeros or infinities.
+    let mut written = vec![
+        ("cat_K1", a.k1),
+        ("cat_K2", a.k2),
+        ("cat_K3", a.k3),
+        ("cat_T1", a.t1),
+        ("cat_T2", a.t2),
+        ("cat_rated", rated),
+        ("cat_loss", loss_arcmin * ARCMIN),
+        ("a", m.a),
+        ("b", m.b),
+        ("c", m.c),
+    ];
+    let names: Vec<(String, String)> =
+        (1..=law.elements.len()).map(|i| (format!("ms_k{i}"), format!("ms_f{i}"))).collect();
+    for ((k, f), e) in names.iter().zip(&law.elements) {
+        written.push((k.as_str(), e.k));
+        written.push((f.as_str(), e.f));
+    }
+    for (name, v) in written {
+        let ok = hd_model::registry::lookup(name).and_then(|p| p.check(v)).is_ok();
+        if !ok || !v.is_finite() {
+            bail!(
+                "these catalogue values give {name} = {v:e}, which a params file cannot hold (hdw simulate would refuse it): check the units (N·m/rad, N·m, arcmin) and magnitudes"
+            );
+        }
+    }
+    for (what, v) in [
+        ("rated deflection", th_r),
+        ("model hysteresis loss", model_loss),
+        ("model lost motion", model_lm),
+    ] {
+        if !v.is_finite() {
+            bail!(
+                "these catalogue values give a {what} of {v}: check the units (N·m/rad, N·m, arcmin) and magnitudes"
+            );
+        }
+    }
     let dir = ensure_dir(&a.out)?;
 
     let mut cat =
@@ -119,7 +162,8 @@ pub fn run(a: DatasheetArgs) -> Result<()> {
             );
         }
     }
-    write_text(&dir.join("catalogue.toml"), &cat)?;
+    // The four outputs are staged and renamed into place together.
+    let mut staged = vec![stage_text(&dir.join("catalogue.toml"), &cat)?];
     let seed = format!(
         "# Seed-law spring matched to the catalogue curve over ±{th_r:.4e} rad (±{rated} N·m) by hdw datasheet:\n\
          # RMS torque error {:.3e} N·m, largest {:.3e} N·m ({:.2} % of the rated torque).\n\
@@ -131,7 +175,7 @@ pub fn run(a: DatasheetArgs) -> Result<()> {
         m.b,
         m.c
     );
-    write_text(&dir.join("seed-params.toml"), &seed)?;
+    staged.push(stage_text(&dir.join("seed-params.toml"), &seed)?);
     let summary = serde_json::json!({
         "catalogue": {"cat_K1": a.k1, "cat_K2": a.k2, "cat_K3": a.k3, "cat_T1": a.t1, "cat_T2": a.t2,
                       "rated_torque": rated, "cat_loss": loss_arcmin * ARCMIN},
@@ -141,7 +185,7 @@ pub fn run(a: DatasheetArgs) -> Result<()> {
         "hysteresis_loss_arcmin": {"catalogue": a.hysteresis_loss, "model": model_loss},
         "lost_motion_arcmin": {"catalogue": a.lost_motion, "model": model_lm},
     });
-    write_json(&dir.join("datasheet.json"), &summary)?;
+    staged.push(stage_json(&dir.join("datasheet.json"), &summary)?);
 
     let n = 801;
     let th: Vec<f64> = (0..n).map(|k| th_r * (2.0 * k as f64 / (n - 1) as f64 - 1.0)).collect();
@@ -168,13 +212,16 @@ pub fn run(a: DatasheetArgs) -> Result<()> {
             tb[k0..].to_vec(),
         ));
     }
+    let plot = Staged::new(&dir.join("curves.svg"))?;
     overlay_plot(
-        &dir.join("curves.svg"),
+        plot.path(),
         "Catalogue stiffness and the matched seed-law spring",
         "θ [rad]",
         "T [N·m]",
         &series,
     )?;
+    staged.push(plot);
+    hd_io::atomic::commit(staged, &[])?;
     println!(
         "deflection at the rated torque {rated} N·m: {th_r:.4e} rad\nseed spring: a = {:.4e} N·m/rad³, b = {:.3e} N·m/rad², c = {:.4e} N·m/rad; RMS error {:.3e} N·m, largest {:.3e} N·m\nhysteresis loss: model {model_loss:.4} arcmin{}\nlost motion (±4 % rated torque): model {model_lm:.4} arcmin{}",
         m.a,

@@ -100,6 +100,7 @@ fn run_fmu(a: FmuArgs) -> Result<()> {
         friction_velocity: a.friction_velocity,
         cycles: 5,
         no_trace: true,
+        max_output_values: 0,
         control: a.control,
         out: PathBuf::new(),
     };

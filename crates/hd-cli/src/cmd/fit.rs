@@ -18,6 +18,7 @@ use std::path::{Path, PathBuf};
 /// Fit model parameters to recorded data.
 #[derive(Args, Debug)]
 #[command(
+    allow_negative_numbers = true,
     after_help = "Each fit writes DIR/fit.json (values, standard errors, 95 % intervals, a determined flag with the\n\
 reason when the data cannot fix a parameter, correlations, RMS, R², iterations, termination), the\n\
 fitted signals and SVG plots, and prints a table.\n\n\
@@ -41,6 +42,7 @@ pub enum FitWhat {
 /// `hdw fit friction`.
 #[derive(Args, Debug)]
 #[command(
+    allow_negative_numbers = true,
     after_help = "One time series (--transient alone): every LuGre parameter at once. The bristle state runs along\n\
 the measured ω(t) (linear between samples, from the first measured torque) with hd-model's\n\
 LuGre law and Rodas4; σ1, σ2 (and the offset) follow by linear least squares at every trial. The\n\

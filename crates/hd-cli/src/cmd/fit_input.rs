@@ -15,6 +15,16 @@ pub fn column_names(text: &str, counts: &[usize], flag: &str) -> Result<Vec<Stri
         let n: Vec<String> = counts.iter().map(|c| c.to_string()).collect();
         bail!("{flag} {text}: expected {} comma-separated column names", n.join(" or "));
     }
+    // One column in two roles (time read as deflection) fits nonsense without a word.
+    for (k, name) in names.iter().enumerate() {
+        if let Some(j) = names[..k].iter().position(|m| m == name) {
+            bail!(
+                "{flag} {text}: column '{name}' is named twice (positions {} and {}): each role needs its own column",
+                j + 1,
+                k + 1
+            );
+        }
+    }
     Ok(names)
 }
 

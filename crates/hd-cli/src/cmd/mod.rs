@@ -20,4 +20,5 @@ pub mod sim_progress;
 pub mod simulate;
 pub mod study;
 pub mod study_json;
+pub mod study_traces;
 pub mod synth;

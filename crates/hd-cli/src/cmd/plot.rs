@@ -181,6 +181,12 @@ fn draw(
                 .clone()
                 .unwrap_or_else(|| format!("{value} ({}) over {x} and {y}{suffix}", func.name()));
             let color_label = format!("{} ({})", label(value), func.name());
+            if args.log_x {
+                note_log_drops("--log-x", x, "columns of cells", &g.xs);
+            }
+            if args.log_y {
+                note_log_drops("--log-y", y, "rows of cells", &g.ys);
+            }
             hd_plot::heatmap(
                 out,
                 &title,
@@ -203,6 +209,10 @@ fn draw(
                 .clone()
                 .unwrap_or_else(|| format!("{value} ({}) against {x}{suffix}", func.name()));
             let y_label = format!("{} ({})", label(value), func.name());
+            if args.log_x {
+                let xs: Vec<f64> = curves.iter().flat_map(|c| c.x.iter().copied()).collect();
+                note_log_drops("--log-x", x, "points", &xs);
+            }
             hd_plot::line_plot(out, &title, &label(x), &y_label, &series(curves), args.log_x)?;
             eprintln!("wrote {}", out.display());
             most
@@ -216,6 +226,18 @@ fn draw(
         );
     }
     Ok(())
+}
+
+/// Say how many of `values` (of column `column`) a log axis leaves out: zero and negative
+/// numbers have no place on it.
+fn note_log_drops(flag: &str, column: &str, what: &str, values: &[f64]) {
+    let dropped = values.iter().filter(|v| **v <= 0.0).count();
+    if dropped > 0 {
+        eprintln!(
+            "note: {flag} leaves out {dropped} of {} {what} with {column} <= 0; plot without {flag}, or --filter '{column} > 0' to say so",
+            values.len()
+        );
+    }
 }
 
 fn series(curves: Vec<Curve>) -> Vec<Series> {
@@ -268,6 +290,10 @@ fn plot_traces(args: &PlotArgs, ds: Dataset, x: &str, y: &str) -> Result<()> {
         format!("{y} against {x}")
     };
     let title = args.title.clone().unwrap_or(what);
+    if args.log_x {
+        let xs: Vec<f64> = curves.iter().flat_map(|c| c.x.iter().copied()).collect();
+        note_log_drops("--log-x", x, "points", &xs);
+    }
     hd_plot::line_plot(&args.out, &title, &label(x), &label(y), &series(curves), args.log_x)
         .with_context(|| format!("plotting {}", args.source))?;
     eprintln!("wrote {}", args.out.display());

@@ -15,6 +15,7 @@ use std::path::PathBuf;
 /// Global sensitivity: Sobol' indices (first order, total) and Morris screening.
 #[derive(Args, Debug)]
 #[command(
+    allow_negative_numbers = true,
     group(ArgGroup::new("what").args(["dir", "check"]).required(true).multiple(false)),
     after_help = "Give exactly one of DIR or --check.\n\nDIR: the output folder of `hdw study` on a study whose [sample] has method = \"sobol\" or\n\"morris\" (see docs/sensitivity.md). Reads DIR/study.json and every DIR/runs*.parquet (all shards);\nfailed runs, and runs missing from the tables, drop their whole base row (Sobol') or trajectory\n(Morris), counted as n_dropped. Writes DIR/sensitivity.parquet (part, method, parameter, metric,\nS1, S1_lo, S1_hi, ST, ST_lo, ST_hi, mu, mu_star, sigma, n_used, n_dropped, note), one bar chart\nper metric DIR/sensitivity-<metric>.svg, DIR/sensitivity.md, and the same section at the end of\nDIR/report.md. `hdw study` runs this by itself at the end of a study with such a design.\n\n--check ishigami runs the same design and estimator code on the Ishigami function (a = 7, b = 0.1;\nx1, x2, x3 uniform on [-pi, pi]) and prints computed beside analytic indices:\nS1 ~ (0.3139, 0.4424, 0), ST ~ (0.5576, 0.4424, 0.2437). At the default N = 4096 base samples\n(20480 runs) every index is within 0.02; Morris mu* must rank x1 and x2 above x3. Exits non-zero\nwhen either fails. --samples, --trajectories and --levels apply to the check only.\n\n--format json prints one object. For DIR: parts (part, method, parameters, metrics, groups, runs,\nfailed, missing), rows (as in sensitivity.parquet, NaN as null), ranking (per part and metric,\nparameters best first) and files. For the check: arrays S1, ST, S1_analytic, ST_analytic (order\nx1, x2, x3), their intervals S1_lo/S1_hi/ST_lo/ST_hi, mu_star, mu, sigma, and the sample counts.\n\nExamples:\n  hdw study studies/morris-screening.toml --out out/morris   # analyses at the end\n  hdw sensitivity out/morris --metrics thz_amp,efficiency --format json\n  hdw sensitivity out/morris --bootstrap 2000 --seed 7   # more resamples\n  hdw sensitivity --check ishigami\n  hdw sensitivity --check ishigami --samples 1024 --seed 3 --format json"
 )]
@@ -78,8 +79,32 @@ pub fn config(args: &SensitivityArgs) -> IshigamiCheckConfig {
     }
 }
 
+/// Most Sobol' base samples of the check [–]: N·(d+2) = 10.5 million evaluations, their
+/// design about 250 MB.
+pub const MAX_CHECK_SAMPLES: usize = 1 << 21;
+/// Most Morris trajectories of the check [–].
+pub const MAX_CHECK_TRAJECTORIES: usize = 1 << 20;
+/// Most bootstrap resamples [–]: the intervals settle within a few thousand, and each
+/// resample costs a pass over every base row.
+pub const MAX_BOOTSTRAP: usize = 100_000;
+
+/// Refuse counts above the stated limits before anything is allocated.
+fn check_counts(args: &SensitivityArgs) -> Result<()> {
+    for (flag, v, max) in [
+        ("--samples", args.samples, MAX_CHECK_SAMPLES),
+        ("--trajectories", args.trajectories, MAX_CHECK_TRAJECTORIES),
+        ("--bootstrap", args.bootstrap, MAX_BOOTSTRAP),
+    ] {
+        if v > max {
+            anyhow::bail!("{flag} {v}: expected at most {max}");
+        }
+    }
+    Ok(())
+}
+
 /// Run `hdw sensitivity`.
 pub fn run(args: SensitivityArgs) -> Result<()> {
+    check_counts(&args)?;
     match (&args.dir, args.check) {
         (Some(dir), None) => {
             let options = Options {

@@ -1,18 +1,22 @@
 //! `hdw simulate`: one run, written as trace.parquet, metrics.json and response.svg.
 
-use super::common::{ensure_dir, load_params, write_json};
+use super::common::{
+    DEFAULT_MAX_OUTPUT_VALUES, check_output_size, ensure_dir, load_params, read_params_text,
+    stage_json,
+};
 use super::control_args::ControlArgs;
 use super::envelope::Envelope;
 use super::sim_progress::SimProgress;
 use anyhow::{Context, Result};
 use clap::{Args, ValueEnum};
+use hd_io::atomic::Staged;
 use hd_model::params_file::{controller_from_toml, stiffness_from_toml};
 use hd_model::signals::Sample;
 use hd_model::simulate::input_from_kind;
 use hd_model::{
     FrictionVelocity, HystLaw, Input, Method, MetricSettings, SimConfig, SolverOptions, Variant,
 };
-use hd_model::{Trace, simulate_streaming};
+use hd_model::{TRACE_COLUMNS, Trace, simulate_streaming};
 use serde_json::json;
 use std::path::{Path, PathBuf};
 
@@ -22,7 +26,8 @@ const FULL_PLOT_SAMPLES: f64 = 200_000.0;
 /// Simulate one run of the motor–harmonic-drive–load system.
 #[derive(Args, Debug)]
 #[command(
-    after_help = "Outputs (in --out DIR):\n  trace.parquet  t, u, i, theta_j, omega_j, theta_z, omega_z, theta, z, s, Tb, Tf, K, C0 (SI units)\n  metrics.json   every metric, the parameters used, solver statistics and wall time\n  response.svg   load angle over time and the Tb–θ loop\n(--no-trace writes metrics.json only.)\nClosed loop (--controller pid) adds the trace columns ref, error, u_ff, tf_hat, tb_hat and the\nmetrics track_rms, track_max, reversal_peak, u_rms, saturation_fraction, torque_est_rms, ….\n\nExample:\n  hdw simulate --out out/demo\n  hdw simulate --stiffness maxwell-slip --set ms_n=10 --set ms_delta=3e-5 --out out/slip\n  hdw datasheet --k1 6.7e4 --k2 1.1e5 --k3 1.2e5 --t1 29 --t2 108 --hysteresis-loss 1 --out out/ds\n  hdw simulate --params out/ds/catalogue.toml --out out/catalogue   (the file says stiffness = \"catalogue\")\n  hdw simulate --variant damped --set Kbar=5e5 --input step --voltage 12 --t-end 0.1 --out out/step\n  hdw simulate --controller pid --kp 2000 --ki 20000 --kd 0 --feedback load --reference sine \\\n      --ref-amplitude 1e-3 --ref-freq 0.2 --t-end 12 --set Tc=1.5 --set Ts=2.5 --compensation friction --out out/pid\n  hdw simulate --controller pid --reference step --ref-amplitude 1e-3 --load-torque 5 --t-end 2 --out out/reg"
+    allow_negative_numbers = true,
+    after_help = "Outputs (in --out DIR):\n  trace.parquet  t, u, i, theta_j, omega_j, theta_z, omega_z, theta, z, s, Tb, Tf, K, C0 (SI units)\n  metrics.json   every metric, the parameters used, solver statistics and wall time\n  response.svg   load angle over time and the Tb–θ loop\n(--no-trace writes metrics.json only.) The files are written under temporary names and renamed\ninto place together when the run succeeds: a failed or interrupted (Ctrl-C) run leaves DIR as it was.\nClosed loop (--controller pid) adds the trace columns ref, error, u_ff, tf_hat, tb_hat and the\nmetrics track_rms, track_max, reversal_peak, u_rms, saturation_fraction, torque_est_rms, ….\n\nExample:\n  hdw simulate --out out/demo\n  hdw simulate --stiffness maxwell-slip --set ms_n=10 --set ms_delta=3e-5 --out out/slip\n  hdw datasheet --k1 6.7e4 --k2 1.1e5 --k3 1.2e5 --t1 29 --t2 108 --hysteresis-loss 1 --out out/ds\n  hdw simulate --params out/ds/catalogue.toml --out out/catalogue   (the file says stiffness = \"catalogue\")\n  hdw simulate --variant damped --set Kbar=5e5 --input step --voltage 12 --t-end 0.1 --out out/step\n  hdw simulate --controller pid --kp 2000 --ki 20000 --kd 0 --feedback load --reference sine \\\n      --ref-amplitude 1e-3 --ref-freq 0.2 --t-end 12 --set Tc=1.5 --set Ts=2.5 --compensation friction --out out/pid\n  hdw simulate --controller pid --reference step --ref-amplitude 1e-3 --load-torque 5 --t-end 2 --out out/reg"
 )]
 pub struct SimulateArgs {
     /// Parameter file (TOML, registry names as keys, e.g. `c = 6e4`).
@@ -71,9 +76,14 @@ pub struct SimulateArgs {
     #[arg(long, default_value_t = 5)]
     pub cycles: usize,
     /// Metrics only: no trace.parquet and no response.svg (nothing is sampled, so memory
-    /// does not grow with the simulated time).
+    /// does not grow with the simulated time); an earlier run's trace and plot in --out
+    /// are removed, so the folder holds one run.
     #[arg(long)]
     pub no_trace: bool,
+    /// Most trace values (samples × columns) a run may write; a run estimated above it is
+    /// refused before it starts [–]. 0 lifts the limit.
+    #[arg(long, default_value_t = DEFAULT_MAX_OUTPUT_VALUES, value_name = "N")]
+    pub max_output_values: u64,
     /// Closed-loop control and load torque.
     #[command(flatten)]
     pub control: ControlArgs,
@@ -185,8 +195,7 @@ pub fn config(args: &SimulateArgs) -> Result<SimConfig> {
     let input = parse_input(&args.input, args.voltage, args.freq)?;
     let (from_file, law_in_file) = match &args.params {
         Some(path) => {
-            let text = std::fs::read_to_string(path)
-                .with_context(|| format!("cannot read params file {}", path.display()))?;
+            let text = read_params_text(path)?;
             let name = path.display().to_string();
             (controller_from_toml(&text, &name)?, stiffness_from_toml(&text, &name)?)
         }
@@ -219,18 +228,38 @@ pub fn config(args: &SimulateArgs) -> Result<SimConfig> {
     Ok(cfg)
 }
 
-/// Run `hdw simulate`.
+/// Run `hdw simulate`. A failed run leaves `--out` as it was: an earlier run's files
+/// untouched, and no empty folder where there was none.
 pub fn run(args: SimulateArgs) -> Result<()> {
-    let cfg = config(&args)?;
-    let dir = ensure_dir(&args.out)?;
-    // The trace streams to trace.parquet in row groups while the solve runs; the plot gets
-    // every sample of a short run and the per-bucket envelope of a long one.
+    let existed = args.out.exists();
+    let result = run_into(&args);
+    if result.is_err() && !existed {
+        // Only succeeds while empty.
+        let _ = std::fs::remove_dir(&args.out);
+    }
+    result
+}
+
+fn run_into(args: &SimulateArgs) -> Result<()> {
+    let cfg = config(args)?;
     let expected = cfg.t_end / cfg.output_interval();
+    if cfg.record_trace {
+        check_output_size(expected, TRACE_COLUMNS.len(), args.max_output_values)?;
+    }
+    let dir = ensure_dir(&args.out)?;
+    let trace_path = dir.join("trace.parquet");
+    let plot_path = dir.join("response.svg");
+    // Every output is staged under a temporary name and renamed into place together at
+    // the end: a failed or interrupted run leaves the folder as it was.
+    let mut staged = Vec::new();
+    // The trace streams to its temporary in row groups while the solve runs; the plot gets
+    // every sample of a short run and the per-bucket envelope of a long one.
     let (out, plot_trace) = if cfg.record_trace {
         let mut full = (expected <= FULL_PLOT_SAMPLES).then(Trace::default);
         let mut env = Envelope::new(cfg.t_end);
         let mut progress = SimProgress::new(cfg.t_end);
-        let out = hd_io::stream_trace(&dir.join("trace.parquet"), |sink| {
+        let mut trace_file = Staged::new(&trace_path)?;
+        let out = hd_io::stream_trace_into(&mut trace_file, None, |sink| {
             simulate_streaming(
                 &cfg,
                 Some(&mut |s: &Sample| {
@@ -245,6 +274,7 @@ pub fn run(args: SimulateArgs) -> Result<()> {
         })?
         .context("simulation failed")?;
         progress.finish();
+        staged.push(trace_file);
         (out, Some(full.unwrap_or_else(|| env.finish())))
     } else {
         (simulate_streaming(&cfg, None).context("simulation failed")?, None)
@@ -287,14 +317,20 @@ pub fn run(args: SimulateArgs) -> Result<()> {
         },
         "tool": { "name": "hdw", "version": env!("CARGO_PKG_VERSION") },
     });
-    write_json(&dir.join("metrics.json"), &doc)?;
+    staged.push(stage_json(&dir.join("metrics.json"), &doc)?);
     let title = match &cfg.controller {
         Some(c) => format!("{} variant, PID, {} compensation", cfg.variant, c.compensation),
         None => format!("{} variant, {}", cfg.variant, input_label(&cfg.input)),
     };
     if let Some(trace) = plot_trace.as_ref() {
-        hd_plot::response_plot(&dir.join("response.svg"), trace, &title)?;
+        let plot = Staged::new(&plot_path)?;
+        hd_plot::response_plot(plot.path(), trace, &title)?;
+        staged.push(plot);
     }
+    // A metrics-only run replaces an earlier run's trace and plot by nothing, so the
+    // folder never holds metrics of one run beside the trace of another.
+    let replaced = if cfg.record_trace { vec![] } else { vec![trace_path, plot_path] };
+    hd_io::atomic::commit(staged, &replaced)?;
     if cfg.controller.is_some() {
         let m = &out.metrics;
         eprintln!(

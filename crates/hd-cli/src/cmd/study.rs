@@ -2,14 +2,16 @@
 //! commit results in parts (resumable, shardable), then write the report.
 
 use super::batching::PartSizer;
+use super::common::DEFAULT_MAX_OUTPUT_VALUES;
 use super::common::ensure_dir;
-use super::study_json::write_study_json;
+use super::study_json::{read_manifest, write_study_json};
+use super::study_traces::{TraceFiles, check_traces_size};
 use crate::report;
 use anyhow::{Context, Result, bail};
 use clap::Args;
 use hd_io::store::RunStore;
-use hd_sweep::tables::{runs_table, traces_table};
-use hd_sweep::{RunPlan, RunRow, RunSpec, load_study, run_batch};
+use hd_sweep::tables::runs_table;
+use hd_sweep::{RunPlan, RunRow, RunSpec, TraceSink, load_study, run_batch};
 use indicatif::{ProgressBar, ProgressStyle};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicUsize, Ordering};
@@ -41,6 +43,30 @@ pub struct StudyArgs {
     /// Run only the named part(s) of a multi-part study (repeatable).
     #[arg(long = "part", value_name = "NAME")]
     pub parts: Vec<String>,
+    /// Most trace values (samples × columns, all kept traces of this run of the study
+    /// together) it may write; refused before any run starts above it [–]. 0 lifts it.
+    #[arg(long, default_value_t = DEFAULT_MAX_OUTPUT_VALUES, value_name = "N")]
+    pub max_output_values: u64,
+}
+
+/// Most worker threads (`--threads`) [–]: far beyond any machine's cores, and each costs
+/// a stack.
+pub const MAX_THREADS: usize = 1024;
+
+/// Refuse `dir` when its study.json is another study's: resuming would fail on the first
+/// run and a fresh start would mix two studies.
+fn refuse_other_study(dir: &Path, name: &str) -> Result<()> {
+    if !dir.join("study.json").exists() {
+        return Ok(());
+    }
+    match read_manifest(dir) {
+        Ok(m) if m.name != name => bail!(
+            "{} holds the results of study '{}', not '{name}': choose another --out",
+            dir.display(),
+            m.name
+        ),
+        _ => Ok(()),
+    }
 }
 
 /// Parse `K/N` with 1 ≤ K ≤ N.
@@ -72,15 +98,25 @@ pub fn run(args: StudyArgs) -> Result<()> {
         study.compare.retain(|c| args.parts.contains(&c.part));
     }
     let shard_kn = args.shard.as_deref().map(parse_shard).transpose()?;
-    if args.threads == Some(0) {
-        bail!("--threads 0: expected at least 1 thread");
+    if let Some(t) = args.threads.filter(|t| !(1..=MAX_THREADS).contains(t)) {
+        bail!("--threads {t}: expected 1 to {MAX_THREADS} threads");
     }
     // The run count comes from the axes: a study too large is refused before anything is
     // written, and nothing below holds one item per run of the study.
     let plan = RunPlan::new(&study)?;
+    let (k, n) = shard_kn.map_or((1, 1), |(k, n)| (k as u64, n as u64));
+    if study.traces.keep {
+        check_traces_size(&plan, k, n, study.traces.decimate, args.max_output_values)?;
+    }
     let dir =
         ensure_dir(&args.out.clone().unwrap_or_else(|| PathBuf::from("out").join(&study.name)))?;
-    let (k, n) = shard_kn.map_or((1, 1), |(k, n)| (k as u64, n as u64));
+    // One process per folder (and shard): a second would run every run again.
+    let lock_name = match shard_kn {
+        Some((k, n)) => format!(".hdw-study-shard-{k}-of-{n}.lock"),
+        None => ".hdw-study.lock".to_string(),
+    };
+    let _lock = hd_io::lock::lock_folder(&dir.join(lock_name), "a study")?;
+    refuse_other_study(&dir, &study.name)?;
     let planned = plan.shard_len(k, n);
     let mut store = RunStore::open(&dir, shard_kn)?;
     if store.has_results()? && !args.resume {
@@ -131,10 +167,13 @@ pub fn run(args: StudyArgs) -> Result<()> {
             break;
         }
         let part_start = Instant::now();
-        let rows = pool.install(|| run_batch(&chunk, study.traces.decimate, &progress));
+        let files = TraceFiles::new(&store);
+        let sink = study.traces.keep.then_some(&files as &dyn TraceSink);
+        let rows = pool.install(|| run_batch(&chunk, study.traces.decimate, &progress, sink));
         sizer.record(rows.len(), part_start.elapsed().as_secs_f64());
-        let traces = rows.iter().any(|r| r.trace.is_some()).then(|| traces_table(&rows));
-        store.commit(&runs_table(&rows, &swept, &study.keep_metrics), traces.as_ref())?;
+        let written = files.finish()?;
+        let paths: Vec<PathBuf> = written.iter().map(|s| s.path().to_path_buf()).collect();
+        store.commit_streamed(&runs_table(&rows, &swept, &study.keep_metrics), &paths)?;
     }
     bar.finish();
     let elapsed = start.elapsed().as_secs_f64();

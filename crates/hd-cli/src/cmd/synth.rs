@@ -14,6 +14,7 @@ use std::path::PathBuf;
 /// Write synthetic data from the model (CSV or Parquet by the extension of --out).
 #[derive(Args, Debug)]
 #[command(
+    allow_negative_numbers = true,
     after_help = "True parameters are the registry defaults changed by --params/--set; noise is Gaussian with a\n\
 standard deviation of --noise times the RMS of the clean torque. Fit the file back with hdw fit\n\
 to see which parameters an experiment like it can determine.\n\n\
@@ -57,6 +58,7 @@ pub struct Common {
 /// `hdw synth hysteresis`.
 #[derive(Args, Debug)]
 #[command(
+    allow_negative_numbers = true,
     after_help = "Laws (--law): memory (f(θ) + z, ż = A·θ̇ − B·z; its state integrated by hd-model's Dopri5),\n\
 maxwell-slip (f(θ) plus --elements elastoplastic elements; by default of equal stiffness mem_A/N with\n\
 yield deflections log-spaced from 2 % to 60 % of --amplitude; set ms_k<i>, ms_f<i>), bouc-wen (f(θ) + α·w\n\
@@ -107,6 +109,7 @@ pub struct HysteresisSynthArgs {
 /// `hdw synth friction`.
 #[derive(Args, Debug)]
 #[command(
+    allow_negative_numbers = true,
     after_help = "Steady sweep (default): the steady LuGre torque sign(ω)·(Tc + (Ts − Tc)·exp(−(ω/ωs)²)) + σ2·ω at\n\
 log-spaced speeds of both signs. Time series (--transient): ω(t) is a sine through zero whose\n\
 amplitude grows geometrically (--decades) up to --peak-speed, so the record holds pure\n\
@@ -199,6 +202,11 @@ pub fn run(args: SynthArgs) -> Result<()> {
                 if !(a.sample_rate > 0.0 && a.sample_rate.is_finite()) {
                     bail!("--sample-rate {}: expected a finite value > 0 [Hz]", a.sample_rate);
                 }
+                let length = a.levels as f64 * 2.0 * (a.dwell + a.transition);
+                check_rows(
+                    length * a.sample_rate,
+                    "--levels × (--dwell + --transition) × --sample-rate",
+                )?;
                 synth_plateaus(&p, &profile, 1.0 / a.sample_rate, &n)?
             } else if a.transient {
                 if a.profile != "growing-sine" {
@@ -211,6 +219,10 @@ pub fn run(args: SynthArgs) -> Result<()> {
                     decades: a.decades,
                     samples_per_cycle: a.samples_per_cycle,
                 };
+                check_rows(
+                    a.cycles as f64 * a.samples_per_cycle as f64,
+                    "--cycles × --samples-per-cycle",
+                )?;
                 synth_transient(&p, &exc, &n)?
             } else {
                 let sweep = SteadySweep {
@@ -218,11 +230,26 @@ pub fn run(args: SynthArgs) -> Result<()> {
                     omega_max: a.omega_max,
                     points_per_sign: a.points,
                 };
+                check_rows(2.0 * a.points as f64, "2 × --points")?;
                 synth_steady(&p, &sweep, &n)?
             };
             write(&a.common, &data)
         }
     }
+}
+
+/// Most rows a synthetic data set may have [–]: 20 million rows of a few columns are
+/// about a gigabyte of CSV and of memory while it is generated.
+pub const MAX_SYNTH_ROWS: f64 = 2e7;
+
+/// Refuse a data set of `rows` rows (what the `flags` multiply to) above [`MAX_SYNTH_ROWS`].
+fn check_rows(rows: f64, flags: &str) -> Result<()> {
+    if rows.is_nan() || rows > MAX_SYNTH_ROWS {
+        bail!(
+            "{flags} give {rows:.3e} rows, more than the {MAX_SYNTH_ROWS:e} a synthetic data set may have: ask for fewer samples"
+        );
+    }
+    Ok(())
 }
 
 fn numbers(text: &str, flag: &str, unit: &str) -> Result<Vec<f64>> {
@@ -270,21 +297,32 @@ fn synth_hysteresis_cmd(a: HysteresisSynthArgs) -> Result<()> {
         other => bail!("--law {other}: expected memory, maxwell-slip or bouc-wen"),
     };
     let schedule = match a.schedule.as_str() {
-        "sines" => Schedule::Sines(HysteresisExcitation {
-            amplitude: a.amplitude,
-            frequencies: numbers(a.freqs.as_deref().unwrap_or("4,15,55,200"), "--freqs", "Hz")?,
-            duration: a.duration,
-            samples: a.samples,
-        }),
-        "quasi-static" => Schedule::QuasiStatic {
-            test: QuasiStatic {
+        "sines" => Schedule::Sines({
+            let freqs = numbers(a.freqs.as_deref().unwrap_or("4,15,55,200"), "--freqs", "Hz")?;
+            check_rows(a.samples as f64 * freqs.len() as f64, "--samples × the --freqs")?;
+            HysteresisExcitation {
                 amplitude: a.amplitude,
-                levels: numbers(&a.levels, "--levels", "-")?,
-                frequencies: numbers(a.freqs.as_deref().unwrap_or("0.02,0.2"), "--freqs", "Hz")?,
-                cycles: a.cycles,
-            },
-            sample_rate: a.sample_rate,
-        },
+                frequencies: freqs,
+                duration: a.duration,
+                samples: a.samples,
+            }
+        }),
+        "quasi-static" => {
+            let levels = numbers(&a.levels, "--levels", "-")?;
+            let freqs = numbers(a.freqs.as_deref().unwrap_or("0.02,0.2"), "--freqs", "Hz")?;
+            let seconds: f64 =
+                freqs.iter().map(|f| 1.0 / f.abs()).sum::<f64>() * (levels.len() * a.cycles) as f64;
+            check_rows(seconds * a.sample_rate, "--levels × --cycles × --sample-rate / --freqs")?;
+            Schedule::QuasiStatic {
+                test: QuasiStatic {
+                    amplitude: a.amplitude,
+                    levels,
+                    frequencies: freqs,
+                    cycles: a.cycles,
+                },
+                sample_rate: a.sample_rate,
+            }
+        }
         other => bail!("--schedule {other}: expected sines or quasi-static"),
     };
     let data = synth_stiffness(&truth, &schedule, &noise(&a.common)?)?;

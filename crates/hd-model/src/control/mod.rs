@@ -160,7 +160,7 @@ impl ControllerConfig {
         for (name, &v) in &self.model {
             p.set(name, v).map_err(|e| ConfigError::Invalid {
                 field: format!("controller.model.{name}"),
-                value: v.to_string(),
+                value: crate::error::num(v),
                 expected: e.to_string(),
             })?;
         }
@@ -180,7 +180,7 @@ impl ControllerConfig {
         let bad = |field: &str, value: f64, expected: &str| {
             Err(ConfigError::Invalid {
                 field: format!("controller.{field}"),
-                value: value.to_string(),
+                value: crate::error::num(value),
                 expected: expected.to_string(),
             })
         };

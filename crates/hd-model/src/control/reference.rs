@@ -152,7 +152,7 @@ impl Reference {
         let bad = |field: &str, value: f64, expected: &str| {
             Err(ConfigError::Invalid {
                 field: format!("controller.reference.{field}"),
-                value: value.to_string(),
+                value: crate::error::num(value),
                 expected: expected.to_string(),
             })
         };

@@ -190,7 +190,7 @@ impl Input {
         let bad = |field: &str, value: f64, expected: &str| {
             Err(ConfigError::Invalid {
                 field: format!("{prefix}.{field}"),
-                value: value.to_string(),
+                value: crate::error::num(value),
                 expected: expected.to_string(),
             })
         };

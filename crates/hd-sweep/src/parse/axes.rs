@@ -51,6 +51,20 @@ impl Checker<'_> {
         if values.is_empty() {
             return Err(self.err(at, &key, "empty axis: expected at least one value"));
         }
+        // A repeated value would plan two runs with one run_id: the table would hold one
+        // of them and a resumed sweep would never count the study as done.
+        if let Some((j, k)) = first_repeat(&values) {
+            return Err(self.err(
+                at,
+                &key,
+                format!(
+                    "values {} and {} are the same ({}): each value may appear once",
+                    j + 1,
+                    k + 1,
+                    describe(&values[k])
+                ),
+            ));
+        }
         Ok(Axis { knob, values, zip: a.zip.clone() })
     }
 
@@ -91,5 +105,26 @@ impl Checker<'_> {
                 .map_err(|e| self.err(at, key, e)),
             (_, other) => Err(self.err(at, key, format!("{other}: expected a number"))),
         }
+    }
+}
+
+/// The positions (0-based, first < second) of the first pair of equal values, found by
+/// sorting (an axis may have millions of values).
+fn first_repeat(values: &[Value]) -> Option<(usize, usize)> {
+    let key = |v: &Value| match v {
+        Value::Num(x) => format!("n{:016x}", (x + 0.0).to_bits()),
+        other => format!("{other:?}"),
+    };
+    let mut keyed: Vec<(String, usize)> =
+        values.iter().enumerate().map(|(k, v)| (key(v), k)).collect();
+    keyed.sort();
+    keyed.windows(2).filter(|w| w[0].0 == w[1].0).map(|w| (w[0].1, w[1].1)).min_by_key(|&(_, k)| k)
+}
+
+/// A value as written in a message.
+fn describe(v: &Value) -> String {
+    match v {
+        Value::Num(x) => format!("{x:e}"),
+        other => format!("{other:?}").to_lowercase(),
     }
 }

@@ -15,6 +15,7 @@ use crate::spec::*;
 use crate::study::{Part, Study, TraceSettings};
 use hd_model::params_file::apply_params_toml;
 use hd_model::registry::nearest_of;
+use hd_model::text_file::{MAX_SETTINGS_BYTES, read_text};
 use hd_model::{FrictionVelocity, Input, Profile, SimConfig, Variant};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -26,11 +27,11 @@ pub type ProfileLoader<'a> = &'a dyn Fn(&Path) -> Result<Profile, String>;
 /// Read and check the study file at `path`.
 pub fn load_study(path: &Path, loader: ProfileLoader) -> Result<Study, StudyError> {
     let file = path.display().to_string();
-    let text = std::fs::read_to_string(path).map_err(|e| StudyError {
+    let text = read_text(path, "study file", MAX_SETTINGS_BYTES).map_err(|message| StudyError {
         file: file.clone(),
         line: 1,
         key: "file".into(),
-        message: format!("cannot read: {e}"),
+        message,
     })?;
     parse_study(&text, path, loader)
 }
@@ -83,6 +84,17 @@ impl Checker<'_> {
                 spec.name.span().start,
                 "name",
                 "expected a non-empty study name",
+            ));
+        }
+        // The name is the default output folder (out/<name>): it must stay one folder
+        // inside out/.
+        if name.contains(['/', '\\', '\0']) || name == "." || name == ".." {
+            return Err(self.err(
+                spec.name.span().start,
+                "name",
+                format!(
+                    "'{name}' is not a folder name (it would write outside out/): use letters, digits, '-', '_' or '.', no '/'"
+                ),
             ));
         }
         let mut base = SimConfig {
@@ -180,13 +192,8 @@ impl Checker<'_> {
         }
         if let Some(f) = &b.params_file {
             let p = self.dir.join(f.get_ref());
-            let text = std::fs::read_to_string(&p).map_err(|e| {
-                self.err(
-                    f.span().start,
-                    "base.params_file",
-                    format!("cannot read {}: {e}", p.display()),
-                )
-            })?;
+            let text = read_text(&p, "params file", MAX_SETTINGS_BYTES)
+                .map_err(|e| self.err(f.span().start, "base.params_file", e))?;
             apply_params_toml(&mut cfg.params, &text, &p.display().to_string())
                 .map_err(|e| self.err(f.span().start, "base.params_file", e.to_string()))?;
         }
@@ -216,10 +223,22 @@ impl Checker<'_> {
         cfg: &mut SimConfig,
         key: &str,
     ) -> Result<(), StudyError> {
+        let mut seen: BTreeMap<&str, &str> = BTreeMap::new();
         for (k, v) in set {
             let at = k.span().start;
             let info = hd_model::registry::lookup(k.get_ref())
                 .map_err(|e| self.err(at, &format!("{key}.{}", k.get_ref()), e.to_string()))?;
+            if let Some(first) = seen.insert(info.name, k.get_ref()) {
+                return Err(self.err(
+                    at,
+                    &format!("{key}.{}", k.get_ref()),
+                    format!(
+                        "'{}' and '{first}' are two names for one parameter ({}): keep one",
+                        k.get_ref(),
+                        info.name
+                    ),
+                ));
+            }
             info.check(*v.get_ref())
                 .map_err(|e| self.err(at, &format!("{key}.{}", info.name), e.to_string()))?;
             info.set_unchecked(&mut cfg.params, *v.get_ref());
