@@ -3,6 +3,7 @@
 mod common;
 mod datasheet_cli;
 mod explore_cli;
+mod export_cli;
 mod fit_bad_data;
 mod fit_cli;
 mod fit_laws;
