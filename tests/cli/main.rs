@@ -4,6 +4,7 @@ mod common;
 mod datasheet_cli;
 mod docs;
 mod explore_cli;
+mod export_cli;
 mod fault_injection;
 mod fit_bad_data;
 mod fit_cli;
