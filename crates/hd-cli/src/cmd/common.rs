@@ -42,6 +42,11 @@ pub const DEFAULT_MAX_OUTPUT_VALUES: u64 = 200_000_000;
 /// (0: no limit), before anything is computed or written.
 pub fn check_output_size(rows: f64, columns: usize, limit: u64) -> Result<()> {
     let values = rows * columns as f64;
+    if limit > 0 && !rows.is_finite() {
+        bail!(
+            "the trace would have no end ({rows} samples: --t-end over the sampling interval): raise --dt-out, shorten --t-end or pass --no-trace"
+        );
+    }
     if limit > 0 && (values.is_nan() || values > limit as f64) {
         bail!(
             "the trace would hold about {values:.3e} values ({rows:.3e} samples × {columns} columns), over the limit of {limit}: raise --dt-out, shorten --t-end, pass --no-trace, or lift the limit with --max-output-values N (0 = none)"
