@@ -35,6 +35,8 @@ pub enum FitWhat {
     Hysteresis(super::fit_hysteresis::HysteresisArgs),
     /// Fit the LuGre parameters: static (Tc, Ts, ws, sigma2) and/or dynamic (sigma0, sigma1).
     Friction(FrictionArgs),
+    /// Identify a rigid drive (mass/inertia, friction, offset) from its logged closed loop.
+    Drive(super::fit_drive::DriveArgs),
 }
 
 /// `hdw fit friction`.
@@ -114,6 +116,7 @@ pub fn run(args: FitArgs) -> Result<()> {
     match args.what {
         FitWhat::Hysteresis(a) => super::fit_hysteresis::run(a),
         FitWhat::Friction(a) => run_friction(a),
+        FitWhat::Drive(a) => super::fit_drive::run(a),
     }
 }
 

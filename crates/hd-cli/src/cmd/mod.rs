@@ -7,6 +7,8 @@ pub mod datasheet;
 pub mod envelope;
 pub mod explore;
 pub mod fit;
+pub mod fit_drive;
+pub mod fit_drive_out;
 pub mod fit_hysteresis;
 pub mod fit_input;
 pub mod plot;
