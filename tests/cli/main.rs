@@ -5,6 +5,7 @@ mod datasheet_cli;
 mod explore_cli;
 mod fit_bad_data;
 mod fit_cli;
+mod fit_drive_cli;
 mod fit_laws;
 mod fit_rig_files;
 mod fit_shipped_data;
