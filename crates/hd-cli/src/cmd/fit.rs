@@ -20,7 +20,7 @@ use std::path::{Path, PathBuf};
     after_help = "Each fit writes DIR/fit.json (values, standard errors, 95 % intervals, a determined flag with the\n\
 reason when the data cannot fix a parameter, correlations, RMS, R², iterations, termination), the\n\
 fitted signals and SVG plots, and prints a table.\n\n\
-Example:\n  hdw fit hysteresis data/hysteresis-wide-range.parquet --out out/fit-wide\n  hdw fit hysteresis data/hysteresis-paper-range.csv --law all --out out/compare\n  hdw fit friction --steady data/friction-steady.csv --transient data/friction-transient.parquet --out out/fit-fric"
+Example:\n  hdw fit hysteresis data/hysteresis-wide-range.parquet --out out/fit-wide\n  hdw fit hysteresis data/hysteresis-paper-range.csv --law all --out out/compare\n  hdw fit friction --steady data/friction-steady.csv --transient data/friction-transient.parquet --out out/fit-fric\n  hdw fit drive --config data/emps/fit.toml --out out/emps"
 )]
 pub struct FitArgs {
     #[command(subcommand)]

@@ -3,8 +3,9 @@
 //! The low-pass is a digital Butterworth filter (the analog prototype's poles mapped by the
 //! bilinear transform with a pre-warped corner, as cascaded second-order sections of unit
 //! DC gain), run forwards and then backwards so it adds no lag. The ends are padded with the
-//! signal's odd reflection, as long as the slowest pole needs to settle, and each section starts in its steady state for the first value,
-//! so a ramp or an offset at the ends passes without a start-up transient.
+//! signal's odd reflection, as long as the slowest pole needs to settle, and each section
+//! starts in its steady state for the first value, so a ramp or an offset at the ends passes
+//! without a start-up transient.
 
 use std::f64::consts::PI;
 

@@ -129,8 +129,10 @@ pub fn determination(
                 "Every free parameter is determined by this record (largest correlation {:.3}, between {} and {}).",
                 worst.0, worst.1, worst.2
             )
-        } else {
+        } else if k == 1 {
             "Every free parameter is determined by this record.".to_string()
+        } else {
+            "No parameter is free: the record was only simulated.".to_string()
         });
     }
     let std_errors = (0..k).map(|j| if in_null[j] { None } else { cov.std_error[j] }).collect();
