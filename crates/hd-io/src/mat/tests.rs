@@ -156,7 +156,9 @@ fn reads_the_shipped_emps_record() {
         assert_eq!(col.len(), n);
     }
     // Sampled at 1 kHz, strictly increasing.
-    assert!(v[0].windows(2).all(|w| (w[1] - w[0] - 1e-3).abs() < 1e-9));
+    let worst = v[0].windows(2).map(|w| (w[1] - w[0] - 1e-3).abs()).fold(0.0, f64::max);
+    // Measured: 2.4e-8 s (the stored times carry rounding of a float accumulation).
+    assert!(worst < 3e-7, "largest deviation of a sample interval from 1 ms: {worst:e} s");
     // Scalars: the description's gains.
     assert_eq!(v[4].len(), 1);
     assert!((v[4][0] - 160.18).abs() < 0.01 && (v[5][0] - 243.45).abs() < 0.01);
