@@ -21,6 +21,8 @@ enum FileKind {
     Text,
     /// Apache Parquet.
     Parquet,
+    /// MATLAB MAT v5 (variables as columns).
+    Mat,
 }
 
 /// The file's kind from its extension, after checking it exists.
@@ -41,10 +43,11 @@ fn file_kind(path: &Path) -> Result<FileKind, IoError> {
             refuse_binary(path)?;
             Ok(FileKind::Text)
         }
+        "mat" => Ok(FileKind::Mat),
         _ => Err(IoError::format(
             path,
             format!(
-                "unknown file type '.{ext}': expected delimited text (.csv, .tsv, .txt, .dat) or .parquet"
+                "unknown file type '.{ext}': expected delimited text (.csv, .tsv, .txt, .dat), .parquet or .mat"
             ),
         )),
     }
@@ -73,6 +76,10 @@ pub fn read_frame(path: &Path) -> Result<DataFrame, IoError> {
         FileKind::Parquet => File::open(path).map_err(|e| IoError::fs(path, e)).and_then(|f| {
             ParquetReader::new(f).finish().map_err(IoError::polars(path, "cannot read Parquet"))
         }),
+        FileKind::Mat => Err(IoError::format(
+            path,
+            "a MAT file is read by variable (read_columns), not as a table",
+        )),
         FileKind::Text => {
             let sep = sniff_file_separator(path)?;
             CsvReadOptions::default()
@@ -90,7 +97,7 @@ pub fn read_frame(path: &Path) -> Result<DataFrame, IoError> {
 }
 
 /// Read the named columns as `f64`, in the order asked; nothing else in the file is looked
-/// at. Text cells are trimmed and parsed one by one (integers, decimals and exponents mix
+/// at. A MAT v5 file (`.mat`) gives its variables of those names ([`crate::mat`]). Text cells are trimmed and parsed one by one (integers, decimals and exponents mix
 /// freely; with a tab or semicolon separator a decimal comma `1,5` is accepted too);
 /// Parquet columns of any integer, float or boolean type are cast, and text columns parsed.
 ///
@@ -101,6 +108,7 @@ pub fn read_columns(path: &Path, names: &[&str]) -> Result<Vec<Vec<f64>>, IoErro
     match file_kind(path)? {
         FileKind::Text => read_text_columns(path, names),
         FileKind::Parquet => read_parquet_columns(path, names),
+        FileKind::Mat => crate::mat::read_mat_vectors(path, names),
     }
 }
 

@@ -10,6 +10,7 @@ pub mod csv_sniff;
 pub mod error;
 pub mod explore;
 pub mod lock;
+pub mod mat;
 pub mod parquet_out;
 pub mod pending;
 pub mod runs;
@@ -21,6 +22,7 @@ pub mod write_columns;
 
 pub use columns::{read_columns, read_frame, read_profile};
 pub use error::IoError;
+pub use mat::{MatVariable, read_mat, read_mat_vectors};
 pub use parquet_out::{write_frame, write_out_table};
 pub use table::{ColumnData, Table, read_table};
 pub use trace::{stream_trace_into, write_trace};

@@ -22,7 +22,7 @@ use std::path::{Path, PathBuf};
     after_help = "Each fit writes DIR/fit.json (values, standard errors, 95 % intervals, a determined flag with the\n\
 reason when the data cannot fix a parameter, correlations, RMS, R², iterations, termination), the\n\
 fitted signals and SVG plots, and prints a table.\n\n\
-Example:\n  hdw fit hysteresis data/hysteresis-wide-range.parquet --out out/fit-wide\n  hdw fit hysteresis data/hysteresis-paper-range.csv --law all --out out/compare\n  hdw fit friction --steady data/friction-steady.csv --transient data/friction-transient.parquet --out out/fit-fric"
+Example:\n  hdw fit hysteresis data/hysteresis-wide-range.parquet --out out/fit-wide\n  hdw fit hysteresis data/hysteresis-paper-range.csv --law all --out out/compare\n  hdw fit friction --steady data/friction-steady.csv --transient data/friction-transient.parquet --out out/fit-fric\n  hdw fit drive --config data/emps/fit.toml --out out/emps"
 )]
 pub struct FitArgs {
     #[command(subcommand)]
@@ -37,6 +37,8 @@ pub enum FitWhat {
     Hysteresis(super::fit_hysteresis::HysteresisArgs),
     /// Fit the LuGre parameters: static (Tc, Ts, ws, sigma2) and/or dynamic (sigma0, sigma1).
     Friction(FrictionArgs),
+    /// Identify a rigid drive (mass/inertia, friction, offset) from its logged closed loop.
+    Drive(super::fit_drive::DriveArgs),
 }
 
 /// `hdw fit friction`.
@@ -122,6 +124,7 @@ pub fn run(args: FitArgs) -> Result<()> {
     match args.what {
         FitWhat::Hysteresis(a) => super::fit_hysteresis::run(a),
         FitWhat::Friction(a) => run_friction(a),
+        FitWhat::Drive(a) => super::fit_drive::run(a),
     }
 }
 

@@ -8,6 +8,8 @@ pub mod envelope;
 pub mod explore;
 pub mod export;
 pub mod fit;
+pub mod fit_drive;
+pub mod fit_drive_out;
 pub mod fit_hysteresis;
 pub mod fit_input;
 pub mod fit_progress;

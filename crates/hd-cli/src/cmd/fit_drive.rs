@@ -1,0 +1,174 @@
+//! `hdw fit drive`: identify a rigid drive from its logged closed loop (docs/fit-drive.md).
+//! Reads the configuration and records, checks the controller against the recorded command,
+//! starts from the inverse model, fits each friction law by output error, ranks them by BIC,
+//! optionally scores a validation record, and writes fit.json, params.toml and report.md with
+//! plots — all computed before anything is written.
+
+use super::common::ensure_dir;
+use super::fit_drive_out::{Outcome, write_outputs};
+use anyhow::{Context, Result, anyhow};
+use clap::Args;
+use hd_ident::drive::config::{ExperimentConfig, NumberOrVariable};
+use hd_ident::drive::{DriveConfig, Experiment, fit_drive, score_all, setup};
+use indicatif::{ProgressBar, ProgressStyle};
+use rayon::prelude::*;
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+/// `hdw fit drive`.
+#[derive(Args, Debug)]
+#[command(
+    after_help = "The configuration names the records (CSV, Parquet or MAT v5) and their columns, the drive gain, the\n\
+controller (cascade P position / P speed loop, sample delay, saturation, speed filter), the friction\n\
+law(s), the outputs compared and the fixed parameters (docs/fit-drive.md). Outputs in --out DIR:\n\
+  fit.json     controller check per delay, inverse-model start, per law: parameters (value, std_error),\n\
+               correlations, BIC, per experiment and output rel_error, rmse, fit_percent, what the\n\
+               record does not determine; the validation scores with --validate\n\
+  params.toml  the best law's parameters, as a [params] table a configuration can start from\n\
+  report.md    the same in words, with force.svg, position.svg, residuals.svg (and validation-*.svg)\n\n\
+Example:\n  hdw fit drive --config data/emps/fit.toml --out out/emps"
+)]
+pub struct DriveArgs {
+    /// Fit configuration (TOML).
+    #[arg(long, value_name = "FIT.toml")]
+    pub config: PathBuf,
+    /// Output folder.
+    #[arg(long, value_name = "DIR", default_value = "out/fit-drive")]
+    pub out: PathBuf,
+    /// A validation record read with the first experiment's column mapping (its optional
+    /// disturbance column is zero where absent), simulated with every fitted law.
+    #[arg(long, value_name = "FILE")]
+    pub validate: Option<PathBuf>,
+}
+
+/// Read one experiment with `ec`'s mapping from `path`.
+fn load(ec: &ExperimentConfig, name: &str, path: &Path) -> Result<Experiment> {
+    let names = [ec.time.as_str(), &ec.position, &ec.reference, &ec.command];
+    let mut cols = hd_io::read_columns(path, &names)?;
+    let disturbance = match &ec.disturbance {
+        None => Vec::new(),
+        Some(col) => match hd_io::read_columns(path, &[col.as_str()]) {
+            Ok(mut v) => v.pop().unwrap_or_default(),
+            Err(hd_io::IoError::Format { message, .. }) if message.starts_with("missing") => {
+                Vec::new()
+            }
+            Err(e) => return Err(e.into()),
+        },
+    };
+    let command: Vec<f64> =
+        cols.pop().unwrap_or_default().iter().map(|u| u * ec.command_scale).collect();
+    let reference: Vec<f64> =
+        cols.pop().unwrap_or_default().iter().map(|x| x * ec.position_scale).collect();
+    let position: Vec<f64> =
+        cols.pop().unwrap_or_default().iter().map(|x| x * ec.position_scale).collect();
+    let t = cols.pop().unwrap_or_default();
+    let disturbance = disturbance.iter().map(|u| u * ec.command_scale).collect();
+    Ok(Experiment::new(
+        name,
+        &path.display().to_string(),
+        t,
+        position,
+        reference,
+        command,
+        disturbance,
+    )?)
+}
+
+/// A number of the configuration, or a scalar variable of `file`.
+fn resolve(v: &NumberOrVariable, key: &str, file: &Path) -> Result<f64> {
+    match v {
+        NumberOrVariable::Number(x) => Ok(*x),
+        NumberOrVariable::Variable(name) => {
+            let col = hd_io::read_columns(file, &[name.as_str()])
+                .with_context(|| format!("{key} = \"{name}\""))?;
+            match col[0].as_slice() {
+                [x] => Ok(*x),
+                other => Err(anyhow!(
+                    "{}: {key} = \"{name}\" names a column of {} values; expected a scalar",
+                    file.display(),
+                    other.len()
+                )),
+            }
+        }
+    }
+}
+
+/// Run `hdw fit drive`.
+pub fn run(args: DriveArgs) -> Result<()> {
+    let file = args.config.display().to_string();
+    let text = std::fs::read_to_string(&args.config)
+        .with_context(|| format!("cannot read configuration {file}"))?;
+    let cfg = DriveConfig::parse(&text, &file)?;
+    let base = args.config.parent().unwrap_or(Path::new("."));
+    let axis = cfg.axis(&file)?;
+    let experiments: Vec<Experiment> = cfg
+        .experiment
+        .iter()
+        .map(|ec| load(ec, &ec.name, &base.join(&ec.file)))
+        .collect::<Result<_>>()?;
+    let first = base.join(&cfg.experiment[0].file);
+    let gain = resolve(&cfg.gain, "gain", &first)?;
+    let kp = resolve(&cfg.controller.kp, "[controller] kp", &first)?;
+    let kv = resolve(&cfg.controller.kv, "[controller] kv", &first)?;
+    let validation = match &args.validate {
+        Some(p) => Some(load(&cfg.experiment[0], "validation", p)?),
+        None => None,
+    };
+    let (controller, checks) = setup::controller(&cfg, &file, kp, kv, &experiments)?;
+    let outputs = setup::noise(&cfg, &file, gain, &experiments)?;
+    let laws = cfg.laws(&file)?;
+    let out_kinds: Vec<_> = outputs.iter().map(|o| o.0).collect();
+
+    let mut starts = Vec::new();
+    let mut specs = Vec::new();
+    for &law in &laws {
+        let idim = setup::start(&cfg, law, gain, &experiments)?;
+        let spec = setup::spec(&cfg, &file, law, &controller, gain, &outputs, idim.as_ref())?;
+        let start_scores = score_all(law, &spec.start, &controller, gain, &experiments, &out_kinds);
+        starts.push((idim, start_scores));
+        specs.push(spec);
+    }
+    let dir = ensure_dir(&args.out)?;
+
+    let bar = ProgressBar::new_spinner();
+    bar.set_style(
+        ProgressStyle::with_template("{spinner} {elapsed_precise} {msg}")
+            .unwrap_or_else(|_| ProgressStyle::default_spinner()),
+    );
+    bar.enable_steady_tick(std::time::Duration::from_millis(200));
+    bar.set_message(format!("fitting {} law(s)", specs.len()));
+    let fits: Vec<_> = specs
+        .par_iter()
+        .map(|spec| {
+            let t0 = Instant::now();
+            let progress = |it: usize, cost: f64| {
+                bar.set_message(format!("{}: iteration {it}, cost {cost:.6e}", spec.law.name()));
+            };
+            let fit = fit_drive(spec, &experiments, &progress);
+            (fit, t0.elapsed().as_secs_f64())
+        })
+        .collect();
+    bar.finish_and_clear();
+    let mut fitted = Vec::new();
+    for ((fit, secs), spec) in fits.into_iter().zip(&specs) {
+        let fit = fit.with_context(|| format!("{} friction", spec.law.name()))?;
+        let val = validation.as_ref().map(|v| {
+            score_all(spec.law, &fit.values, &controller, gain, std::slice::from_ref(v), &out_kinds)
+                .remove(0)
+        });
+        fitted.push((fit, secs, val));
+    }
+    let outcome = Outcome {
+        config: file,
+        axis,
+        gain,
+        controller,
+        checks,
+        outputs,
+        experiments,
+        validation,
+        starts,
+        fitted,
+    };
+    write_outputs(&dir, &outcome)
+}

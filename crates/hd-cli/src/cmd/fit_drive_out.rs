@@ -1,0 +1,337 @@
+//! The outputs of `hdw fit drive`: fit.json, params.toml, report.md with plots, and the
+//! summary printed to the terminal. Everything is computed before the first file is written.
+
+use super::common::write_json;
+use anyhow::Result;
+use hd_ident::drive::{
+    Axis, Controller, DriveFit, Experiment, ExperimentScore, IdimFit, OutputKind, Reproduction,
+    simulate,
+};
+use hd_plot::{Series, line_plot};
+use serde_json::{Map, Value, json};
+use std::fmt::Write as _;
+use std::path::Path;
+
+/// Everything `hdw fit drive` computed.
+pub struct Outcome {
+    /// The configuration file.
+    pub config: String,
+    /// The axis.
+    pub axis: Axis,
+    /// Nominal drive gain [N/V].
+    pub gain: f64,
+    /// The controller (with the delay used).
+    pub controller: Controller,
+    /// Reproduction of the recorded command per delay.
+    pub checks: Vec<Reproduction>,
+    /// Outputs and noise levels.
+    pub outputs: Vec<(OutputKind, f64)>,
+    /// The fitted experiments.
+    pub experiments: Vec<Experiment>,
+    /// The validation record.
+    pub validation: Option<Experiment>,
+    /// Per law: the inverse-model start and its closed-loop scores.
+    pub starts: Vec<(Option<IdimFit>, Vec<ExperimentScore>)>,
+    /// Per law: the fit, its time [s], its validation scores.
+    pub fitted: Vec<(DriveFit, f64, Option<ExperimentScore>)>,
+}
+
+fn unit_of(axis: Axis, o: OutputKind) -> &'static str {
+    match o {
+        OutputKind::Force => axis.force_unit(),
+        OutputKind::Position => axis.position_unit(),
+    }
+}
+
+fn scores_json(s: &ExperimentScore) -> Value {
+    let mut m = Map::new();
+    for (o, sc) in &s.outputs {
+        m.insert(
+            o.name().into(),
+            json!({"rel_error": sc.rel_error, "rmse": sc.rmse, "fit_percent": sc.fit_percent}),
+        );
+    }
+    Value::Object(m)
+}
+
+fn experiments_json(v: &[ExperimentScore]) -> Value {
+    Value::Object(v.iter().map(|s| (s.name.clone(), scores_json(s))).collect())
+}
+
+fn law_json(
+    o: &Outcome,
+    fit: &DriveFit,
+    secs: f64,
+    val: Option<&ExperimentScore>,
+    rank: usize,
+) -> Value {
+    let mut params = Map::new();
+    for (k, n) in fit.names.iter().enumerate() {
+        params.insert(
+            n.to_string(),
+            json!({"value": fit.values[k], "std_error": fit.std_errors[k], "free": fit.free[k], "unit": o.axis.unit_of(n)}),
+        );
+    }
+    let free: Vec<&str> = fit.names.iter().zip(&fit.free).filter(|x| *x.1).map(|x| *x.0).collect();
+    json!({
+        "law": fit.law.name(),
+        "rank": rank,
+        "bic": fit.bic,
+        "cost": fit.cost,
+        "residuals": fit.n,
+        "parameters": params,
+        "correlation": {"parameters": free, "matrix": fit.correlation},
+        "experiments": experiments_json(&fit.scores),
+        "validation": val.map(scores_json),
+        "determination": fit.determination.sentences,
+        "iterations": fit.iterations,
+        "failed_trials": fit.failed_trials,
+        "termination": fit.termination,
+        "seconds": secs,
+    })
+}
+
+fn fmt_score(s: &ExperimentScore, axis: Axis) -> String {
+    s.outputs
+        .iter()
+        .map(|(o, sc)| {
+            format!(
+                "{} {:.3} % (RMSE {:.4e} {}, fit {:.2} %)",
+                o.name(),
+                sc.rel_error,
+                sc.rmse,
+                unit_of(axis, *o),
+                sc.fit_percent
+            )
+        })
+        .collect::<Vec<_>>()
+        .join("; ")
+}
+
+/// Measured against simulated, and the residuals, of `fit` on `e`, as SVG files `prefix*.svg`.
+fn plots(
+    dir: &Path,
+    o: &Outcome,
+    fit: &DriveFit,
+    e: &Experiment,
+    prefix: &str,
+) -> Result<Vec<String>> {
+    let s = simulate(fit.law, &fit.values, &o.controller, e);
+    let mut files = Vec::new();
+    for &(kind, _) in &o.outputs {
+        let meas = kind.measured(e, o.gain);
+        let sim: Vec<f64> = match kind {
+            OutputKind::Force => s.command.iter().map(|u| o.gain * u).collect(),
+            OutputKind::Position => s.position.clone(),
+        };
+        let unit = unit_of(o.axis, kind);
+        let name = format!("{prefix}{}.svg", kind.name());
+        let title =
+            format!("{}: {} measured and simulated ({})", e.name, kind.name(), fit.law.name());
+        line_plot(
+            &dir.join(&name),
+            &title,
+            "t [s]",
+            &format!("{} [{unit}]", kind.name()),
+            &[
+                Series::new("measured", e.t.clone(), meas.clone()),
+                Series::new("simulated", e.t.clone(), sim.clone()),
+            ],
+            false,
+        )?;
+        files.push(name);
+        let name = format!("{prefix}residuals-{}.svg", kind.name());
+        let res: Vec<f64> = meas.iter().zip(&sim).map(|(a, b)| a - b).collect();
+        line_plot(
+            &dir.join(&name),
+            &format!("{}: {} residual, measured − simulated", e.name, kind.name()),
+            "t [s]",
+            &format!("residual [{unit}]"),
+            &[Series::new("residual", e.t.clone(), res)],
+            false,
+        )?;
+        files.push(name);
+    }
+    Ok(files)
+}
+
+/// Write fit.json, params.toml, report.md and the plots; print the summary.
+pub fn write_outputs(dir: &Path, o: &Outcome) -> Result<()> {
+    let mut order: Vec<usize> = (0..o.fitted.len()).collect();
+    order.sort_by(|&a, &b| o.fitted[a].0.bic.total_cmp(&o.fitted[b].0.bic));
+    let best = &o.fitted[order[0]].0;
+    let mut rank = vec![0; order.len()];
+    for (r, &k) in order.iter().enumerate() {
+        rank[k] = r + 1;
+    }
+
+    // fit.json
+    let laws: Vec<Value> = order
+        .iter()
+        .map(|&k| law_json(o, &o.fitted[k].0, o.fitted[k].1, o.fitted[k].2.as_ref(), rank[k]))
+        .collect();
+    let starts: Vec<Value> = o
+        .starts
+        .iter()
+        .zip(&o.fitted)
+        .map(|((idim, sc), (fit, _, _))| {
+            json!({
+                "law": fit.law.name(),
+                "idim": idim.as_ref().map(|f| json!({
+                    "parameters": f.names.iter().zip(&f.values).zip(&f.std_errors)
+                        .map(|((n, v), s)| (n.to_string(), json!({"value": v, "std_error": s})))
+                        .collect::<Map<_, _>>(),
+                    "rel_error_percent": f.rel_error_percent,
+                    "condition": f.condition,
+                    "rows": f.rows,
+                })),
+                "closed_loop": experiments_json(sc),
+            })
+        })
+        .collect();
+    let best_json = &laws[0];
+    let doc = json!({
+        "config": o.config,
+        "axis": if o.axis == Axis::Linear { "linear" } else { "rotary" },
+        "gain": o.gain,
+        "controller": {
+            "kp": o.controller.kp, "kv": o.controller.kv, "saturation": o.controller.saturation,
+            "speed_filter": o.controller.speed_filter, "sample_period": o.controller.h,
+            "delay": o.controller.delay,
+            "check": o.checks.iter().map(|c| json!({"delay": c.delay, "rms": c.rms, "percent": c.percent})).collect::<Vec<_>>(),
+        },
+        "noise": o.outputs.iter().map(|(k, s)| (k.name().to_string(), json!(s))).collect::<Map<_, _>>(),
+        "best": best.law.name(),
+        "parameters": best_json["parameters"],
+        "experiments": best_json["experiments"],
+        "validation": best_json["validation"],
+        "start": starts,
+        "laws": laws,
+    });
+
+    // params.toml
+    let mut params = format!(
+        "# {} rigid drive fitted by `hdw fit drive --config {}` (lowest BIC).\n# Units: {}.\nfriction = \"{}\"\n\n[params]\n",
+        best.law.name(),
+        o.config,
+        best.names
+            .iter()
+            .map(|n| format!("{n} [{}]", o.axis.unit_of(n)))
+            .collect::<Vec<_>>()
+            .join(", "),
+        best.law.name()
+    );
+    for (n, v) in best.names.iter().zip(&best.values) {
+        let _ = writeln!(params, "{n} = {v:e}");
+    }
+
+    // plots (best law)
+    let mut figs = plots(dir, o, best, &o.experiments[0], "")?;
+    if let Some(v) = &o.validation {
+        figs.extend(plots(dir, o, best, v, "validation-")?);
+    }
+
+    // report.md and the terminal summary
+    let mut r = String::new();
+    let _ = writeln!(r, "# Drive fit: {}\n", o.config);
+    let _ = writeln!(r, "## Controller check\n");
+    let _ = writeln!(
+        r,
+        "The controller (kp {} 1/s, kv {}, saturation ±{}, speed filter {:?}) applied to the recorded position reproduces the recorded command with:\n",
+        o.controller.kp, o.controller.kv, o.controller.saturation, o.controller.speed_filter
+    );
+    let _ = writeln!(
+        r,
+        "| delay [samples] | residual RMS [command unit] | residual [% of command RMS] |\n|---|---|---|"
+    );
+    for c in &o.checks {
+        let _ = writeln!(r, "| {} | {:.5} | {:.3} |", c.delay, c.rms, c.percent);
+    }
+    let _ = writeln!(r, "\nDelay used: {} sample(s).\n", o.controller.delay);
+    let _ = writeln!(
+        r,
+        "Noise levels: {}.\n",
+        o.outputs
+            .iter()
+            .map(|(k, s)| format!("{} {s:.4e} {}", k.name(), unit_of(o.axis, *k)))
+            .collect::<Vec<_>>()
+            .join(", ")
+    );
+    let _ = writeln!(r, "## Inverse-model start (IDIM-LS)\n");
+    for ((idim, sc), (fit, _, _)) in o.starts.iter().zip(&o.fitted) {
+        if let Some(f) = idim {
+            let vals: Vec<String> = f
+                .names
+                .iter()
+                .zip(&f.values)
+                .zip(&f.std_errors)
+                .map(|((n, v), s)| format!("{n} = {v:.4} ± {s:.4} {}", o.axis.unit_of(n)))
+                .collect();
+            let _ = writeln!(
+                r,
+                "- {}: {} (relative error of the filtered force {:.3} %, {} rows)",
+                fit.law.name(),
+                vals.join(", "),
+                f.rel_error_percent,
+                f.rows
+            );
+        }
+        for s in sc {
+            let _ = writeln!(
+                r,
+                "  - closed loop with these values on {}: {}",
+                s.name,
+                fmt_score(s, o.axis)
+            );
+        }
+    }
+    let _ = writeln!(r, "\n## Output-error fits, ranked by BIC\n");
+    for &k in &order {
+        let (fit, secs, val) = &o.fitted[k];
+        let _ = writeln!(
+            r,
+            "### {}. {} (BIC {:.1}, {} iterations, {:.2} s)\n",
+            rank[k],
+            fit.law.name(),
+            fit.bic,
+            fit.iterations,
+            secs
+        );
+        let _ = writeln!(r, "| parameter | value | std. error | unit |\n|---|---|---|---|");
+        for (j, n) in fit.names.iter().enumerate() {
+            let se = match (fit.free[j], fit.std_errors[j]) {
+                (false, _) => "fixed".to_string(),
+                (true, Some(s)) => format!("{s:.4}"),
+                (true, None) => "not determined".to_string(),
+            };
+            let _ = writeln!(r, "| {n} | {:.4} | {se} | {} |", fit.values[j], o.axis.unit_of(n));
+        }
+        let _ = writeln!(r);
+        for s in &fit.scores {
+            let _ = writeln!(r, "- {}: {}", s.name, fmt_score(s, o.axis));
+        }
+        if let Some(v) = val {
+            let _ = writeln!(r, "- validation ({}): {}", v.name, fmt_score(v, o.axis));
+        }
+        for s in &fit.determination.sentences {
+            let _ = writeln!(r, "- {s}");
+        }
+        let _ = writeln!(r);
+    }
+    let _ = writeln!(r, "## Plots ({})\n", best.law.name());
+    for f in &figs {
+        let _ = writeln!(r, "![{f}]({f})");
+    }
+
+    write_json(&dir.join("fit.json"), &doc)?;
+    for (name, text) in [("params.toml", &params), ("report.md", &r)] {
+        let path = dir.join(name);
+        hd_io::atomic::write_atomically(&path, |f| {
+            use std::io::Write;
+            f.write_all(text.as_bytes()).map_err(|e| hd_io::IoError::fs(&path, e))
+        })?;
+    }
+    use std::io::Write;
+    let _ = writeln!(std::io::stdout().lock(), "{r}");
+    Ok(())
+}

@@ -1,0 +1,179 @@
+//! What a record determines: standard errors and correlations from the Jacobian at the
+//! optimum, and sentences naming the parameter combinations it does not determine.
+//!
+//! The combinations come from the Jacobian taken with respect to the logarithms of the
+//! parameters (relative changes), columns scaled to unit norm: a singular value below
+//! [`NULL_TOLERANCE`] of the largest is a direction of relative changes that leaves every
+//! output unchanged, which is reported with its weights; a pair of parameters whose
+//! correlation reaches [`CORRELATION_LIMIT`] in magnitude is reported as not separable.
+
+use crate::uncertainty::covariance;
+use nalgebra::DMatrix;
+
+/// Relative singular value below which a direction counts as undetermined.
+pub const NULL_TOLERANCE: f64 = 1e-7;
+
+/// Correlation magnitude from which two parameters count as not separable.
+pub const CORRELATION_LIMIT: f64 = 0.99;
+
+/// Standard errors, correlations and the verdict in words.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Determination {
+    /// Standard error per free parameter (None where it is undetermined).
+    pub std_errors: Vec<Option<f64>>,
+    /// Correlation matrix of the free parameters.
+    pub correlation: Vec<Vec<Option<f64>>>,
+    /// One sentence per undetermined combination or inseparable pair; a single sentence
+    /// saying every parameter is determined otherwise.
+    pub sentences: Vec<String>,
+    /// Whether every free parameter is determined.
+    pub all_determined: bool,
+}
+
+fn join(names: &[&str]) -> String {
+    match names {
+        [] => String::new(),
+        [a] => a.to_string(),
+        [init @ .., last] => format!("{} and {last}", init.join(", ")),
+    }
+}
+
+/// Determination of the free parameters `names` at `values` from the Jacobian `jac`
+/// (∂residual/∂parameter, n × k) and the residual sum of squares `rss`.
+pub fn determination(
+    jac: &DMatrix<f64>,
+    rss: f64,
+    names: &[&str],
+    values: &[f64],
+) -> Determination {
+    let k = names.len();
+    let cols: Vec<Vec<f64>> = (0..k).map(|j| jac.column(j).iter().copied().collect()).collect();
+    let cov = covariance(&cols, rss);
+    let mut sentences = Vec::new();
+    let mut in_null = vec![false; k];
+    if k > 0 && jac.nrows() >= k {
+        // Relative sensitivities, unit-norm columns.
+        let scale: Vec<f64> =
+            (0..k).map(|j| if values[j] != 0.0 { values[j].abs() } else { 1.0 }).collect();
+        let mut js = jac.clone();
+        let mut norms = vec![0.0; k];
+        for j in 0..k {
+            let mut c = js.column_mut(j);
+            c *= scale[j];
+            norms[j] = c.norm();
+            if norms[j] > 0.0 {
+                c /= norms[j];
+            }
+        }
+        let svd = js.svd(false, true);
+        if let Some(vt) = svd.v_t {
+            let s = &svd.singular_values;
+            let smax = s.max();
+            for (i, &si) in s.iter().enumerate() {
+                if si > NULL_TOLERANCE * smax {
+                    continue;
+                }
+                // Relative change of each parameter along this direction.
+                let rel: Vec<f64> = (0..k)
+                    .map(|j| if norms[j] > 0.0 { vt[(i, j)] / norms[j] } else { vt[(i, j)] })
+                    .collect();
+                let big = rel.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
+                let members: Vec<usize> = (0..k).filter(|&j| rel[j].abs() > 0.05 * big).collect();
+                for &j in &members {
+                    in_null[j] = true;
+                }
+                let who: Vec<&str> = members.iter().map(|&j| names[j]).collect();
+                let weights: Vec<String> =
+                    members.iter().map(|&j| format!("{:+.2}", rel[j] / big)).collect();
+                sentences.push(if members.len() == 1 {
+                    format!("{} is not determined by this record (the outputs do not depend on it); fix it.", who[0])
+                } else {
+                    format!(
+                        "{} are not separable on this record: changing them together by relative amounts ({}) leaves every output unchanged; fix one of them.",
+                        join(&who),
+                        weights.join(", ")
+                    )
+                });
+            }
+        }
+    }
+    for a in 0..k {
+        for b in a + 1..k {
+            if in_null[a] && in_null[b] {
+                continue;
+            }
+            if let Some(r) = cov.correlation[a][b]
+                && r.abs() >= CORRELATION_LIMIT
+            {
+                sentences.push(format!(
+                    "{} and {} are not separable on this record (correlation {r:.4}); fix one or add an experiment that moves them differently.",
+                    names[a], names[b]
+                ));
+            }
+        }
+    }
+    let all_determined = sentences.is_empty();
+    if all_determined {
+        let mut worst = (0.0, "", "");
+        for a in 0..k {
+            for b in a + 1..k {
+                if let Some(r) = cov.correlation[a][b]
+                    && r.abs() > worst.0
+                {
+                    worst = (r.abs(), names[a], names[b]);
+                }
+            }
+        }
+        sentences.push(if k > 1 {
+            format!(
+                "Every free parameter is determined by this record (largest correlation {:.3}, between {} and {}).",
+                worst.0, worst.1, worst.2
+            )
+        } else if k == 1 {
+            "Every free parameter is determined by this record.".to_string()
+        } else {
+            "No parameter is free: the record was only simulated.".to_string()
+        });
+    }
+    let std_errors = (0..k).map(|j| if in_null[j] { None } else { cov.std_error[j] }).collect();
+    Determination { std_errors, correlation: cov.correlation, sentences, all_determined }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// y = (a·b)·t + c·t²: a and b enter only as a product, so the direction (+1, −1) in
+    /// relative changes is null; c is determined.
+    #[test]
+    fn names_a_product_that_only_enters_together() {
+        let t: Vec<f64> = (0..50).map(|k| 0.02 * k as f64).collect();
+        let (a, b) = (2.0, 3.0);
+        let jac = DMatrix::from_fn(t.len(), 3, |i, j| match j {
+            0 => b * t[i],
+            1 => a * t[i],
+            _ => t[i] * t[i],
+        });
+        let d = determination(&jac, 1.0, &["a", "b", "c"], &[a, b, 0.5]);
+        assert!(!d.all_determined);
+        assert_eq!(d.sentences.len(), 1, "{:?}", d.sentences);
+        let s = &d.sentences[0];
+        assert!(
+            s.starts_with("a and b are not separable") && s.contains("(+1.00, -1.00)")
+                || s.contains("(-1.00, +1.00)"),
+            "{s}"
+        );
+        assert!(
+            d.std_errors[0].is_none() && d.std_errors[1].is_none() && d.std_errors[2].is_some()
+        );
+    }
+
+    /// Independent columns: everything determined, with the largest correlation named.
+    #[test]
+    fn independent_columns_are_determined() {
+        let jac = DMatrix::from_fn(40, 2, |i, j| if j == 0 { 1.0 } else { (i as f64).sin() });
+        let d = determination(&jac, 1.0, &["p", "q"], &[1.0, 1.0]);
+        assert!(d.all_determined, "{:?}", d.sentences);
+        assert!(d.sentences[0].starts_with("Every free parameter is determined"));
+    }
+}

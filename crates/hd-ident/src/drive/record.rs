@@ -1,0 +1,98 @@
+//! One recorded experiment of a drive in its loop: position, reference, command (and an
+//! optional additive disturbance on the command), sampled uniformly.
+
+use super::error::DriveError;
+
+/// A logged closed-loop run, in the axis's units (position [m or rad], command [V or the
+/// command's unit]).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Experiment {
+    /// Name used in reports (`estimation`, `validation`, …).
+    pub name: String,
+    /// Where it came from (the file), for messages.
+    pub source: String,
+    /// Sample period [s].
+    pub h: f64,
+    /// Sample times [s].
+    pub t: Vec<f64>,
+    /// Measured position [m or rad].
+    pub position: Vec<f64>,
+    /// Position reference of the controller [m or rad].
+    pub reference: Vec<f64>,
+    /// Recorded command (the controller's output) [command unit].
+    pub command: Vec<f64>,
+    /// Disturbance added to the controller's output [command unit]; zeros when the record
+    /// has none.
+    pub disturbance: Vec<f64>,
+}
+
+/// Largest relative deviation of a sample interval from the mean before the record counts
+/// as not uniformly sampled.
+const JITTER: f64 = 1e-3;
+
+impl Experiment {
+    /// Check and assemble a record: equal lengths, at least 10 samples, strictly increasing
+    /// and uniform time (the controller is discrete). `disturbance` may be empty (zeros).
+    pub fn new(
+        name: &str,
+        source: &str,
+        t: Vec<f64>,
+        position: Vec<f64>,
+        reference: Vec<f64>,
+        command: Vec<f64>,
+        disturbance: Vec<f64>,
+    ) -> Result<Experiment, DriveError> {
+        let err = |m: String| DriveError::data(source, m);
+        let n = t.len();
+        if n < 10 {
+            return Err(err(format!("{n} samples; a drive record needs at least 10")));
+        }
+        let disturbance = if disturbance.is_empty() { vec![0.0; n] } else { disturbance };
+        for (what, len) in [
+            ("position", position.len()),
+            ("reference", reference.len()),
+            ("command", command.len()),
+            ("disturbance", disturbance.len()),
+        ] {
+            if len != n {
+                return Err(err(format!("the {what} column has {len} samples but time has {n}")));
+            }
+        }
+        if let Some(k) = t.windows(2).position(|w| w[1] <= w[0]) {
+            return Err(err(format!(
+                "time, row {}: {} s does not come after {} s; time must increase strictly",
+                k + 2,
+                t[k + 1],
+                t[k]
+            )));
+        }
+        let h = (t[n - 1] - t[0]) / (n - 1) as f64;
+        if let Some(k) = t.windows(2).position(|w| ((w[1] - w[0]) / h - 1.0).abs() > JITTER) {
+            return Err(err(format!(
+                "time, row {}: interval {} s differs from the mean sample period {h} s; a discrete controller needs uniform sampling",
+                k + 2,
+                t[k + 1] - t[k]
+            )));
+        }
+        Ok(Experiment {
+            name: name.to_string(),
+            source: source.to_string(),
+            h,
+            t,
+            position,
+            reference,
+            command,
+            disturbance,
+        })
+    }
+
+    /// Number of samples.
+    pub fn len(&self) -> usize {
+        self.t.len()
+    }
+
+    /// Whether it has no samples (never, once built).
+    pub fn is_empty(&self) -> bool {
+        self.t.is_empty()
+    }
+}
