@@ -114,17 +114,23 @@ impl Separable for HysteresisProblem<'_> {
             spring: CubicSpring { a: beta[0], b: beta[1], c: beta[2] },
             memory: FadingMemory { a: beta[3], b: q },
         };
-        let z = self.memory(&law.memory);
+        // The memory runs beside the prediction (no second column held).
         let (t, th) = (self.data.t(), self.data.theta());
         let offset = if self.offset { beta[4] } else { 0.0 };
+        let mut z = 0.0;
         Ok((0..t.len())
             .map(|k| {
-                let rate = if k == 0 { 0.0 } else { (th[k] - th[k - 1]) / (t[k] - t[k - 1]) };
-                law.eval(th[k], rate, z[k]).torque + offset
+                let rate = if k == 0 {
+                    0.0
+                } else {
+                    z = law.memory.step_linear(z, th[k] - th[k - 1], t[k] - t[k - 1]);
+                    (th[k] - th[k - 1]) / (t[k] - t[k - 1])
+                };
+                law.eval(th[k], rate, z).torque + offset
             })
             .collect())
     }
-    fn profile(&self, q: f64, lo: &[f64], hi: &[f64]) -> Option<(f64, Vec<f64>)> {
+    fn profile(&self, q: f64, lo: &[f64], hi: &[f64]) -> Option<(f64, Vec<f64>, Vec<bool>)> {
         let d = self.data;
         let p = self.profile.get_or_init(|| MemoryProfile::new(d.theta(), d.torque(), self.offset));
         p.at(d.t(), d.theta(), d.torque(), q, lo, hi)

@@ -7,10 +7,12 @@
 //! spring alone. For a trial B one pass runs ζ along the record and accumulates
 //! `u = Xᵀζ`, `ζᵀζ` and `ζᵀy`; bordering R₀ with ζ's column then gives
 //! `r = R₀⁻ᵀu`, `ρ = √(ζᵀζ − rᵀr)`, `c_ζ = (ζᵀy − rᵀc_f)/ρ` and
-//! `RSS = rss_f − c_ζ²`, and the coefficients by back substitution. Where that is not
-//! safe (the spring's columns or ζ nearly dependent, or a coefficient outside its range)
-//! the caller falls back to the full bounded solve.
+//! `RSS = rss_f − c_ζ²` without bounds; with them, the bounded solve runs on the bordered
+//! (k+1)-row triangular system, whose residual differs from the full one by that
+//! constant. Where this is not safe (the spring's columns or ζ nearly dependent) the
+//! caller falls back to the full bounded solve.
 
+use crate::linear::bounded_least_squares;
 use crate::qr_stream::StreamingQr;
 use hd_model::laws::stiffness::FadingMemory;
 use nalgebra::{DMatrix, DVector};
@@ -64,9 +66,10 @@ impl MemoryProfile {
         Self { offset, r0, c_f, rss_f, usable }
     }
 
-    /// RSS [N·m²] and the coefficients (a, b, c, A and the offset, in the hysteresis
-    /// fit's order) at decay rate `b` [1/s], or `None` where the caller should solve in
-    /// full: the design is nearly singular or a coefficient leaves `[lo, hi]`.
+    /// RSS [N·m²], the coefficients (a, b, c, A and the offset, in the hysteresis fit's
+    /// order, each within `[lo, hi]`) and which of them sit at a bound, at decay rate `b`
+    /// [1/s]; `None` where the caller should solve in full (the design is nearly
+    /// singular).
     pub fn at(
         &self,
         t: &[f64],
@@ -75,7 +78,7 @@ impl MemoryProfile {
         b: f64,
         lo: &[f64],
         hi: &[f64],
-    ) -> Option<(f64, Vec<f64>)> {
+    ) -> Option<(f64, Vec<f64>, Vec<bool>)> {
         if !self.usable {
             return None;
         }
@@ -108,15 +111,24 @@ impl MemoryProfile {
         }
         let rho = rho2.sqrt();
         let c_z = (zy - r.dot(&self.c_f)) / rho;
-        let rss = (self.rss_f - c_z * c_z).max(0.0);
-        let beta_z = c_z / rho;
-        let beta_f = self.r0.solve_upper_triangular(&(&self.c_f - &r * beta_z))?;
-        // The fit's order: a, b, c, A, then the offset.
-        let mut beta = vec![beta_f[0], beta_f[1], beta_f[2], beta_z];
-        if self.offset {
-            beta.push(beta_f[3]);
-        }
-        let inside = beta.iter().zip(lo.iter().zip(hi)).all(|(v, (l, h))| v >= l && v <= h);
-        (inside && rss.is_finite()).then_some((rss, beta))
+        // Beyond the bordered factor, the residual of y is rss_f − c_ζ²; within it the
+        // coefficients solve R̃β ≈ c̃ under their bounds (a (k+1)-row problem, solved by
+        // the same bounded solver as the full one).
+        let beyond = (self.rss_f - c_z * c_z).max(0.0);
+        let m = k + 1;
+        let mut rt = DMatrix::<f64>::zeros(m, m);
+        rt.view_mut((0, 0), (k, k)).copy_from(&self.r0);
+        rt.view_mut((0, k), (k, 1)).copy_from(&r);
+        rt[(k, k)] = rho;
+        let mut ct: Vec<f64> = self.c_f.iter().copied().collect();
+        ct.push(c_z);
+        // The fit's order: a, b, c (θ³, θ², θ), A (ζ, last in R̃), then the offset.
+        let order: Vec<usize> = if self.offset { vec![0, 1, 2, k, 3] } else { vec![0, 1, 2, k] };
+        let cols: Vec<Vec<f64>> =
+            order.iter().map(|&j| rt.column(j).iter().copied().collect()).collect();
+        let refs: Vec<&[f64]> = cols.iter().map(Vec::as_slice).collect();
+        let sol = bounded_least_squares(&refs, &ct, lo, hi);
+        let rss = sol.rss + beyond;
+        rss.is_finite().then_some((rss, sol.coef, sol.at_bound))
     }
 }

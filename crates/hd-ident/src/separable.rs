@@ -47,11 +47,12 @@ pub trait Separable: Sync {
     /// What parameter `name` does and which data would reveal it, given the fitted
     /// `values` (all parameters, in [`Separable::names`] order).
     fn explain(&self, name: &str, values: &[(&'static str, f64)]) -> Explanation;
-    /// RSS(q) [N·m²] and the linear parameters at q by a shortcut that holds no column
-    /// (one streaming pass), when the problem has one; `None` (the default, or where the
-    /// shortcut is unsafe or a parameter leaves `[lo, hi]`): the full bounded solve.
+    /// RSS(q) [N·m²], the linear parameters at q within `[lo, hi]` and which of them sit
+    /// at a bound, by a shortcut that holds no column (one streaming pass), when the
+    /// problem has one; `None` (the default, or where the shortcut is unsafe): the full
+    /// bounded solve.
     /// Not used when a linear parameter is fixed.
-    fn profile(&self, _q: f64, _lo: &[f64], _hi: &[f64]) -> Option<(f64, Vec<f64>)> {
+    fn profile(&self, _q: f64, _lo: &[f64], _hi: &[f64]) -> Option<(f64, Vec<f64>, Vec<bool>)> {
         None
     }
     /// The exact derivative of [`Separable::predict`] with respect to q at fixed `beta`
@@ -172,7 +173,7 @@ pub fn fit_separable<P: Separable>(problem: &P, fixed: &Fixed) -> Result<Separab
             a = a.max(qinfo.min).max(f64::MIN_POSITIVE);
             b = b.min(qinfo.max);
             let cost = |q: f64| match quick(q) {
-                Some((rss, _)) => Ok(rss),
+                Some((rss, _, _)) => Ok(rss),
                 None => solve_inner(problem, q, &lin_fixed, &lo, &hi).map(|s| s.rss),
             };
             let out = search_log(&cost, a, b)?;
@@ -180,9 +181,7 @@ pub fn fit_separable<P: Separable>(problem: &P, fixed: &Fixed) -> Result<Separab
         }
     };
     let inner = match quick(q) {
-        Some((rss, beta)) => {
-            Inner { at_bound: vec![false; beta.len()], beta, rss, basis: problem.basis(q)? }
-        }
+        Some((rss, beta, at_bound)) => Inner { at_bound, beta, rss, basis: problem.basis(q)? },
         None => solve_inner(problem, q, &lin_fixed, &lo, &hi)?,
     };
     let _ = inner.rss;

@@ -46,11 +46,13 @@ pub enum FitWhat {
 #[command(
     allow_negative_numbers = true,
     after_help = "One time series (--transient alone): every LuGre parameter at once. The bristle state runs along\n\
-the measured ω(t) (linear between samples, from the first measured torque) with hd-model's\n\
-LuGre law and Rodas4; σ1, σ2 (and the offset) follow by linear least squares at every trial. The\n\
-static levels start from quasi-steady samples picked from the series itself, σ0 from a grid over\n\
-ln σ0 refined by Brent's method, then Levenberg–Marquardt refines Tc, Ts, ωs, σ0 (and Tc_neg,\n\
-Ts_neg) jointly from several starts. A trial whose integration fails counts as a bad trial.\n\
+the measured ω(t) (each sample interval at its mean speed, split where ω changes sign, from the\n\
+first measured torque) by the LuGre law's exact updates, with exact sensitivities carried beside\n\
+it; σ1, σ2 (and the offset) follow by linear least squares at every trial. The static levels start\n\
+from quasi-steady samples picked from the series itself, σ0 from a grid over ln σ0 refined by\n\
+Brent's method, then Levenberg–Marquardt (exact Jacobian) refines Tc, Ts, ωs, σ0 (and Tc_neg,\n\
+Ts_neg) jointly from several starts in parallel; a refinement that stops on its iteration budget\n\
+says so as a warning. A trial that gives non-finite values counts as a bad trial.\n\
 Steady sweep alone (--steady): T(ω) = sign(ω)·(Tc + (Ts − Tc)·exp(−(ω/ωs)²)) + σ2·ω, linear in Tc,\n\
 Ts, σ2 for a given ωs. Both files: the static stage, then σ0 and σ1 from the series with the static\n\
 parameters held, the static stage's uncertainty carried into their errors.\n\

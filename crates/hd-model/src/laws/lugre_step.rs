@@ -48,10 +48,11 @@ impl LuGre {
     /// levels and ωs. Only the levels of v's side have non-zero entries (v = 0 counts as
     /// positive, as in [`LuGre::levels`]).
     pub fn level_grad(&self, v: f64) -> LevelGrad {
-        let (level, _) = self.stribeck(v);
         let (tc, ts) = self.levels(v);
-        let r = v / self.ws;
+        // The same level as [`LuGre::stribeck`] (unloaded) from one exponential.
+        let r = v * (1.0 / self.ws);
         let e = (-r * r).exp();
+        let level = crate::fma::fmadd(ts - tc, e, tc);
         let mut grad = [0.0; 6];
         let (kc, ks) = if v < 0.0 { (4, 5) } else { (0, 1) };
         grad[kc] = 1.0 - e;
