@@ -45,7 +45,28 @@ pub fn strip_comment(line: &str) -> String {
 pub fn commands(body: &[&str]) -> Vec<(usize, String)> {
     let mut out = Vec::new();
     let mut current: Option<(usize, String)> = None;
-    for (k, raw) in body.iter().enumerate() {
+    let mut k = 0;
+    while k < body.len() {
+        let raw = body[k];
+        // A here-document: the command and its lines, verbatim, up to the terminator.
+        if current.is_none()
+            && let Some(end) = heredoc_end(raw)
+        {
+            let mut text = raw.trim().to_string();
+            let start = k;
+            while k + 1 < body.len() {
+                k += 1;
+                text.push('\n');
+                text.push_str(body[k]);
+                if body[k].trim() == end {
+                    break;
+                }
+            }
+            out.push((start, text));
+            k += 1;
+            continue;
+        }
+        k += 1;
         let line = strip_comment(raw.trim_start_matches(' '));
         let line = line.trim();
         let (text, more) = match line.strip_suffix('\\') {
@@ -57,7 +78,7 @@ pub fn commands(body: &[&str]) -> Vec<(usize, String)> {
                 c.push(' ');
                 c.push_str(text);
             }
-            None if !text.is_empty() => current = Some((k, text.to_string())),
+            None if !text.is_empty() => current = Some((k - 1, text.to_string())),
             None => {}
         }
         if !more && let Some(done) = current.take() {
@@ -66,6 +87,15 @@ pub fn commands(body: &[&str]) -> Vec<(usize, String)> {
     }
     out.extend(current);
     out
+}
+
+/// The terminator of a here-document the line opens (`cat > f <<'EOF'` → `EOF`).
+fn heredoc_end(line: &str) -> Option<String> {
+    let (_, rest) = line.split_once("<<")?;
+    let word = rest.trim_start_matches('-').trim();
+    let word = word.split_whitespace().next()?.trim_matches(|c| c == '\'' || c == '"');
+    (!word.is_empty() && word.chars().all(|c| c.is_ascii_alphanumeric() || c == '_'))
+        .then(|| word.to_string())
 }
 
 /// The runnable examples of one Markdown file, in order. `name` is the file as shown in
@@ -227,6 +257,11 @@ fn shell_lines_join_continuations_and_drop_comments() {
     assert_eq!(c.len(), 2, "{c:?}");
     assert_eq!(c[0], (1, "hdw study a.toml --out out/a".to_string()));
     assert_eq!(c[1].1, "hdw fit x --columns 'Time [s],F # not a comment' --out out/f");
+    let doc = ["cat > a.toml <<'EOF'", "x = 1", "# kept", "EOF", "hdw run a.toml"];
+    let c = commands(&doc);
+    assert_eq!(c.len(), 2, "{c:?}");
+    assert_eq!(c[0].1, "cat > a.toml <<'EOF'\nx = 1\n# kept\nEOF");
+    assert_eq!(c[1], (4, "hdw run a.toml".to_string()));
 }
 
 #[test]
