@@ -95,3 +95,30 @@ pub fn read_table_columns(path: &Path, names: &[&str]) -> Result<Table, IoError>
     let df = lf.select(present).collect().map_err(IoError::polars(path, "cannot read Parquet"))?;
     frame_to_table(&df, path)
 }
+
+/// The named columns of the rows of a Parquet file whose `key` column holds one of `keys`,
+/// read with a scan that decodes nothing else and keeps only those rows: a report overlays
+/// the traces of a few runs out of a traces table of any length.
+pub fn read_rows_with(
+    path: &Path,
+    names: &[&str],
+    key: &str,
+    keys: &[String],
+) -> Result<Table, IoError> {
+    let pl_path = PlRefPath::try_from_path(path)
+        .map_err(|e| IoError::format(path, format!("not a usable path: {e}")))?;
+    let mut lf = LazyFrame::scan_parquet(pl_path, ScanArgsParquet::default())
+        .map_err(IoError::polars(path, "cannot read Parquet"))?;
+    let schema = lf.collect_schema().map_err(IoError::polars(path, "cannot read Parquet"))?;
+    let present: Vec<Expr> = names.iter().filter(|n| schema.contains(n)).map(|n| col(*n)).collect();
+    let Some(wanted) = keys.iter().map(|k| col(key).eq(lit(k.as_str()))).reduce(|a, b| a.or(b))
+    else {
+        return Ok(Table::default());
+    };
+    let df = lf
+        .filter(wanted)
+        .select(present)
+        .collect()
+        .map_err(IoError::polars(path, "cannot read Parquet"))?;
+    frame_to_table(&df, path)
+}

@@ -51,6 +51,9 @@ fn report_columns(study: &Study) -> Vec<&str> {
     cols
 }
 
+/// Runs of a part whose load angle the report overlays.
+pub const OVERLAID_RUNS: usize = 12;
+
 /// Write `DIR/report.md` and its plots; returns the report's path.
 fn write_report(
     dir: &Path,
@@ -60,7 +63,23 @@ fn write_report(
     note: Option<&str>,
 ) -> Result<PathBuf> {
     let table = hd_io::table::read_table_columns(runs, &report_columns(study))?;
-    let trace_table = if traces.exists() { Some(hd_io::read_table(traces)?) } else { None };
+    // Only the runs the overlays draw (the first 12 of each part), and only the columns they
+    // use: memory follows those runs, not the length of the whole traces table.
+    let trace_table = if traces.exists() {
+        let ids = table.text("run_id").unwrap_or(&[]);
+        let parts = table.text("part").unwrap_or(&[]);
+        let mut shown: Vec<String> = Vec::new();
+        for part in &study.parts {
+            let of_part = (0..table.height)
+                .filter(|&i| parts.get(i).and_then(|p| p.as_deref()) == Some(part.name.as_str()))
+                .filter_map(|i| ids.get(i).cloned().flatten())
+                .take(OVERLAID_RUNS);
+            shown.extend(of_part);
+        }
+        Some(hd_io::table::read_rows_with(traces, &["run_id", "t", "theta_z"], "run_id", &shown)?)
+    } else {
+        None
+    };
     let mut md = String::new();
     writeln!(md, "# Study `{}`\n", study.name)?;
     if !study.description.is_empty() {

@@ -145,7 +145,7 @@ fn trace_overlay(dir: &Path, study: &str, d: &PartData, t: &Table) -> Result<Str
         return Ok(String::new());
     };
     let mut series = Vec::new();
-    for &i in d.rows.iter().take(12) {
+    for &i in d.rows.iter().take(super::OVERLAID_RUNS) {
         let id = d.text("run_id", i);
         let idx: Vec<usize> =
             (0..ids.len()).filter(|&k| ids[k].as_deref() == Some(id.as_str())).collect();
