@@ -83,15 +83,21 @@ pub fn read_table(path: &Path) -> Result<Table, IoError> {
     frame_to_table(&df, path)
 }
 
-/// Only the named columns of a Parquet file (those it has), read with a polars scan that
-/// decodes nothing else: a report needs a few columns of a table of millions of rows.
-pub fn read_table_columns(path: &Path, names: &[&str]) -> Result<Table, IoError> {
+/// A lazy scan of a Parquet file and the selection of those of `names` it has.
+fn scan_present(path: &Path, names: &[&str]) -> Result<(LazyFrame, Vec<Expr>), IoError> {
     let pl_path = PlRefPath::try_from_path(path)
         .map_err(|e| IoError::format(path, format!("not a usable path: {e}")))?;
     let mut lf = LazyFrame::scan_parquet(pl_path, ScanArgsParquet::default())
         .map_err(IoError::polars(path, "cannot read Parquet"))?;
     let schema = lf.collect_schema().map_err(IoError::polars(path, "cannot read Parquet"))?;
-    let present: Vec<Expr> = names.iter().filter(|n| schema.contains(n)).map(|n| col(*n)).collect();
+    let present = names.iter().filter(|n| schema.contains(n)).map(|n| col(*n)).collect();
+    Ok((lf, present))
+}
+
+/// Only the named columns of a Parquet file (those it has), read with a polars scan that
+/// decodes nothing else: a report needs a few columns of a table of millions of rows.
+pub fn read_table_columns(path: &Path, names: &[&str]) -> Result<Table, IoError> {
+    let (lf, present) = scan_present(path, names)?;
     let df = lf.select(present).collect().map_err(IoError::polars(path, "cannot read Parquet"))?;
     frame_to_table(&df, path)
 }
@@ -105,16 +111,11 @@ pub fn read_rows_with(
     key: &str,
     keys: &[String],
 ) -> Result<Table, IoError> {
-    let pl_path = PlRefPath::try_from_path(path)
-        .map_err(|e| IoError::format(path, format!("not a usable path: {e}")))?;
-    let mut lf = LazyFrame::scan_parquet(pl_path, ScanArgsParquet::default())
-        .map_err(IoError::polars(path, "cannot read Parquet"))?;
-    let schema = lf.collect_schema().map_err(IoError::polars(path, "cannot read Parquet"))?;
-    let present: Vec<Expr> = names.iter().filter(|n| schema.contains(n)).map(|n| col(*n)).collect();
     let Some(wanted) = keys.iter().map(|k| col(key).eq(lit(k.as_str()))).reduce(|a, b| a.or(b))
     else {
         return Ok(Table::default());
     };
+    let (lf, present) = scan_present(path, names)?;
     let df = lf
         .filter(wanted)
         .select(present)
