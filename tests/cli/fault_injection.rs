@@ -89,6 +89,47 @@ fn failing_and_interrupted_runs_leave_the_earlier_results_whole() {
 }
 
 #[test]
+fn a_failed_or_interrupted_run_leaves_no_folder_it_created() {
+    let dir = scratch("fault-new-folder");
+    // A folder two levels deep that did not exist: both levels go with the failed run.
+    let out = dir.join("new").join("run");
+    let bad =
+        hdw(&["simulate", "--stiffness", "maxwell-slip", "--set", "ms_n=2.5", "--out", s(&out)]);
+    assert!(!bad.status.success());
+    assert!(!dir.join("new").exists(), "a failed run left the folders it created");
+    let (code, err) = interrupt(
+        &["simulate", "--t-end", "1e5", "--max-output-values", "0", "--out", s(&out)],
+        random_ms(300, 1200),
+    );
+    assert_eq!(code, Some(130), "{err}");
+    assert!(!dir.join("new").exists(), "an interrupted run left the folders it created");
+    // A folder that existed before stays, empty or not.
+    std::fs::create_dir_all(&out).unwrap();
+    let bad = hdw(&["simulate", "--set", "c=1e308", "--out", s(&out)]);
+    assert!(!bad.status.success());
+    assert!(out.is_dir(), "a failed run removed a folder it did not create");
+}
+
+#[test]
+fn runs_that_cannot_succeed_are_refused_before_they_start() {
+    let dir = scratch("fault-upfront");
+    let out = dir.join("run");
+    let cases: [(&[&str], &str); 3] = [
+        (&["--set", "c=1e308"], "finite at rest"),
+        (&["--voltage", "1e308"], "finite [V, V/s]"),
+        (&["--input", "chirp", "--freq", "1e9"], "max_steps"),
+    ];
+    for (args, says) in cases {
+        let mut all = vec!["simulate"];
+        all.extend_from_slice(args);
+        all.extend_from_slice(&["--out", s(&out)]);
+        let r = hdw(&all);
+        crate::common::assert_one_line_error(&r, &[says]);
+        assert!(!out.exists(), "{args:?} created its folder");
+    }
+}
+
+#[test]
 fn a_metrics_only_run_removes_the_older_trace() {
     let dir = scratch("fault-no-trace");
     let out = dir.join("run");
@@ -141,7 +182,7 @@ fn an_interrupted_study_leaves_no_temporaries_and_resumes_to_the_full_table() {
 fn outputs_too_large_are_refused_before_anything_is_written() {
     let dir = scratch("fault-size");
     let out = dir.join("big");
-    let r = hdw(&["simulate", "--t-end", "1e9", "--out", s(&out)]);
+    let r = hdw(&["simulate", "--t-end", "1e5", "--dt-out", "1e-6", "--out", s(&out)]);
     let err = String::from_utf8_lossy(&r.stderr);
     assert!(!r.status.success() && err.contains("--max-output-values"), "{err}");
     assert!(!out.exists(), "a refused run created its folder");

@@ -74,6 +74,8 @@ fn main() -> ExitCode {
     match result {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
+            // Nothing was written into the folders this command created: leave no empty ones.
+            hd_io::pending::remove_empty_created_dirs();
             eprintln!("error: {e:#}");
             ExitCode::FAILURE
         }

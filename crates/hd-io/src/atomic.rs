@@ -10,16 +10,26 @@
 //! Temporaries are created with mode 0666 less the umask, like any file a program creates
 //! (tempfile's 0600 made every result private whatever the umask).
 //!
+//! A command whose outputs are written by several functions (a fit's table, JSON and
+//! plots) runs them inside [`group`]: every atomic write of the thread is then held back
+//! and the whole set is renamed into place at the end, or removed if anything failed.
+//!
 //! Writers get the file behind a buffer: Parquet's footer is encoded a few bytes at a
 //! time, and unbuffered it cost one system call per piece (20 427 writes for a one-run
 //! study's runs.parquet, measured with strace).
 
 use crate::error::IoError;
 use crate::pending;
+use std::cell::RefCell;
 use std::fs::File;
 use std::io::{BufWriter, Write};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicU64, Ordering};
+
+thread_local! {
+    /// The files held back by this thread's [`group`], if one is open.
+    static GROUP: RefCell<Option<Vec<Staged>>> = const { RefCell::new(None) };
+}
 
 /// Distinguishes the temporaries of one process.
 static COUNTER: AtomicU64 = AtomicU64::new(0);
@@ -40,7 +50,7 @@ impl Staged {
     pub fn new(dest: &Path) -> Result<Self, IoError> {
         let dir = match dest.parent().filter(|d| !d.as_os_str().is_empty()) {
             Some(dir) => {
-                std::fs::create_dir_all(dir).map_err(|e| IoError::fs(dir, e))?;
+                pending::create_dir_all(dir).map_err(|e| IoError::fs(dir, e))?;
                 dir
             }
             None => Path::new("."),
@@ -153,6 +163,107 @@ pub fn write_atomically<T>(
 ) -> Result<T, IoError> {
     let mut staged = Staged::new(path)?;
     let out = staged.write_with(write)?;
-    commit(vec![staged], &[])?;
+    finish(staged)?;
     Ok(out)
+}
+
+/// Rename `staged` into place now, or, inside a [`group`], with the rest of the group.
+pub fn finish(staged: Staged) -> Result<(), IoError> {
+    let now = GROUP.with(|g| match g.borrow_mut().as_mut() {
+        Some(held) => {
+            held.push(staged);
+            None
+        }
+        None => Some(staged),
+    });
+    match now {
+        Some(s) => commit(vec![s], &[]),
+        None => Ok(()),
+    }
+}
+
+/// Run `write` with every atomic write of this thread ([`write_atomically`], [`finish`])
+/// held back; if it succeeds, rename them all into place together ([`commit`]), else
+/// remove them, so the folder keeps its earlier files. A group inside a group joins it.
+pub fn group<T, E: From<IoError>>(write: impl FnOnce() -> Result<T, E>) -> Result<T, E> {
+    let nested = GROUP.with(|g| {
+        let mut g = g.borrow_mut();
+        if g.is_some() {
+            true
+        } else {
+            *g = Some(Vec::new());
+            false
+        }
+    });
+    if nested {
+        return write();
+    }
+    // Taken back even if `write` panics, so the thread's later writes are not held.
+    struct Close;
+    impl Drop for Close {
+        fn drop(&mut self) {
+            GROUP.with(|g| g.borrow_mut().take());
+        }
+    }
+    let close = Close;
+    let out = write();
+    let held = GROUP.with(|g| g.borrow_mut().take()).unwrap_or_default();
+    drop(close);
+    match out {
+        Ok(v) => {
+            commit(held, &[])?;
+            Ok(v)
+        }
+        // Dropping the staged files removes their temporaries.
+        Err(e) => Err(e),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn put(path: &Path, text: &str) -> Result<(), IoError> {
+        write_atomically(path, |f| f.write_all(text.as_bytes()).map_err(|e| IoError::fs(path, e)))
+    }
+
+    fn names(dir: &Path) -> Vec<String> {
+        let mut v: Vec<String> = std::fs::read_dir(dir)
+            .unwrap()
+            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+            .collect();
+        v.sort();
+        v
+    }
+
+    #[test]
+    fn a_group_lands_whole_or_not_at_all() {
+        let dir = tempfile::tempdir().unwrap();
+        let (a, b) = (dir.path().join("a.json"), dir.path().join("b.csv"));
+        put(&a, "old a").unwrap();
+        // A failure after the first write: the earlier file stays, nothing new appears.
+        let failed: Result<(), IoError> = group(|| {
+            put(&a, "new a")?;
+            put(&b, "new b")?;
+            Err(IoError::format(&b, "failed on purpose"))
+        });
+        assert!(failed.is_err());
+        assert_eq!(std::fs::read_to_string(&a).unwrap(), "old a");
+        assert_eq!(names(dir.path()), ["a.json"]);
+        // Inside the group nothing is visible until the end; then both are.
+        group(|| -> Result<(), IoError> {
+            put(&a, "new a")?;
+            put(&b, "new b")?;
+            assert_eq!(std::fs::read_to_string(&a).unwrap(), "old a");
+            assert!(!b.exists());
+            Ok(())
+        })
+        .unwrap();
+        assert_eq!(std::fs::read_to_string(&a).unwrap(), "new a");
+        assert_eq!(std::fs::read_to_string(&b).unwrap(), "new b");
+        assert_eq!(names(dir.path()), ["a.json", "b.csv"]);
+        // After a group, writes land at once again.
+        put(&a, "later").unwrap();
+        assert_eq!(std::fs::read_to_string(&a).unwrap(), "later");
+    }
 }

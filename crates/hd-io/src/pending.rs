@@ -7,6 +7,10 @@
 //! ([`with_registry`]), so a signal arrives either before the group's renames (all
 //! temporaries removed, earlier results untouched) or after them (all new files in place),
 //! never between two of them.
+//!
+//! Folders the process creates for its outputs ([`create_dir_all`]) are registered too: on
+//! an interrupt, and on a failed command ([`remove_empty_created_dirs`]), those still empty
+//! are removed, so a run that produced nothing leaves no empty `--out` folder behind.
 
 use std::path::{Path, PathBuf};
 use std::sync::{Mutex, MutexGuard};
@@ -19,6 +23,44 @@ pub(crate) fn with_registry<T>(f: impl FnOnce(&mut Vec<PathBuf>) -> T) -> T {
     let mut guard: MutexGuard<'_, Vec<PathBuf>> =
         REGISTRY.lock().unwrap_or_else(|poisoned| poisoned.into_inner());
     f(&mut guard)
+}
+
+/// Folders this process created, in creation order (parents before children).
+static CREATED_DIRS: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
+
+/// Create `dir` and its missing parents, remembering each folder created here, so that
+/// an interrupted or failed command can remove the ones it left empty.
+pub fn create_dir_all(dir: &Path) -> std::io::Result<()> {
+    let mut missing = Vec::new();
+    let mut cur = Some(dir);
+    while let Some(d) = cur.filter(|d| !d.as_os_str().is_empty()) {
+        if d.exists() {
+            break;
+        }
+        missing.push(d.to_path_buf());
+        cur = d.parent();
+    }
+    std::fs::create_dir_all(dir)?;
+    let mut created = CREATED_DIRS.lock().unwrap_or_else(|poisoned| poisoned.into_inner());
+    for d in missing.into_iter().rev() {
+        if !created.contains(&d) {
+            created.push(d);
+        }
+    }
+    Ok(())
+}
+
+/// Remove the folders this process created that are still empty (children first); returns
+/// how many were removed. A folder holding anything is kept.
+pub fn remove_empty_created_dirs() -> usize {
+    let mut created = CREATED_DIRS.lock().unwrap_or_else(|poisoned| poisoned.into_inner());
+    let mut removed = 0;
+    while let Some(d) = created.pop() {
+        if std::fs::remove_dir(&d).is_ok() {
+            removed += 1;
+        }
+    }
+    removed
 }
 
 /// Register `path` for removal if the process is interrupted.
@@ -45,6 +87,7 @@ pub fn remove_on_signal() -> std::io::Result<()> {
             // Held until the process ends: no rename of a group can start after this.
             let mut guard = REGISTRY.lock().unwrap_or_else(|poisoned| poisoned.into_inner());
             let removed = guard.drain(..).filter(|p| std::fs::remove_file(p).is_ok()).count();
+            remove_empty_created_dirs();
             let name = match sig {
                 SIGINT => "SIGINT",
                 SIGTERM => "SIGTERM",

@@ -102,24 +102,31 @@ pub fn read_table_columns(path: &Path, names: &[&str]) -> Result<Table, IoError>
     frame_to_table(&df, path)
 }
 
-/// The named columns of the rows of a Parquet file whose `key` column holds one of `keys`,
-/// read with a scan that decodes nothing else and keeps only those rows: a report overlays
-/// the traces of a few runs out of a traces table of any length.
-pub fn read_rows_with(
+/// Read the named columns of a Parquet file (those it has) `chunk` rows at a time, handing
+/// each piece to `each` in file order: memory follows the chunk, not the file (a report
+/// thins a study's kept traces, which may hold hundreds of millions of rows).
+pub fn for_each_chunk(
     path: &Path,
     names: &[&str],
-    key: &str,
-    keys: &[String],
-) -> Result<Table, IoError> {
-    let Some(wanted) = keys.iter().map(|k| col(key).eq(lit(k.as_str()))).reduce(|a, b| a.or(b))
-    else {
-        return Ok(Table::default());
-    };
-    let (lf, present) = scan_present(path, names)?;
-    let df = lf
-        .filter(wanted)
-        .select(present)
-        .collect()
+    chunk: usize,
+    mut each: impl FnMut(&Table) -> Result<(), IoError>,
+) -> Result<(), IoError> {
+    let file = std::fs::File::open(path).map_err(|e| IoError::fs(path, e))?;
+    let rows = ParquetReader::new(file)
+        .num_rows()
         .map_err(IoError::polars(path, "cannot read Parquet"))?;
-    frame_to_table(&df, path)
+    let (lf, present) = scan_present(path, names)?;
+    let chunk = chunk.max(1);
+    let mut offset = 0;
+    while offset < rows {
+        let df = lf
+            .clone()
+            .slice(offset as i64, chunk as IdxSize)
+            .select(present.clone())
+            .collect()
+            .map_err(IoError::polars(path, "cannot read Parquet"))?;
+        each(&frame_to_table(&df, path)?)?;
+        offset += chunk;
+    }
+    Ok(())
 }

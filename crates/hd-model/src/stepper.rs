@@ -4,8 +4,9 @@
 //! co-simulation host (the FMU) advances one communication step at a time.
 
 use crate::control::Hold;
-use crate::error::SolverError;
+use crate::error::{ConfigError, SolverError};
 use crate::simulate::{SimConfig, SimError};
+use crate::solver::OdeSystem;
 use crate::solver::{SolverOptions, SolverStats, Step, solve};
 use crate::state::{CMP_Q, DIM, State};
 use crate::system::DriveSystem;
@@ -36,7 +37,24 @@ impl Stepper {
     pub fn new(cfg: &SimConfig) -> Result<Self, SimError> {
         cfg.validate()?;
         let sys = cfg.system()?;
-        Ok(Self::at_rest(sys, cfg.solver))
+        let run = Self::at_rest(sys, cfg.solver);
+        run.check_finite_at_rest()?;
+        Ok(run)
+    }
+
+    /// Refuse a set of parameters whose equations overflow before anything moves (a
+    /// stiffness of 1e308 over an inertia below 1): the rates and their Jacobian at the
+    /// initial state must be finite, or no step can be taken.
+    fn check_finite_at_rest(&self) -> Result<(), ConfigError> {
+        let (jac, rate) = self.sys.jacobian(0.0, &self.y);
+        if rate.iter().chain(jac.iter()).all(|v| v.is_finite()) {
+            return Ok(());
+        }
+        Err(ConfigError::Invalid {
+            field: "parameters".to_string(),
+            value: "the values given".to_string(),
+            expected: "values whose equations are finite at rest (a rate or its derivative overflows there: look for a stiffness, gain or voltage near the largest number, e.g. c = 1e308)".to_string(),
+        })
     }
 
     /// `sys` at rest at t = 0.

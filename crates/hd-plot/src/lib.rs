@@ -35,6 +35,7 @@ mod raster;
 mod response;
 mod scatter;
 mod series;
+mod stream;
 mod style;
 mod ticks;
 
@@ -46,3 +47,4 @@ pub use heatmap::heatmap;
 pub use lines::{line_plot, overlay_plot};
 pub use response::response_plot;
 pub use series::Series;
+pub use stream::ThinnedCurve;

@@ -55,11 +55,24 @@ pub fn check_output_size(rows: f64, columns: usize, limit: u64) -> Result<()> {
     Ok(())
 }
 
-/// Create the output folder (and parents).
+/// Create the output folder (and parents); a failed or interrupted command removes the
+/// folders it created here if they are still empty.
 pub fn ensure_dir(dir: &Path) -> Result<PathBuf> {
-    std::fs::create_dir_all(dir)
+    hd_io::pending::create_dir_all(dir)
         .with_context(|| format!("cannot create output folder {}", dir.display()))?;
     Ok(dir.to_path_buf())
+}
+
+/// Draw a plot into a hidden temporary beside `dest` and rename it into place, with the
+/// rest of the outputs when called inside [`hd_io::atomic::group`].
+pub fn staged_plot(
+    dest: &Path,
+    draw: impl FnOnce(&Path) -> std::result::Result<(), hd_plot::PlotError>,
+) -> Result<()> {
+    let staged = hd_io::atomic::Staged::new(dest)?;
+    draw(staged.path()).with_context(|| format!("drawing {}", dest.display()))?;
+    hd_io::atomic::finish(staged)?;
+    Ok(())
 }
 
 /// Write a JSON value to `path` atomically.

@@ -1,7 +1,7 @@
 //! `hdw fit hysteresis|friction`: identify parameters from recorded data, with
 //! uncertainty; writes fit.json, the fitted signals and plots.
 
-use super::common::ensure_dir;
+use super::common::{ensure_dir, staged_plot};
 use super::fit_input::{
     FrictionUnits, column_names, data_context, friction_series, load, scale, source,
 };
@@ -191,38 +191,46 @@ fn run_friction(args: FrictionArgs) -> Result<()> {
     progress.finish();
     let fit = fit.context("friction fit")?;
     let dir = ensure_dir(&args.out)?;
-    let mut report = fit.report.clone();
-    report.data = sources;
-    report_out(&dir, &report)?;
-    if let (Some(d), Some(s)) = (&steady, &fit.steady) {
-        steady_outputs(&dir, d, s, &fit.law)?;
-    }
-    if let (Some(d), Some(s)) = (&transient, &fit.transient) {
-        let [m, f, r] = fitted_columns(s, d.torque());
-        hd_io::write_columns(
-            &dir.join("transient-fitted.parquet"),
-            &["t", "omega", "torque", "fitted", "residual"],
-            &[d.t().to_vec(), d.omega().to_vec(), m, f.clone(), r.clone()],
-        )?;
-        let measured = Series::new("measured", d.t().to_vec(), d.torque().to_vec());
-        let fitted = Series::new("fitted (LuGre)", d.t().to_vec(), f);
-        let title = "Friction fit: torque under the imposed speed";
-        fit_plot(&dir.join("transient.svg"), title, "t [s]", "Tf [N·m]", &measured, &fitted)?;
-        let measured = Series::new("measured", d.omega().to_vec(), d.torque().to_vec());
-        let fitted = Series::new("fitted (LuGre)", d.omega().to_vec(), fitted.y.clone());
-        let title = "Friction fit: torque against speed";
-        fit_plot(
-            &dir.join("friction-speed.svg"),
-            title,
-            "ω [rad/s]",
-            "Tf [N·m]",
-            &measured,
-            &fitted,
-        )?;
-        let res = Series::new("residual", d.t().to_vec(), r);
-        let title = "Friction fit residuals (time series)";
-        residual_plot(&dir.join("residuals-transient.svg"), title, "t [s]", "Tf [N·m]", &res)?;
-    }
+    // Every output lands together when all are written, or none does (earlier results kept).
+    hd_io::atomic::group(|| -> Result<()> {
+        let mut report = fit.report.clone();
+        report.data = sources;
+        report_out(&dir, &report)?;
+        if let (Some(d), Some(s)) = (&steady, &fit.steady) {
+            steady_outputs(&dir, d, s, &fit.law)?;
+        }
+        if let (Some(d), Some(s)) = (&transient, &fit.transient) {
+            let [m, f, r] = fitted_columns(s, d.torque());
+            hd_io::write_columns(
+                &dir.join("transient-fitted.parquet"),
+                &["t", "omega", "torque", "fitted", "residual"],
+                &[d.t().to_vec(), d.omega().to_vec(), m, f.clone(), r.clone()],
+            )?;
+            let measured = Series::new("measured", d.t().to_vec(), d.torque().to_vec());
+            let fitted = Series::new("fitted (LuGre)", d.t().to_vec(), f);
+            let title = "Friction fit: torque under the imposed speed";
+            staged_plot(&dir.join("transient.svg"), |p| {
+                fit_plot(p, title, "t [s]", "Tf [N·m]", &measured, &fitted)
+            })?;
+            let measured = Series::new("measured", d.omega().to_vec(), d.torque().to_vec());
+            let fitted = Series::new("fitted (LuGre)", d.omega().to_vec(), fitted.y.clone());
+            let title = "Friction fit: torque against speed";
+            fit_plot(
+                &dir.join("friction-speed.svg"),
+                title,
+                "ω [rad/s]",
+                "Tf [N·m]",
+                &measured,
+                &fitted,
+            )?;
+            let res = Series::new("residual", d.t().to_vec(), r);
+            let title = "Friction fit residuals (time series)";
+            staged_plot(&dir.join("residuals-transient.svg"), |p| {
+                residual_plot(p, title, "t [s]", "Tf [N·m]", &res)
+            })?;
+        }
+        Ok(())
+    })?;
     eprintln!("friction fit in {:.3} s; wrote {}", fit.report.wall_time_s, dir.display());
     Ok(())
 }
@@ -248,9 +256,11 @@ fn steady_outputs(dir: &Path, d: &SteadyData, s: &SeparableFit, law: &LuGre) -> 
     let fitted = Series::new("fitted Stribeck curve", grid, curve);
     let title = "Friction fit: steady-state torque against speed";
     let (xl, yl) = ("log10 |ω| [rad/s]", "Tf·sign(ω) [N·m]");
-    fit_plot(&dir.join("stribeck.svg"), title, xl, yl, &measured, &fitted)?;
+    staged_plot(&dir.join("stribeck.svg"), |p| fit_plot(p, title, xl, yl, &measured, &fitted))?;
     let res = Series::new("residual", speeds, r);
     let title = "Friction fit residuals (steady state)";
-    residual_plot(&dir.join("residuals-steady.svg"), title, xl, "Tf [N·m]", &res)?;
+    staged_plot(&dir.join("residuals-steady.svg"), |p| {
+        residual_plot(p, title, xl, "Tf [N·m]", &res)
+    })?;
     Ok(())
 }

@@ -11,8 +11,10 @@ mod plots;
 pub mod sensitivity;
 
 use anyhow::Result;
+use hd_plot::ThinnedCurve;
 use hd_sweep::Study;
 use part_data::PartData;
+use std::collections::HashMap;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
@@ -54,6 +56,33 @@ fn report_columns(study: &Study) -> Vec<&str> {
 /// Runs of a part whose load angle the report overlays.
 pub const OVERLAID_RUNS: usize = 12;
 
+/// Buckets of first/lowest/highest/last points kept per overlaid trace (at most four
+/// points each; the plot's own decimation then works on these) [–].
+const OVERLAY_BUCKETS: usize = 2048;
+
+/// Rows of traces.parquet read at a time [–].
+const TRACE_CHUNK_ROWS: usize = 1 << 19;
+
+/// θz(t) of the runs `shown`, read from `traces` chunk by chunk and thinned as it arrives,
+/// so memory is bounded whatever the traces' length.
+fn read_overlays(traces: &Path, shown: &[String]) -> Result<HashMap<String, ThinnedCurve>> {
+    let mut curves: HashMap<String, ThinnedCurve> =
+        shown.iter().map(|id| (id.clone(), ThinnedCurve::new(OVERLAY_BUCKETS))).collect();
+    hd_io::table::for_each_chunk(traces, &["run_id", "t", "theta_z"], TRACE_CHUNK_ROWS, |t| {
+        let (Some(ids), Some(time), Some(thz)) = (t.text("run_id"), t.num("t"), t.num("theta_z"))
+        else {
+            return Ok(());
+        };
+        for ((id, &x), &y) in ids.iter().zip(time).zip(thz) {
+            if let Some(c) = id.as_deref().and_then(|id| curves.get_mut(id)) {
+                c.push(x, y);
+            }
+        }
+        Ok(())
+    })?;
+    Ok(curves)
+}
+
 /// Write `DIR/report.md` and its plots; returns the report's path.
 fn write_report(
     dir: &Path,
@@ -64,7 +93,7 @@ fn write_report(
 ) -> Result<PathBuf> {
     let table = hd_io::table::read_table_columns(runs, &report_columns(study))?;
     // Only the runs the overlays draw (the first 12 of each part), and only the columns they
-    // use: memory follows those runs, not the length of the whole traces table.
+    // use, thinned while read: memory does not follow the traces' length.
     let trace_table = if traces.exists() {
         let ids = table.text("run_id").unwrap_or(&[]);
         let parts = table.text("part").unwrap_or(&[]);
@@ -76,7 +105,7 @@ fn write_report(
                 .take(OVERLAID_RUNS);
             shown.extend(of_part);
         }
-        Some(hd_io::table::read_rows_with(traces, &["run_id", "t", "theta_z"], "run_id", &shown)?)
+        Some(read_overlays(traces, &shown)?)
     } else {
         None
     };

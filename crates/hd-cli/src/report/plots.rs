@@ -2,8 +2,9 @@
 
 use super::part_data::PartData;
 use anyhow::Result;
-use hd_io::Table;
 use hd_plot::Series;
+use hd_plot::ThinnedCurve;
+use std::collections::HashMap;
 use std::fmt::Write as _;
 use std::path::Path;
 
@@ -24,7 +25,12 @@ fn file_name(study: &str, part: &str, what: &str) -> String {
 }
 
 /// Draw the part's figures into `dir` and return the markdown that shows them.
-pub fn part_plots(dir: &Path, study: &str, d: &PartData, traces: Option<&Table>) -> Result<String> {
+pub fn part_plots(
+    dir: &Path,
+    study: &str,
+    d: &PartData,
+    traces: Option<&HashMap<String, ThinnedCurve>>,
+) -> Result<String> {
     let mut md = String::new();
     let variants = d.variants();
     let short = |k: usize| d.distinct(&d.numeric_axes[k].0).len() <= 6;
@@ -138,29 +144,24 @@ fn lines(dir: &Path, study: &str, d: &PartData, x: usize, group: Option<usize>) 
     Ok(md)
 }
 
-/// Overlaid load angle θz(t) of up to 12 runs of the part.
-fn trace_overlay(dir: &Path, study: &str, d: &PartData, t: &Table) -> Result<String> {
-    let (Some(ids), Some(time), Some(thz)) = (t.text("run_id"), t.num("t"), t.num("theta_z"))
-    else {
-        return Ok(String::new());
-    };
+/// Overlaid load angle θz(t) of up to 12 runs of the part (each thinned as it was read).
+fn trace_overlay(
+    dir: &Path,
+    study: &str,
+    d: &PartData,
+    curves: &HashMap<String, ThinnedCurve>,
+) -> Result<String> {
     let mut series = Vec::new();
     for &i in d.rows.iter().take(super::OVERLAID_RUNS) {
-        let id = d.text("run_id", i);
-        let idx: Vec<usize> =
-            (0..ids.len()).filter(|&k| ids[k].as_deref() == Some(id.as_str())).collect();
-        if idx.is_empty() {
+        let Some(curve) = curves.get(&d.text("run_id", i)).filter(|c| !c.is_empty()) else {
             continue;
-        }
+        };
         let mut name = d.curve(i);
         for (a, _) in &d.numeric_axes {
             let _ = write!(name, " {a}={}", super::markdown::fmt(d.num(a, i)));
         }
-        series.push(Series::new(
-            name,
-            idx.iter().map(|&k| time[k]).collect(),
-            idx.iter().map(|&k| thz[k]).collect(),
-        ));
+        let (t, thz) = curve.points();
+        series.push(Series::new(name, t, thz));
     }
     if series.is_empty() {
         return Ok(String::new());

@@ -156,6 +156,20 @@ impl Input {
         }
     }
 
+    /// Cycles the input runs through from 0 to `t` [–] (its phase), for the oscillating
+    /// inputs; 0 for steps, constants and recorded profiles (their samples bound the work).
+    pub fn cycles_until(&self, t: f64) -> f64 {
+        match self {
+            Input::Sine { freq, .. } => freq * t,
+            Input::Chirp { f0, f1, duration, .. } => {
+                let d = t.min(*duration);
+                f0 * d + 0.5 * (f1 - f0) / duration * d * d + f1 * (t - d).max(0.0)
+            }
+            Input::SteppedSine { freqs, dwell, .. } => stepped_phase(freqs, *dwell, t).0,
+            _ => 0.0,
+        }
+    }
+
     /// The drive frequency of a periodic input [Hz], if it has one: the sine's, or that of a
     /// recorded profile that repeats ([`super::periodicity::period_of`]).
     pub fn drive_frequency(&self) -> Option<f64> {

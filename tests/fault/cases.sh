@@ -1,0 +1,127 @@
+#!/usr/bin/env bash
+# Re-runs every bad-input and interruption case of issue #39 against an hdw binary and
+# prints one Markdown row per case: exit code, first stderr line, peak memory [MB], wall
+# time [s] and what the case left on disk. The CLI tests (tests/cli/refusals.rs,
+# fault_injection.rs) hold each behaviour; this script is for measuring them on a release
+# build, e.g. before and after a change:
+#   tests/fault/cases.sh target/release/hdw /tmp/hdw-cases > cases.md
+set -uo pipefail
+HDW=$(realpath "${1:?usage: cases.sh HDW SCRATCH}")
+REPO=$(cd "$(dirname "$0")/../.." && pwd)
+W=${2:?usage: cases.sh HDW SCRATCH}
+rm -rf "$W"; mkdir -p "$W"; cd "$W" || exit 1
+LIMIT=${CASE_TIMEOUT:-60}
+
+# What a folder holds: file names with sizes, hidden temporaries included.
+left() {
+  if [ ! -e "$1" ]; then echo "no $1"; return; fi
+  if [ -f "$1" ]; then echo "$1 $(stat -c %s "$1") B"; return; fi
+  local l; l=$(cd "$1" && find . -mindepth 1 -type f -printf '%P %s B, ' | head -c 300)
+  echo "$1/: ${l:-empty}"
+}
+
+row() { # name, folder to inspect, command...
+  local name=$1 dir=$2; shift 2
+  local t0 t1 rc
+  t0=$(date +%s.%N)
+  timeout -s INT "$LIMIT" /usr/bin/time -f %M -o rss.txt "$@" >stdout.txt 2>stderr.txt
+  rc=$?
+  t1=$(date +%s.%N)
+  report "$name" "$dir" "$rc" "$t0" "$t1"
+}
+
+report() {
+  local name=$1 dir=$2 rc=$3 t0=$4 t1=$5
+  local first rss
+  first=$(grep -v '^\s*$' stderr.txt | grep -v 'Command exited\|Command terminated' | head -1 | cut -c1-160 | tr '|' '/')
+  rss=$(tail -1 rss.txt 2>/dev/null)
+  [ "$rc" = 124 ] && first="(timeout ${LIMIT}s) $first"
+  printf '| %s | %s | %s | %.0f | %.2f | %s |\n' "$name" "$rc" "$first" \
+    "$(echo "${rss:-0}/1024" | bc -l)" "$(echo "$t1-$t0" | bc -l)" "$(left "$dir")"
+}
+
+# Start a command, send SIGINT after $2 seconds, wait for it.
+interrupt_row() { # name, seconds, folder, command...
+  local name=$1 after=$2 dir=$3; shift 3
+  local t0 t1 rc pid
+  t0=$(date +%s.%N)
+  /usr/bin/time -f %M -o rss.txt "$@" >stdout.txt 2>stderr.txt &
+  pid=$!
+  sleep "$after"
+  pkill -INT -P "$pid" 2>/dev/null
+  wait "$pid"; rc=$?
+  t1=$(date +%s.%N)
+  report "$name" "$dir" "$rc" "$t0" "$t1"
+}
+
+echo "| case | exit | first stderr line | peak MB | wall s | left on disk |"
+echo "|---|---:|---|---:|---:|---|"
+
+# Data lost or half-written
+row "simulate ms_n=2.5 (maxwell-slip)" s1 "$HDW" simulate --stiffness maxwell-slip --set ms_n=2.5 --out s1
+row "simulate c=1e308" s2 "$HDW" simulate --set c=1e308 --out s2
+row "simulate --voltage 1e308" s3 "$HDW" simulate --voltage 1e308 --out s3
+row "simulate chirp --freq 1e9" s4 "$HDW" simulate --input chirp --freq 1e9 --out s4
+"$HDW" simulate --out s5 >/dev/null 2>&1
+before=$(md5sum s5/trace.parquet s5/metrics.json | md5sum)
+row "good run, then c=1e308 into the same folder" s5 "$HDW" simulate --set c=1e308 --out s5
+after=$(md5sum s5/trace.parquet s5/metrics.json | md5sum)
+[ "$before" = "$after" ] && echo "| ↳ earlier trace.parquet and metrics.json | | byte-identical after the failed run | | | |" \
+  || echo "| ↳ earlier trace.parquet and metrics.json | | CHANGED by the failed run | | | |"
+interrupt_row "Ctrl-C after 5 s: simulate --t-end 200" 5 s6 "$HDW" simulate --t-end 200 --dt-out 1e-5 --max-output-values 0 --out s6
+interrupt_row "Ctrl-C after 5 s: simulate --t-end 1e9" 5 s7 "$HDW" simulate --t-end 1e9 --out s7
+row "simulate --dt-out 1e-12" s8 "$HDW" simulate --dt-out 1e-12 --out s8
+
+# Silently wrong
+row "--set A=3e4 --set mem_A=4e4" s9 "$HDW" simulate --set A=3e4 --set mem_A=4e4 --out s9
+printf 'A = 3e4\nmem_A = 4e4\n' > both.toml
+row "params file with A and mem_A" s10 "$HDW" simulate --params both.toml --out s10
+printf 'name = "st"\n[base]\nt_end = 0.01\n[base.set]\nA = 3e4\nmem_A = 4e4\n' > both-study.toml
+row "study set with A and mem_A" s11 "$HDW" study both-study.toml --out s11
+"$HDW" synth hysteresis --samples 2000 --out h.csv >/dev/null 2>&1
+awk 'NR==500{sub(/\./,",")} {print}' h.csv > comma.csv
+row "CSV row with a decimal comma" f1 "$HDW" fit hysteresis comma.csv --out f1
+row "fit hysteresis --columns t,t,torque" f2 "$HDW" fit hysteresis h.csv --columns t,t,torque --out f2
+"$HDW" simulate --out p0 >/dev/null 2>&1
+row "plot --log-x over x ≤ 0" p1 "$HDW" plot p0/trace.parquet --x theta --line Tb --log-x --out p1/loop.svg
+row "datasheet 1e308" d1 "$HDW" datasheet --k1 1e308 --k2 1e308 --k3 1e308 --t1 29 --t2 108 --out d1
+
+# Memory and crashes
+yes '0.001,0.5,0.25' | head -c 250000000 > big.csv
+row "simulate --params a 250 MB CSV" m1 "$HDW" simulate --params big.csv --out m1
+printf 'name = "z"\n[base]\nparams_file = "/dev/zero"\n' > zero.toml
+row "study params_file = /dev/zero" m2 "$HDW" study zero.toml --out m2
+printf 'name = "long"\n[base]\nt_end = 20.0\n[traces]\nkeep = true\ndt_out = 1e-5\n[[axis]]\nname = "voltage"\nvalues = [12.0, 24.0]\n' > long.toml
+row "study: 2 runs × 20 s traces at dt_out 1e-5" m3 "$HDW" study long.toml --out m3
+row "sensitivity --check ishigami --samples 1e9" m4 "$HDW" sensitivity --check ishigami --samples 1000000000
+row "synth hysteresis --samples 1e10" m5 "$HDW" synth hysteresis --samples 10000000000 --out m5.csv
+row "sensitivity --check ishigami --bootstrap 1e9" m6 "$HDW" sensitivity --check ishigami --samples 256 --bootstrap 1000000000
+row "study --threads 100000" m7 "$HDW" study "$REPO/studies/step.toml" --threads 100000 --out m7
+if [ -n "${BIG_FIT:-}" ]; then
+  "$HDW" synth hysteresis --samples 10000000 --duration 250 --out h10m.csv >/dev/null 2>&1
+  row "fit hysteresis on 10 000 000 rows" m8 "$HDW" fit hysteresis h10m.csv --out m8
+fi
+
+# Where results go
+printf 'name = "../../escape"\n[base]\nt_end = 0.01\n' > esc.toml
+row "study name ../../escape" o1 "$HDW" study esc.toml --out o1
+printf '\x1f\x8b\x08\x00\x00\x00\x00\x00\x00\x03\xff\xfe' > gz.csv
+row "gzip data named .csv" o2 "$HDW" fit hysteresis gz.csv --out o2
+row "fit hysteresis on a folder" o3 "$HDW" fit hysteresis . --out o3
+row "simulate --t-end -1" o4 "$HDW" simulate --t-end -1 --out o4
+printf 'name = "ms"\n[base]\nt_end = 0.01\n[solver]\nmax_steps = 0\n' > ms.toml
+row "study max_steps = 0" o5 "$HDW" study ms.toml --out o5
+printf 'name = "rep"\n[base]\nt_end = 0.01\n[[axis]]\nname = "voltage"\nvalues = [12, 12, 12]\n' > rep.toml
+row "axis values [12, 12, 12]" o6 "$HDW" study rep.toml --out o6
+printf 'name = "slow"\n[base]\nt_end = 20.0\n[[axis]]\nname = "voltage"\nlinspace = { start = 1, stop = 24, num = 40 }\n' > slow.toml
+"$HDW" study slow.toml --out o7 >/dev/null 2>&1 &
+sleep 2
+row "a second study on a running study's folder" o7 "$HDW" study slow.toml --out o7
+kill -INT %1 2>/dev/null; wait
+printf 'name = "first"\n[base]\nt_end = 0.01\n' > first.toml
+printf 'name = "second"\n[base]\nt_end = 0.01\n' > second.toml
+"$HDW" study first.toml --out o8 >/dev/null 2>&1
+row "a study into another study's folder" o8 "$HDW" study second.toml --out o8
+row "↳ then with --resume" o8 "$HDW" study second.toml --out o8 --resume
+(umask 022; "$HDW" simulate --t-end 0.01 --out u1 >/dev/null 2>&1)
+echo "| umask 022: mode of trace.parquet | | $(stat -c %a u1/trace.parquet 2>/dev/null) | | | |"
