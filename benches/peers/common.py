@@ -53,7 +53,9 @@ def time_process(cmd: list[str], env: dict | None = None, cwd: str = REPO) -> fl
 
 
 def at_error(points: list[dict], target: float):
-    """Time of one solver at error `target`, from its runs over several tolerances.
+    """Time of one solver at error `target`, from its runs over several tolerances (and,
+    where the points carry an `atol_factor`, over several atol = rtol·factor: each factor's
+    rtol sweep is interpolated on its own and the best is taken).
 
     `points` are dicts with rtol, err and wall. Returns (cheapest, interpolated):
     - cheapest: the fastest run whose error is ≤ target, as (wall [s], rtol), or None;
@@ -62,7 +64,17 @@ def at_error(points: list[dict], target: float):
       even that one meets the target; None if no run does.
     """
     meet = [p for p in points if p["err"] <= target]
-    cheapest = min(((p["wall"], p["rtol"]) for p in meet), default=None)
+    cheapest = min(((p["wall"], p["rtol"], p.get("atol_factor")) for p in meet), default=None)
+    factors = sorted({p.get("atol_factor") for p in points}, key=lambda f: -(f or 0))
+    if len(factors) > 1:
+        interps = [_interp([p for p in points if p.get("atol_factor") == f], target)
+                   for f in factors]
+        return cheapest, min((i for i in interps if i is not None), default=None)
+    return cheapest, _interp(points, target)
+
+
+def _interp(points: list[dict], target: float):
+    """Wall time at error = target along one rtol sweep (see at_error)."""
     pts = sorted(points, key=lambda p: -p["rtol"])
     interp = None
     if pts and pts[0]["err"] <= target:
@@ -75,7 +87,7 @@ def at_error(points: list[dict], target: float):
                 interp = math.exp(math.log(lo["wall"]) + f * (math.log(hi["wall"])
                                                               - math.log(lo["wall"])))
                 break
-    return cheapest, interp
+    return interp
 
 
 def ms(x: float | None) -> str:

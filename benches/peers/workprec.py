@@ -52,10 +52,10 @@ def reference():
     return t, ref, amp, dev
 
 
-def scipy_lsoda(rtol: float, t: np.ndarray):
+def scipy_lsoda(rtol: float, t: np.ndarray, atol_factor: float = 1e-3):
     """solve_ivp LSODA with the analytic Jacobian (its faster form); returns θz."""
     rhs, jac, k0 = sc.make_full()
-    atol_v = np.full(6, rtol * 1e-3)
+    atol_v = np.full(6, rtol * atol_factor)
     atol_v[2] /= k0
     sol = solve_ivp(rhs, (0.0, T_END), np.zeros(6), method="LSODA", rtol=rtol, atol=atol_v,
                     jac=jac, t_eval=t)
@@ -64,8 +64,11 @@ def scipy_lsoda(rtol: float, t: np.ndarray):
     return sc.theta_z(sol.y)
 
 
-def run(rtols, reps_hdw: int, reps_numba: int, reps_scipy: int, log=print) -> dict:
-    """Time every solver at every rtol; returns {solver: [dict(rtol, wall, err, …)]}.
+def run(rtols, reps_hdw: int, reps_numba: int, reps_scipy: int, log=print,
+        atol_factors=(1e-3,)) -> dict:
+    """Time every solver at every rtol and every atol = rtol·factor; returns
+    {solver: [dict(rtol, atol_factor, wall, err, …)]}. Each solver gets the same grid, so
+    each one's best settings at an error bound are among the points (issue #36 item 5).
 
     hdw is timed by target/release/examples/bench_case (build it first): the best wall time
     of `hd_model::simulate` without a trace, with the method `auto` picks."""
@@ -87,19 +90,20 @@ def run(rtols, reps_hdw: int, reps_numba: int, reps_scipy: int, log=print) -> di
                     err_rest=float(e[~start].max()), t_max=float(t[int(e.argmax())]))
 
     res = {"hdw": [], "NumbaLSODA": [], "scipy LSODA": []}
-    for rtol in rtols:
-        d = sc.run_rust("full", rtol, rtol * 1e-3, T_END, reps_hdw, DT_OUT, build=False)
-        res["hdw"].append(dict(rtol=rtol, wall=d["wall_best_s"], **errs(d["theta_z"]),
-                               steps=d["steps"], method=d["method"]))
-        wall, (_, thz, ok) = best_of(lambda: sn.solve(row, T_END, N_SAMPLES, rtol=rtol),
-                                     reps_numba)
-        if not ok:
-            raise RuntimeError(f"NumbaLSODA failed at rtol {rtol:g}")
-        res["NumbaLSODA"].append(dict(rtol=rtol, wall=wall, **errs(thz)))
-        wall, thz = best_of(lambda: scipy_lsoda(rtol, t), reps_scipy)
-        res["scipy LSODA"].append(dict(rtol=rtol, wall=wall, **errs(thz)))
-        log(f"  rtol {rtol:g}: hdw {ms(res['hdw'][-1]['wall'])}, NumbaLSODA "
-            f"{ms(res['NumbaLSODA'][-1]['wall'])}, scipy {ms(wall)}")
+    for af in atol_factors:
+        for rtol in rtols:
+            d = sc.run_rust("full", rtol, rtol * af, T_END, reps_hdw, DT_OUT, build=False)
+            res["hdw"].append(dict(rtol=rtol, atol_factor=af, wall=d["wall_best_s"],
+                                   **errs(d["theta_z"]), steps=d["steps"], method=d["method"]))
+            wall, (_, thz, ok) = best_of(
+                lambda: sn.solve(row, T_END, N_SAMPLES, rtol=rtol, atol=rtol * af), reps_numba)
+            if not ok:
+                raise RuntimeError(f"NumbaLSODA failed at rtol {rtol:g}, atol {rtol * af:g}")
+            res["NumbaLSODA"].append(dict(rtol=rtol, atol_factor=af, wall=wall, **errs(thz)))
+            wall, thz = best_of(lambda: scipy_lsoda(rtol, t, af), reps_scipy)
+            res["scipy LSODA"].append(dict(rtol=rtol, atol_factor=af, wall=wall, **errs(thz)))
+            log(f"  rtol {rtol:g}, atol rtol·{af:g}: hdw {ms(res['hdw'][-1]['wall'])}, "
+                f"NumbaLSODA {ms(res['NumbaLSODA'][-1]['wall'])}, scipy {ms(wall)}")
     peak = float(np.max(np.abs(ref[start])) / amp)
     return dict(amp=amp, rhs_check=dev, start_peak=peak, runs=res)
 
@@ -108,22 +112,24 @@ def report(out: dict, targets=(1e-6, 1e-4), log=print) -> dict:
     """Print the work–precision table and the ratios at equal error; returns the summary."""
     res = out["runs"]
     names = list(res)
-    log("\nwork–precision, seed case (full model, 24 V 50 Hz, 1 s; atol = rtol·1e-3, θ: "
+    log("\nwork–precision, seed case (full model, 24 V 50 Hz, 1 s; atol = rtol·factor, θ: "
         "atol/(c+A)); cells: best wall / error÷amplitude")
-    log(f"{'rtol':>7} | " + " | ".join(f"{n:>22}" for n in names))
-    for k, rtol in enumerate(p["rtol"] for p in res["hdw"]):
+    log(f"{'rtol':>7} {'atol/rtol':>9} | " + " | ".join(f"{n:>22}" for n in names))
+    for k, p0 in enumerate(res["hdw"]):
         cells = []
         for n in names:
             p = res[n][k]
             cells.append(f"{ms(p['wall']):>10} / {p['err']:9.2e}")
-        log(f"{rtol:7.0e} | " + " | ".join(f"{c:>22}" for c in cells))
-    steps = ", ".join(f"{p['rtol']:.0e}: {p['steps']} ({p['method']})" for p in res["hdw"])
+        log(f"{p0['rtol']:7.0e} {p0['atol_factor']:9.0e} | " + " | ".join(f"{c:>22}" for c in cells))
+    steps = ", ".join(f"{p['rtol']:.0e}·{p['atol_factor']:.0e}: {p['steps']} ({p['method']})"
+                      for p in res["hdw"])
     log(f"hdw steps (method): {steps}")
     log(f"\nwhere the error is: the start from rest (t ≤ {START_UP:g} s) swings θz to "
         f"{out['start_peak']:.1f}× the steady amplitude; max error ÷ amplitude over the "
         f"start-up / after it, and the time of the largest")
     for n in names:
-        cells = ", ".join(f"{p['rtol']:.0e}: {p['err_start']:.1e} / {p['err_rest']:.1e} "
+        cells = ", ".join(f"{p['rtol']:.0e}·{p['atol_factor']:.0e}: {p['err_start']:.1e} / "
+                          f"{p['err_rest']:.1e} "
                           f"@{p['t_max']:.3f} s" for p in res[n])
         log(f"  {n:12s} {cells}")
     summary = {}
@@ -134,7 +140,8 @@ def report(out: dict, targets=(1e-6, 1e-4), log=print) -> dict:
         for n in names:
             cheap, interp = at_error(res[n], target)
             row[n] = dict(cheapest=cheap, interp=interp)
-            c = "none meets it" if cheap is None else f"{ms(cheap[0])} (rtol {cheap[1]:.0e})"
+            c = ("none meets it" if cheap is None
+                 else f"{ms(cheap[0])} (rtol {cheap[1]:.0e}, atol rtol·{cheap[2]:.0e})")
             log(f"  {n:12s} {c:28s} [{ms(interp)}]")
         h = row["hdw"]["cheapest"]
         for n in names[1:]:

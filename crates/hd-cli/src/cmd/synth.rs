@@ -299,7 +299,7 @@ fn synth_hysteresis_cmd(a: HysteresisSynthArgs) -> Result<()> {
     let schedule = match a.schedule.as_str() {
         "sines" => Schedule::Sines({
             let freqs = numbers(a.freqs.as_deref().unwrap_or("4,15,55,200"), "--freqs", "Hz")?;
-            check_rows(a.samples as f64 * freqs.len() as f64, "--samples × the --freqs")?;
+            check_rows(a.samples as f64, "--samples")?;
             HysteresisExcitation {
                 amplitude: a.amplitude,
                 frequencies: freqs,
