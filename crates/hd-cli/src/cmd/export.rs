@@ -3,7 +3,8 @@
 //! resources/model.toml (both from hd-fmu) and the hd-fmu shared library cargo built.
 
 use super::control_args::ControlArgs;
-use super::simulate::{FrictionVelocityArg, MethodArg, SimulateArgs, StiffnessArg, VariantArg};
+use super::model_args::ModelArgs;
+use super::simulate::SimulateArgs;
 use anyhow::{Context, Result, bail};
 use clap::{Args, Subcommand};
 use hd_fmu::{CONFIG_FILE, FmiVersion, MODEL_IDENTIFIER};
@@ -29,34 +30,13 @@ enum ExportWhat {
     after_help = "The FMU runs the drive exactly as `hdw simulate` would (same laws, solver and tolerances,\nthe controller when the params select one), one communication step at a time.\n  inputs      u [V] (open loop) and T_load [N·m], held over each communication step\n  outputs     the trace columns: i, theta_j, omega_j, theta_z, omega_z, theta, z, s, Tb, Tf, K, C0\n              (closed loop also u, ref, error, u_ff, tf_hat, tb_hat)\n  parameters  every registry parameter, start values from --params/--set\nThe FMU's binary is hd-fmu's shared library, built by cargo beside hdw\n(target/<profile>/libhd_fmu.so); --lib or $HDW_FMU_LIB name another one.\n\nExample:\n  hdw export fmu --out out/drive.fmu\n  hdw export fmu --stiffness maxwell-slip --set ms_n=10 --fmi 3 --out out/slip.fmu\n  hdw datasheet --k1 6.7e4 --k2 1.1e5 --k3 1.2e5 --t1 29 --t2 108 --hysteresis-loss 1 --out out/ds\n  hdw export fmu --params out/ds/catalogue.toml --out out/catalogue.fmu\n  python -c \"import fmpy; fmpy.dump('out/drive.fmu')\""
 )]
 pub struct FmuArgs {
-    /// Parameter file (TOML, registry names as keys; `stiffness = "…"` and a `[controller]`
-    /// table are honoured as by `hdw simulate`).
-    #[arg(long, value_name = "FILE.toml")]
-    pub params: Option<PathBuf>,
-    /// Override one parameter's start value, e.g. `--set sigma0=2e5` (repeatable).
-    #[arg(long = "set", value_name = "NAME=VALUE")]
-    pub set: Vec<String>,
-    /// Model variant.
-    #[arg(long, default_value = "full")]
-    pub variant: VariantArg,
-    /// Hysteretic stiffness law of the full variant [default: the params file's, else memory].
-    #[arg(long)]
-    pub stiffness: Option<StiffnessArg>,
+    /// Parameters, stiffness law, variant and the solver inside the FMU (as `hdw simulate`
+    /// takes them; --set gives start values).
+    #[command(flatten)]
+    pub model: ModelArgs,
     /// FMI version: 2 (Simulink, Modelica tools) or 3.
     #[arg(long, default_value_t = 2, value_parser = clap::value_parser!(u8).range(2..=3))]
     pub fmi: u8,
-    /// Relative tolerance of the solver inside the FMU.
-    #[arg(long, default_value_t = 1e-6)]
-    pub rtol: f64,
-    /// Absolute tolerance (as `hdw simulate --atol`).
-    #[arg(long, default_value_t = 1e-9)]
-    pub atol: f64,
-    /// Integration method.
-    #[arg(long, default_value = "auto")]
-    pub method: MethodArg,
-    /// Speed seen by the friction law: motor (ωj/N) or deflection (θ̇).
-    #[arg(long, default_value = "motor")]
-    pub friction_velocity: FrictionVelocityArg,
     /// Stop time of the FMU's default experiment [s].
     #[arg(long, default_value_t = 0.2)]
     pub t_end: f64,
@@ -85,19 +65,12 @@ fn run_fmu(a: FmuArgs) -> Result<()> {
     let out = a.out.clone();
     // The run configuration exactly as `hdw simulate` checks it from the same options.
     let sim = SimulateArgs {
-        params: a.params,
-        set: a.set,
-        variant: a.variant,
-        stiffness: a.stiffness,
+        model: a.model,
         input: "constant".to_string(),
         voltage: 0.0,
         freq: 50.0,
         t_end: a.t_end,
-        rtol: a.rtol,
-        atol: a.atol,
-        method: a.method,
         dt_out: 0.0,
-        friction_velocity: a.friction_velocity,
         cycles: 5,
         no_trace: true,
         max_output_values: 0,

@@ -13,6 +13,7 @@ pub mod fit_drive_out;
 pub mod fit_hysteresis;
 pub mod fit_input;
 pub mod fit_progress;
+pub mod model_args;
 pub mod plot;
 pub mod report;
 pub mod report_check;

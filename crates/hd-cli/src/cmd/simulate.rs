@@ -6,16 +6,15 @@ use super::common::{
 };
 use super::control_args::ControlArgs;
 use super::envelope::Envelope;
+use super::model_args::ModelArgs;
 use super::sim_progress::SimProgress;
 use anyhow::{Context, Result};
-use clap::{Args, ValueEnum};
+use clap::Args;
 use hd_io::atomic::Staged;
 use hd_model::params_file::{controller_from_toml, stiffness_from_toml};
 use hd_model::signals::Sample;
 use hd_model::simulate::input_from_kind;
-use hd_model::{
-    FrictionVelocity, HystLaw, Input, Method, MetricSettings, SimConfig, SolverOptions, Variant,
-};
+use hd_model::{HystLaw, Input, MetricSettings, SimConfig, SolverOptions};
 use hd_model::{TRACE_COLUMNS, Trace, simulate_streaming};
 use serde_json::json;
 use std::path::{Path, PathBuf};
@@ -30,20 +29,9 @@ const FULL_PLOT_SAMPLES: f64 = 200_000.0;
     after_help = "Outputs (in --out DIR):\n  trace.parquet  t, u, i, theta_j, omega_j, theta_z, omega_z, theta, z, s, Tb, Tf, K, C0 (SI units)\n  metrics.json   every metric, the parameters used, solver statistics and wall time\n  response.svg   load angle over time and the Tb–θ loop\n(--no-trace writes metrics.json only.) The files are written under temporary names and renamed\ninto place together when the run succeeds: a failed or interrupted (Ctrl-C) run leaves DIR as it was.\nClosed loop (--controller pid) adds the trace columns ref, error, u_ff, tf_hat, tb_hat and the\nmetrics track_rms, track_max, reversal_peak, u_rms, saturation_fraction, torque_est_rms, ….\n\nExample:\n  hdw simulate --out out/demo\n  hdw simulate --stiffness maxwell-slip --set ms_n=10 --set ms_delta=3e-5 --out out/slip\n  hdw datasheet --k1 6.7e4 --k2 1.1e5 --k3 1.2e5 --t1 29 --t2 108 --hysteresis-loss 1 --out out/ds\n  hdw simulate --params out/ds/catalogue.toml --out out/catalogue   (the file says stiffness = \"catalogue\")\n  hdw simulate --variant damped --set Kbar=5e5 --input step --voltage 12 --t-end 0.1 --out out/step\n  hdw simulate --controller pid --kp 2000 --ki 20000 --kd 0 --feedback load --reference sine \\\n      --ref-amplitude 1e-3 --ref-freq 0.2 --t-end 12 --set Tc=1.5 --set Ts=2.5 --compensation friction --out out/pid\n  hdw simulate --controller pid --reference step --ref-amplitude 1e-3 --load-torque 5 --t-end 2 --out out/reg"
 )]
 pub struct SimulateArgs {
-    /// Parameter file (TOML, registry names as keys, e.g. `c = 6e4`).
-    #[arg(long, value_name = "FILE.toml")]
-    pub params: Option<PathBuf>,
-    /// Override one parameter, e.g. `--set sigma0=2e5` (repeatable; applied after --params).
-    #[arg(long = "set", value_name = "NAME=VALUE")]
-    pub set: Vec<String>,
-    /// Model variant.
-    #[arg(long, default_value = "full")]
-    pub variant: VariantArg,
-    /// Hysteretic stiffness law of the full variant (parameters: memory mem_A, mem_B;
-    /// maxwell-slip ms_n, ms_k, ms_delta or ms_k<i>, ms_f<i>; bouc-wen bw_*; catalogue cat_*)
-    /// [default: the params file's `stiffness = "…"`, else memory].
-    #[arg(long)]
-    pub stiffness: Option<StiffnessArg>,
+    /// Parameters, stiffness law, variant and solver.
+    #[command(flatten)]
+    pub model: ModelArgs,
     /// Input: sine, step, constant, chirp, or a CSV/Parquet file with columns t [s], u [V].
     #[arg(long, default_value = "sine", value_name = "KIND|FILE")]
     pub input: String,
@@ -56,22 +44,9 @@ pub struct SimulateArgs {
     /// Simulated time [s].
     #[arg(long, default_value_t = 0.2)]
     pub t_end: f64,
-    /// Relative tolerance.
-    #[arg(long, default_value_t = 1e-6)]
-    pub rtol: f64,
-    /// Absolute tolerance (angles in rad, speeds in rad/s, torques in N·m, current in A;
-    /// the deflection is held to atol/stiffness).
-    #[arg(long, default_value_t = 1e-9)]
-    pub atol: f64,
-    /// Integration method.
-    #[arg(long, default_value = "auto")]
-    pub method: MethodArg,
     /// Trace sampling interval [s]; 0 = automatic (200 per drive cycle).
     #[arg(long, default_value_t = 0.0)]
     pub dt_out: f64,
-    /// Speed seen by the friction law: motor (ωj/N, the seed's) or deflection (θ̇).
-    #[arg(long, default_value = "motor")]
-    pub friction_velocity: FrictionVelocityArg,
     /// Whole cycles at the end of the run used for the periodic metrics.
     #[arg(long, default_value_t = 5)]
     pub cycles: usize,
@@ -92,93 +67,6 @@ pub struct SimulateArgs {
     pub out: PathBuf,
 }
 
-/// Variant names on the command line.
-#[derive(Clone, Copy, Debug, ValueEnum)]
-pub enum VariantArg {
-    /// Linear stiffness K̄, no friction.
-    Linear,
-    /// Linear stiffness K̄, viscous friction C̄0.
-    Damped,
-    /// Hysteretic stiffness, LuGre friction.
-    Full,
-}
-
-impl From<VariantArg> for Variant {
-    fn from(v: VariantArg) -> Self {
-        match v {
-            VariantArg::Linear => Variant::Linear,
-            VariantArg::Damped => Variant::Damped,
-            VariantArg::Full => Variant::Full,
-        }
-    }
-}
-
-/// Stiffness-law names on the command line.
-#[derive(Clone, Copy, Debug, ValueEnum)]
-pub enum StiffnessArg {
-    /// Cubic spring plus fading memory (the seed's law; its loop vanishes at slow rates).
-    Memory,
-    /// Cubic spring plus elastoplastic elements (rate-independent).
-    MaxwellSlip,
-    /// Cubic spring plus a Bouc–Wen element (rate-independent).
-    BoucWen,
-    /// The catalogue's three spring rates, with slip elements for its hysteresis loss.
-    Catalogue,
-}
-
-impl From<StiffnessArg> for HystLaw {
-    fn from(s: StiffnessArg) -> Self {
-        match s {
-            StiffnessArg::Memory => HystLaw::Memory,
-            StiffnessArg::MaxwellSlip => HystLaw::MaxwellSlip,
-            StiffnessArg::BoucWen => HystLaw::BoucWen,
-            StiffnessArg::Catalogue => HystLaw::Catalogue,
-        }
-    }
-}
-
-/// Method names on the command line.
-#[derive(Clone, Copy, Debug, ValueEnum)]
-pub enum MethodArg {
-    /// Dopri5, switching to a stiff method (and back) while Dopri5's stiffness estimate
-    /// says its steps would cost less overall: the implicit–explicit pair when the bristle
-    /// is the only stiff state, Rodas4 with an inductance or a friction observer; the
-    /// switches are counted in metrics.json.
-    Auto,
-    /// Explicit Dormand–Prince 5(4).
-    Dopri5,
-    /// Explicit Dormand–Prince 8(5,3) (DOP853), for tight tolerances.
-    Dop853,
-    /// Rosenbrock Rodas4.
-    Rodas4,
-    /// Additive Runge–Kutta 4(3): the LuGre bristle state implicit, the rest explicit.
-    Imex,
-    /// Additive Runge–Kutta 5(4) with the same split: fewer steps at tight tolerances.
-    Imex5,
-}
-
-impl From<MethodArg> for Method {
-    fn from(m: MethodArg) -> Self {
-        match m {
-            MethodArg::Auto => Method::Auto,
-            MethodArg::Dopri5 => Method::Dopri5,
-            MethodArg::Dop853 => Method::Dop853,
-            MethodArg::Rodas4 => Method::Rodas4,
-            MethodArg::Imex => Method::Imex,
-            MethodArg::Imex5 => Method::Imex5,
-        }
-    }
-}
-
-/// Friction-velocity names on the command line.
-#[derive(Clone, Copy, Debug, ValueEnum)]
-pub enum FrictionVelocityArg {
-    /// v = ωj/N.
-    Motor,
-    /// v = θ̇.
-    Deflection,
-}
-
 /// Parse the `--input` argument: a kind name or a recorded profile file.
 pub fn parse_input(kind: &str, voltage: f64, freq: f64) -> Result<Input> {
     let path = Path::new(kind);
@@ -191,9 +79,10 @@ pub fn parse_input(kind: &str, voltage: f64, freq: f64) -> Result<Input> {
 
 /// Check the arguments into a run configuration.
 pub fn config(args: &SimulateArgs) -> Result<SimConfig> {
-    let params = load_params(args.params.as_deref(), &args.set)?;
+    let m = &args.model;
+    let params = load_params(m.params.as_deref(), &m.set)?;
     let input = parse_input(&args.input, args.voltage, args.freq)?;
-    let (from_file, law_in_file) = match &args.params {
+    let (from_file, law_in_file) = match &m.params {
         Some(path) => {
             let text = read_params_text(path)?;
             let name = path.display().to_string();
@@ -201,24 +90,21 @@ pub fn config(args: &SimulateArgs) -> Result<SimConfig> {
         }
         None => (None, None),
     };
-    let stiffness = args.stiffness.map(HystLaw::from).or(law_in_file).unwrap_or_default();
+    let stiffness = m.stiffness.map(HystLaw::from).or(law_in_file).unwrap_or_default();
     let cfg = SimConfig {
         params,
-        variant: args.variant.into(),
+        variant: m.variant.into(),
         stiffness,
         input,
         t_end: args.t_end,
         dt_out: args.dt_out,
         solver: SolverOptions {
-            method: args.method.into(),
-            rtol: args.rtol,
-            atol: args.atol,
+            method: m.method.into(),
+            rtol: m.rtol,
+            atol: m.atol,
             ..Default::default()
         },
-        friction_velocity: match args.friction_velocity {
-            FrictionVelocityArg::Motor => FrictionVelocity::Motor,
-            FrictionVelocityArg::Deflection => FrictionVelocity::Deflection,
-        },
+        friction_velocity: m.friction_velocity.into(),
         metrics: MetricSettings { cycles: args.cycles, ..Default::default() },
         record_trace: !args.no_trace,
         load_torque: args.control.load_torque(),
