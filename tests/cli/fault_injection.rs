@@ -114,8 +114,10 @@ fn a_failed_or_interrupted_run_leaves_no_folder_it_created() {
 fn runs_that_cannot_succeed_are_refused_before_they_start() {
     let dir = scratch("fault-upfront");
     let out = dir.join("run");
-    let cases: [(&[&str], &str); 3] = [
-        (&["--set", "c=1e308"], "finite at rest"),
+    let cases: [(&[&str], &str); 5] = [
+        (&["--set", "c=1e308"], "parameter c = 1e308: expected values whose equations stay finite"),
+        (&["--set", "Tc=1e308"], "parameter Tc = 1e308"),
+        (&["--t-end", "1e308"], "max_steps"),
         (&["--voltage", "1e308"], "finite [V, V/s]"),
         (&["--input", "chirp", "--freq", "1e9"], "max_steps"),
     ];

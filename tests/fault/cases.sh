@@ -60,6 +60,8 @@ echo "|---|---:|---|---:|---:|---|"
 # Data lost or half-written
 row "simulate ms_n=2.5 (maxwell-slip)" s1 "$HDW" simulate --stiffness maxwell-slip --set ms_n=2.5 --out s1
 row "simulate c=1e308" s2 "$HDW" simulate --set c=1e308 --out s2
+row "simulate Tc=1e308" s2b "$HDW" simulate --set Tc=1e308 --out s2b
+row "simulate --t-end 1e308" s2c "$HDW" simulate --t-end 1e308 --out s2c
 row "simulate --voltage 1e308" s3 "$HDW" simulate --voltage 1e308 --out s3
 row "simulate chirp --freq 1e9" s4 "$HDW" simulate --input chirp --freq 1e9 --out s4
 "$HDW" simulate --out s5 >/dev/null 2>&1

@@ -146,22 +146,6 @@ impl SimConfig {
         if s.h_max.is_nan() || s.h_max <= 0.0 {
             return bad("h_max", s.h_max, "a step bound > 0 [s]");
         }
-        // A voltage near the largest number overflows its rate (2π·f·U) or the equations.
-        for t in [0.0, self.t_end] {
-            let (u, du) = self.input.value_and_rate(t);
-            if !(u.is_finite() && du.is_finite()) {
-                return Err(ConfigError::Invalid {
-                    field: "input".to_string(),
-                    value: format!(
-                        "u = {}, du/dt = {} at t = {}",
-                        crate::error::num(u),
-                        crate::error::num(du),
-                        crate::error::num(t)
-                    ),
-                    expected: "a voltage whose value and rate are finite [V, V/s]".to_string(),
-                });
-            }
-        }
         // Any accurate solution takes a few steps per input cycle: a drive with more cycles
         // than the step budget allows is refused now, not after max_steps wasted steps.
         let steps = MIN_STEPS_PER_CYCLE * self.input.cycles_until(self.t_end);
@@ -178,6 +162,22 @@ impl SimConfig {
                     s.max_steps, MIN_STEPS_PER_CYCLE
                 ),
             });
+        }
+        // A voltage near the largest number overflows its rate (2π·f·U) or the equations.
+        for t in [0.0, self.t_end] {
+            let (u, du) = self.input.value_and_rate(t);
+            if !(u.is_finite() && du.is_finite()) {
+                return Err(ConfigError::Invalid {
+                    field: "input".to_string(),
+                    value: format!(
+                        "u = {}, du/dt = {} at t = {}",
+                        crate::error::num(u),
+                        crate::error::num(du),
+                        crate::error::num(t)
+                    ),
+                    expected: "a voltage whose value and rate are finite [V, V/s]".to_string(),
+                });
+            }
         }
         if self.metrics.cycles == 0 {
             return bad("metrics.cycles", 0.0, "at least 1 cycle");

@@ -38,22 +38,34 @@ impl Stepper {
         cfg.validate()?;
         let sys = cfg.system()?;
         let run = Self::at_rest(sys, cfg.solver);
-        run.check_finite_at_rest()?;
+        run.check_finite_at_rest(&cfg.params)?;
         Ok(run)
     }
 
     /// Refuse a set of parameters whose equations overflow before anything moves (a
     /// stiffness of 1e308 over an inertia below 1): the rates and their Jacobian at the
     /// initial state must be finite, or no step can be taken.
-    fn check_finite_at_rest(&self) -> Result<(), ConfigError> {
+    fn check_finite_at_rest(&self, params: &crate::Params) -> Result<(), ConfigError> {
         let (jac, rate) = self.sys.jacobian(0.0, &self.y);
         if rate.iter().chain(jac.iter()).all(|v| v.is_finite()) {
             return Ok(());
         }
+        // The likeliest culprit: the parameter of largest magnitude (the first of equals: a
+        // level before the negative-side level that follows it).
+        let largest = params
+            .to_pairs()
+            .into_iter()
+            .rev()
+            .filter(|(_, v)| v.is_finite())
+            .max_by(|a, b| a.1.abs().total_cmp(&b.1.abs()));
+        let (field, value) = match largest {
+            Some((name, v)) => (format!("parameter {name}"), crate::error::num(v)),
+            None => ("parameters".to_string(), "the values given".to_string()),
+        };
         Err(ConfigError::Invalid {
-            field: "parameters".to_string(),
-            value: "the values given".to_string(),
-            expected: "values whose equations are finite at rest (a rate or its derivative overflows there: look for a stiffness, gain or voltage near the largest number, e.g. c = 1e308)".to_string(),
+            field,
+            value,
+            expected: "values whose equations stay finite at rest (a rate or its derivative overflows there; the largest parameter is named)".to_string(),
         })
     }
 
