@@ -115,18 +115,10 @@ pub fn config(args: &SimulateArgs) -> Result<SimConfig> {
 }
 
 /// Run `hdw simulate`. A failed run leaves `--out` as it was: an earlier run's files
-/// untouched, and no empty folder where there was none.
+/// untouched (the outputs are staged and committed together), and no empty folder where
+/// there was none (`main` removes the folders a failed command created).
 pub fn run(args: SimulateArgs) -> Result<()> {
-    let existed = args.out.exists();
-    let result = run_into(&args);
-    if result.is_err() && !existed {
-        // Only succeeds while empty.
-        let _ = std::fs::remove_dir(&args.out);
-    }
-    result
-}
-
-fn run_into(args: &SimulateArgs) -> Result<()> {
+    let args = &args;
     let cfg = config(args)?;
     let expected = cfg.t_end / cfg.output_interval();
     if cfg.record_trace {
