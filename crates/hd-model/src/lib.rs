@@ -43,7 +43,7 @@ pub use laws::input::{Input, Profile};
 pub use metrics::{METRICS, MetricSettings, Metrics};
 pub use out_table::{Cells, OutColumn, OutTable};
 pub use params::Params;
-pub use simulate::{SimConfig, SimError, SimOutput, simulate, simulate_streaming};
+pub use simulate::{SimConfig, SimError, SimOutput, simulate, simulate_states, simulate_streaming};
 pub use solver::{Method, SolverOptions, SolverStats};
 pub use system::{DriveSystem, FrictionVelocity};
 pub use trace::{TRACE_COLUMNS, Trace, TraceColumn};

@@ -65,6 +65,11 @@ impl Default for Thresholds {
 }
 
 impl DriveSystem {
+    /// Load angle θz = θj/N − θ [rad] of state y.
+    pub fn load_angle(&self, y: &State) -> f64 {
+        y[THETA_J] / self.n - y[THETA]
+    }
+
     /// Reported signals at (t, y).
     pub fn sample(&self, t: f64, y: &State, eps: &Thresholds) -> Sample {
         let p = self.parts(t, y);
@@ -110,7 +115,7 @@ impl DriveSystem {
             i: p.i,
             theta_j: y[THETA_J],
             omega_j: y[OMEGA_J],
-            theta_z: y[THETA_J] / self.n - y[THETA],
+            theta_z: self.load_angle(y),
             omega_z: y[OMEGA_Z],
             theta: y[THETA],
             z: p.st.hyst,

@@ -268,17 +268,41 @@ pub fn simulate(cfg: &SimConfig) -> Result<SimOutput, SimError> {
 /// trace is `None`). With no sink nothing is sampled.
 pub fn simulate_streaming(
     cfg: &SimConfig,
-    mut sink: Option<&mut dyn FnMut(&Sample)>,
+    sink: Option<&mut dyn FnMut(&Sample)>,
+) -> Result<SimOutput, SimError> {
+    let eps = Thresholds::default();
+    match sink {
+        Some(f) => run_sampled(
+            cfg,
+            Some(&mut |sys: &DriveSystem, t: f64, y: &State| f(&sys.sample(t, y, &eps))),
+        ),
+        None => run_sampled(cfg, None),
+    }
+}
+
+/// [`simulate_streaming`] for callers that need only the state on the output grid (a
+/// load angle to compare with another solver's): `sink` gets the system, t [s] and the
+/// state there, and no reported signal is evaluated.
+pub fn simulate_states(
+    cfg: &SimConfig,
+    sink: &mut dyn FnMut(&DriveSystem, f64, &State),
+) -> Result<SimOutput, SimError> {
+    run_sampled(cfg, Some(sink))
+}
+
+/// The run, with the state handed to `sink` at every output time.
+fn run_sampled(
+    cfg: &SimConfig,
+    mut sink: Option<&mut dyn FnMut(&DriveSystem, f64, &State)>,
 ) -> Result<SimOutput, SimError> {
     let mut run = Stepper::new(cfg)?;
     // `auto` switches by cost; a non-stiff variant only between the explicit pairs
     // (`OdeSystem::may_be_stiff`).
     let opts = cfg.solver;
     let dt = cfg.output_interval();
-    let eps = Thresholds::default();
     let mut last_t = 0.0;
     if let Some(f) = sink.as_mut() {
-        f(&run.sys.sample(0.0, &run.y, &eps));
+        f(&run.sys, 0.0, &run.y);
     }
     let mut collector = Collector::new(&run.sys, cfg.metrics, run.y, cfg.t_end);
     let mut next_k: u64 = 1;
@@ -295,7 +319,7 @@ pub fn simulate_streaming(
                     break;
                 }
                 let y = if tk == s.t1 { *s.y1 } else { s.interpolate(tk) };
-                f(&sys.sample(tk, &y, &eps));
+                f(sys, tk, &y);
                 last_t = tk;
                 next_k += 1;
             }
