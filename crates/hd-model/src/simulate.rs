@@ -283,18 +283,15 @@ pub fn simulate_streaming(
 /// [`simulate_streaming`] for callers that need only the state on the output grid (a
 /// load angle to compare with another solver's): `sink` gets the system, t [s] and the
 /// state there, and no reported signal is evaluated.
-pub fn simulate_states(
-    cfg: &SimConfig,
-    sink: &mut dyn FnMut(&DriveSystem, f64, &State),
-) -> Result<SimOutput, SimError> {
+pub fn simulate_states(cfg: &SimConfig, sink: StateSink) -> Result<SimOutput, SimError> {
     run_sampled(cfg, Some(sink))
 }
 
+/// What sees the state at each output time: the system, t [s] and the state.
+type StateSink<'a> = &'a mut dyn FnMut(&DriveSystem, f64, &State);
+
 /// The run, with the state handed to `sink` at every output time.
-fn run_sampled(
-    cfg: &SimConfig,
-    mut sink: Option<&mut dyn FnMut(&DriveSystem, f64, &State)>,
-) -> Result<SimOutput, SimError> {
+fn run_sampled(cfg: &SimConfig, mut sink: Option<StateSink>) -> Result<SimOutput, SimError> {
     let mut run = Stepper::new(cfg)?;
     // `auto` switches by cost; a non-stiff variant only between the explicit pairs
     // (`OdeSystem::may_be_stiff`).
