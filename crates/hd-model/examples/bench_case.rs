@@ -84,6 +84,14 @@ fn main() {
             start.elapsed().as_secs_f64()
         })
         .fold(f64::INFINITY, f64::min);
+    let traced = SimConfig { record_trace: true, ..cfg.clone() };
+    let full_trace = (0..reps.max(1))
+        .map(|_| {
+            let start = Instant::now();
+            simulate(&traced).expect("traced run failed");
+            start.elapsed().as_secs_f64()
+        })
+        .fold(f64::INFINITY, f64::min);
 
     let st = &timed.stats;
     let y = &timed.final_state;
@@ -102,10 +110,11 @@ fn main() {
     );
     let _ = write!(
         s,
-        "\"reps\":{},\"wall_best_s\":{},\"wall_no_output_best_s\":{},\"wall_all_s\":[{}],",
+        "\"reps\":{},\"wall_best_s\":{},\"wall_no_output_best_s\":{},\"wall_full_trace_best_s\":{},\"wall_all_s\":[{}],",
         walls.len(),
         num(best),
         num(bare),
+        num(full_trace),
         walls.iter().map(|&w| num(w)).collect::<Vec<_>>().join(",")
     );
     let _ = write!(

@@ -2,7 +2,6 @@
 //! seed's K(t) and C0(t), NaN where they are undefined (§2, §3).
 
 use crate::laws::friction::FrictionLaw;
-use crate::solver::OdeSystem;
 use crate::state::*;
 use crate::system::{DriveSystem, FrictionVelocity};
 
@@ -73,6 +72,10 @@ impl DriveSystem {
     /// Reported signals at (t, y).
     pub fn sample(&self, t: f64, y: &State, eps: &Thresholds) -> Sample {
         let p = self.parts(t, y);
+        // The state's rates from the laws just evaluated (what `rhs` would evaluate again),
+        // for the signals that need them.
+        let rates = std::cell::OnceCell::new();
+        let d = || *rates.get_or_init(|| self.rates(y, &p));
         let k = if self.stiffness.has_memory() {
             // K = dTb/dt / θ̇ = ∂Tb/∂θ + ∂Tb/∂z · ż/θ̇.
             if p.theta_dot.abs() > eps.theta_dot {
@@ -86,7 +89,7 @@ impl DriveSystem {
         let c0 = if self.friction.has_state() {
             // C0 = dTf/dt / v̇ = ∂Tf/∂v + (∂Tf/∂w · ẇ + ∂Tf/∂Tb · Ṫb)/v̇ (the last term
             // only with load-dependent levels).
-            let d = self.rhs(t, y);
+            let d = d();
             let v_dot = match self.friction_velocity {
                 FrictionVelocity::Motor => d[OMEGA_J] / self.n,
                 FrictionVelocity::Deflection => d[OMEGA_J] / self.n - d[OMEGA_Z],
@@ -103,7 +106,7 @@ impl DriveSystem {
         let nan = f64::NAN;
         let (reference, error, u_ff, tf_hat, tb_hat) = match (p.ctl, self.ctl.as_ref()) {
             (Some(c), Some(ctl)) => {
-                let wj_dot = self.rhs(t, y)[OMEGA_J];
+                let wj_dot = d()[OMEGA_J];
                 let tb_hat = ctl.torque_estimate(p.i, y[OMEGA_J], wj_dot, c.tf_hat);
                 (c.reference, c.error, c.u_ff, c.tf_hat, tb_hat)
             }

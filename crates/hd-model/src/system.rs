@@ -230,7 +230,7 @@ impl DriveSystem {
 
     /// The state rates from the laws' values `p` at (t, y).
     #[inline]
-    fn rates(&self, y: &State, p: &Parts) -> State {
+    pub(crate) fn rates(&self, y: &State, p: &Parts) -> State {
         let mut d = State::zeros();
         self.rates_into(y, p, &mut d);
         d
