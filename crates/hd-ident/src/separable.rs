@@ -291,6 +291,7 @@ pub fn fit_separable<P: Separable>(problem: &P, fixed: &Fixed) -> Result<Separab
         remarks: sample_warning.into_iter().collect(),
         wall_time_s: start.elapsed().as_secs_f64(),
         loop_energy: Vec::new(),
+        refinement_starts: Vec::new(),
     };
     Ok(SeparableFit {
         report,

@@ -463,7 +463,7 @@ pub fn fit_joint(
         iterations,
         evaluations,
         &best.termination,
-        starts.len(),
+        &starts,
     )?;
     Ok(fit)
 }
