@@ -9,6 +9,7 @@
 //! different size (ln σ0 next to ln ωs) are treated alike.
 
 use crate::error::{FitError, chain};
+use crate::lm_secant::Secant;
 use nalgebra::{DMatrix, DVector};
 use rayon::prelude::*;
 use std::sync::atomic::{AtomicUsize, Ordering};
@@ -28,6 +29,9 @@ pub struct LmOptions {
     /// Largest move of any parameter in one step; default 1.5 (a factor e^1.5 ≈ 4.5 for
     /// logarithmic parameters).
     pub max_step: f64,
+    /// Estimate the residual curvature that Gauss–Newton leaves out from the steps taken
+    /// and use it where it predicts better ([`crate::lm_secant`]); default false.
+    pub secant: bool,
 }
 
 impl Default for LmOptions {
@@ -38,6 +42,7 @@ impl Default for LmOptions {
             cost_tolerance: 1e-9,
             step_tolerance: 1e-8,
             max_step: 1.5,
+            secant: false,
         }
     }
 }
@@ -224,6 +229,7 @@ where
     // Trust radius: the largest move of any parameter; halved with every rejected trial,
     // so a failing region is backed away from even where the gradient says nothing.
     let mut radius = opts.max_step;
+    let mut secant = opts.secant.then(|| Secant::new(p));
     while p > 0 && !converged && iterations < opts.max_iterations {
         iterations += 1;
         let Normal { jtj: a, jtr: g } = match (current.normal.take(), &current.residuals) {
@@ -252,15 +258,23 @@ where
             (None, None) => unreachable!("a trial carries its residuals or its normal equations"),
         };
         let diag: Vec<f64> = (0..p).map(|k| a[(k, k)].max(1e-300)).collect();
+        if let Some(sec) = secant.as_mut() {
+            sec.update(&a, &g);
+        }
+        let model = secant.as_ref().and_then(|sec| sec.hessian(&a));
         let mut accepted = false;
         let mut tries = 0;
         while !accepted && tries < 30 {
             tries += 1;
-            let mut m = a.clone();
-            for k in 0..p {
-                m[(k, k)] += lambda * diag[k];
-            }
-            let Some(chol) = m.cholesky() else {
+            let damped = |h: &DMatrix<f64>| {
+                let mut m = h.clone();
+                for k in 0..p {
+                    m[(k, k)] += lambda * diag[k];
+                }
+                m.cholesky()
+            };
+            // The augmented model where it is positive definite here, else Gauss–Newton's.
+            let Some(chol) = model.as_ref().and_then(&damped).or_else(|| damped(&a)) else {
                 lambda *= 10.0;
                 continue;
             };
@@ -278,6 +292,9 @@ where
                 Some(t) if t.cost < cost => {
                     let new_cost = t.cost;
                     let gain = (cost - new_cost) / cost.max(f64::MIN_POSITIVE);
+                    if let Some(sec) = secant.as_mut() {
+                        sec.accepted(&delta, &a, &g, 0.5 * (cost - new_cost));
+                    }
                     x = trial;
                     current = t;
                     cost = new_cost;

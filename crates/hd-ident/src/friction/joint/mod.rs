@@ -408,7 +408,7 @@ pub fn fit_joint(
             starts.push(v);
         }
     }
-    let lm = LmOptions { max_iterations: MAX_ITERATIONS, ..Default::default() };
+    let lm = LmOptions { max_iterations: MAX_ITERATIONS, secant: true, ..Default::default() };
     let refined: Vec<Result<Refined, FitError>> = starts
         .par_iter()
         .map(|v| {
