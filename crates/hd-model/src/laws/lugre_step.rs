@@ -49,7 +49,7 @@ impl LuGre {
     /// positive, as in [`LuGre::levels`]). Where the Stribeck term cannot change the level
     /// by a bit (as in [`LuGre::stribeck`]) no exponential is evaluated and e^{−(v/ωs)²}
     /// counts as 0: the level is tc, and ∂G/∂Ts, ∂G/∂ωs drop a term below 1e-16 of it.
-    #[inline]
+    #[inline(always)]
     pub fn level_grad(&self, v: f64) -> LevelGrad {
         let (tc, ts) = self.levels(v);
         // The same level as [`LuGre::stribeck`] (unloaded) from one exponential.
@@ -68,7 +68,7 @@ impl LuGre {
     /// The state [N·m] after `h` seconds at the held speed v [rad/s] from w₀ [N·m]
     /// (unchanged at v = 0), with ∂w₁/∂w₀ and ∂w₁/∂p. The same map as
     /// [`crate::laws::friction::FrictionLaw::step_at_speed`].
-    #[inline]
+    #[inline(always)]
     pub fn step_held(&self, v: f64, w0: f64, h: f64) -> BristleStep {
         if v == 0.0 || h <= 0.0 {
             return BristleStep { w: w0, d_w0: 1.0, grad: [0.0; 6] };
