@@ -10,7 +10,7 @@
 use crate::data::HysteresisData;
 use crate::error::FitError;
 use crate::fix::Fixed;
-use crate::memory_profile::MemoryProfile;
+use crate::memory_profile::{MemoryProfile, same_interval};
 use crate::report::Explanation;
 use crate::separable::{Basis, Separable, SeparableFit, fit_separable};
 use hd_model::laws::stiffness::{CubicSpring, FadingMemory, Hysteretic, StiffnessLaw};
@@ -72,10 +72,51 @@ impl<'a> HysteresisProblem<'a> {
     }
 }
 
+/// The fitted torque sample by sample along a record (the memory carried between
+/// calls), so predictions on long records need no column.
+struct Predictor {
+    law: Hysteretic,
+    offset: f64,
+    z: f64,
+    last: Option<(f64, f64)>,
+    /// The last interval [s] and its step factors ([`FadingMemory::step_factors`]).
+    factors: (f64, (f64, f64)),
+}
+
+impl Predictor {
+    fn new(beta: &[f64], q: f64, offset: bool) -> Self {
+        let law = Hysteretic {
+            spring: CubicSpring { a: beta[0], b: beta[1], c: beta[2] },
+            memory: FadingMemory { a: beta[3], b: q },
+        };
+        let factors = (f64::NAN, (1.0, 1.0));
+        Self { law, offset: if offset { beta[4] } else { 0.0 }, z: 0.0, last: None, factors }
+    }
+
+    /// The torque at the next sample (t [s], θ [rad]) [N·m].
+    fn next(&mut self, t: f64, th: f64) -> f64 {
+        let rate = match self.last {
+            None => 0.0,
+            Some((t0, th0)) => {
+                let (h, m) = (t - t0, &self.law.memory);
+                if !same_interval(h, self.factors.0, t) {
+                    self.factors = (h, m.step_factors(h));
+                }
+                let (decay, gain) = self.factors.1;
+                self.z = m.step_with(self.z, th - th0, decay, gain);
+                (th - th0) / h
+            }
+        };
+        self.last = Some((t, th));
+        self.law.eval(th, rate, self.z).torque + self.offset
+    }
+}
+
 fn median_step(t: &[f64]) -> f64 {
     let mut d: Vec<f64> = t.windows(2).map(|w| w[1] - w[0]).collect();
-    d.sort_by(f64::total_cmp);
-    d[d.len() / 2]
+    let mid = d.len() / 2;
+    // The element a full sort would put in the middle, in linear time.
+    *d.select_nth_unstable_by(mid, f64::total_cmp).1
 }
 
 impl Separable for HysteresisProblem<'_> {
@@ -110,30 +151,61 @@ impl Separable for HysteresisProblem<'_> {
         Ok(Basis { columns, offset: None })
     }
     fn predict(&self, beta: &[f64], q: f64) -> Result<Vec<f64>, FitError> {
-        let law = Hysteretic {
-            spring: CubicSpring { a: beta[0], b: beta[1], c: beta[2] },
-            memory: FadingMemory { a: beta[3], b: q },
-        };
         // The memory runs beside the prediction (no second column held).
+        let mut p = Predictor::new(beta, q, self.offset);
         let (t, th) = (self.data.t(), self.data.theta());
-        let offset = if self.offset { beta[4] } else { 0.0 };
-        let mut z = 0.0;
-        Ok((0..t.len())
-            .map(|k| {
-                let rate = if k == 0 {
-                    0.0
-                } else {
-                    z = law.memory.step_linear(z, th[k] - th[k - 1], t[k] - t[k - 1]);
-                    (th[k] - th[k - 1]) / (t[k] - t[k - 1])
-                };
-                law.eval(th[k], rate, z).torque + offset
-            })
-            .collect())
+        Ok(t.iter().zip(th).map(|(&t, &th)| p.next(t, th)).collect())
+    }
+    fn streams_rows(&self) -> bool {
+        true
+    }
+    fn stream_rows(
+        &self,
+        beta: &[f64],
+        q: f64,
+        free: &[bool],
+        with_q: bool,
+        f: &mut dyn FnMut(&[f64]),
+    ) -> Option<Result<(), FitError>> {
+        let (t, th) = (self.data.t(), self.data.theta());
+        let unit = FadingMemory { a: 1.0, b: q };
+        let m = FadingMemory { a: beta[3], b: q };
+        let (mut zeta, mut z, mut dz) = (0.0, 0.0, 0.0);
+        let mut all = [0.0; 5];
+        let mut row = Vec::with_capacity(7);
+        // The step factors, shared by intervals equal within the stamps' rounding.
+        let (mut h_last, mut fac) = (f64::NAN, (1.0, 1.0, 0.0));
+        for k in 0..t.len() {
+            if k > 0 {
+                let (d_theta, h) = (th[k] - th[k - 1], t[k] - t[k - 1]);
+                if !same_interval(h, h_last, t[k]) {
+                    fac = m.step_grad_factors(h);
+                    h_last = h;
+                }
+                let (decay, gain, slope) = fac;
+                zeta = unit.step_with(zeta, d_theta, decay, gain);
+                // ∂z₁/∂B = −h·e^{−Bh}·z₀ + A·Δθ·h·φ′(Bh), carried: ∂z/∂B ← e^{−Bh}·∂z/∂B + that.
+                let d_b = -h_last * decay * z + m.a * d_theta * slope;
+                dz = decay * dz + d_b;
+                z = m.step_with(z, d_theta, decay, gain);
+            }
+            let x = th[k];
+            all[..4].copy_from_slice(&[x * x * x, x * x, x, zeta]);
+            all[4] = 1.0;
+            row.clear();
+            row.extend(all.iter().zip(free).filter(|(_, f)| **f).map(|(v, _)| *v));
+            if with_q {
+                row.push(dz);
+            }
+            f(&row);
+        }
+        Some(Ok(()))
     }
     fn profile(&self, q: f64, lo: &[f64], hi: &[f64]) -> Option<(f64, Vec<f64>, Vec<bool>)> {
         let d = self.data;
         let p = self.profile.get_or_init(|| MemoryProfile::new(d.theta(), d.torque(), self.offset));
         p.at(d.t(), d.theta(), d.torque(), q, lo, hi)
+            .or_else(|| p.at_full(d.t(), d.theta(), d.torque(), q, lo, hi))
     }
     /// ∂Tb/∂B = ∂z/∂B, carried along the record with the memory's exact step.
     fn predict_dq(&self, beta: &[f64], q: f64) -> Option<Result<Vec<f64>, FitError>> {
@@ -207,20 +279,17 @@ pub fn sampling_error(
     if data.len() < 20 {
         return Ok(None);
     }
-    let every_other = |c: &[f64]| c.iter().step_by(2).copied().collect::<Vec<f64>>();
-    let half = HysteresisData::new(
-        every_other(data.t()),
-        every_other(data.theta()),
-        every_other(data.torque()),
-    )?;
-    let problem = |d| {
-        let p = HysteresisProblem::new(d);
-        if offset { p.with_offset() } else { p }
-    };
-    let full = problem(data).predict(beta, b)?;
-    let coarse = problem(&half).predict(beta, b)?;
-    let sq: f64 = full.iter().step_by(2).zip(&coarse).map(|(f, c)| (f - c).powi(2)).sum();
-    Ok(Some((sq / coarse.len() as f64).sqrt() / 3.0))
+    // The full record and every other sample, each with its own memory, side by side.
+    let (mut full, mut coarse) = (Predictor::new(beta, b, offset), Predictor::new(beta, b, offset));
+    let (mut sq, mut shared) = (0.0, 0usize);
+    for (k, (&t, &th)) in data.t().iter().zip(data.theta()).enumerate() {
+        let f = full.next(t, th);
+        if k % 2 == 0 {
+            sq += (f - coarse.next(t, th)).powi(2);
+            shared += 1;
+        }
+    }
+    Ok(Some((sq / shared as f64).sqrt() / 3.0))
 }
 
 /// Fit a, b, c, A, B to `data`, holding the parameters in `fixed`. The report carries a
@@ -268,4 +337,33 @@ pub fn fit_hysteresis_with(
         fit.report.remarks.push(remark);
     }
     Ok(fit)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The streamed Jacobian rows are the basis columns and ∂prediction/∂B, row by row.
+    #[test]
+    fn streamed_rows_are_the_columns() {
+        let n = 2000;
+        let t: Vec<f64> = (0..n).map(|k| 2e-4 * k as f64).collect();
+        let th: Vec<f64> =
+            t.iter().map(|&t| 1e-3 * (9.0 * t).sin() + 3e-4 * (70.0 * t).sin()).collect();
+        let y: Vec<f64> = th.iter().map(|v| 5e4 * v).collect();
+        let data = HysteresisData::new(t, th, y).unwrap();
+        let p = HysteresisProblem::new(&data).with_offset();
+        let (beta, q) = ([1e7, 3e3, 5e4, 4e4, 0.2], 250.0);
+        let basis = p.basis(q).unwrap();
+        let dq = p.predict_dq(&beta, q).unwrap().unwrap();
+        let mut rows = Vec::new();
+        p.stream_rows(&beta, q, &[true; 5], true, &mut |r| rows.push(r.to_vec())).unwrap().unwrap();
+        let mut cols = basis.columns;
+        cols.push(dq);
+        for (j, col) in cols.iter().enumerate() {
+            let scale = col.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+            let worst = (0..n).map(|k| (rows[k][j] - col[k]).abs()).fold(0.0, f64::max);
+            assert!(worst <= 1e-12 * scale, "column {j}: {worst:e} of {scale:e}");
+        }
+    }
 }

@@ -9,6 +9,7 @@
 //! different size (ln σ0 next to ln ωs) are treated alike.
 
 use crate::error::{FitError, chain};
+use crate::lm_secant::Secant;
 use nalgebra::{DMatrix, DVector};
 use rayon::prelude::*;
 use std::sync::atomic::{AtomicUsize, Ordering};
@@ -28,6 +29,9 @@ pub struct LmOptions {
     /// Largest move of any parameter in one step; default 1.5 (a factor e^1.5 ≈ 4.5 for
     /// logarithmic parameters).
     pub max_step: f64,
+    /// Estimate the residual curvature that Gauss–Newton leaves out from the steps taken
+    /// and use it where it predicts better ([`crate::lm_secant`]); default false.
+    pub secant: bool,
 }
 
 impl Default for LmOptions {
@@ -38,6 +42,7 @@ impl Default for LmOptions {
             cost_tolerance: 1e-9,
             step_tolerance: 1e-8,
             max_step: 1.5,
+            secant: false,
         }
     }
 }
@@ -63,9 +68,53 @@ fn cost_of(r: &[f64]) -> f64 {
     r.iter().map(|v| v * v).sum()
 }
 
-/// Residuals and, when the model has them, its exact derivatives (one column per
-/// parameter, ∂model/∂x = −∂r/∂x) at one trial point.
-type Trial = (Vec<f64>, Option<Vec<Vec<f64>>>);
+/// The normal equations of a trial's linearisation: JᵀJ and Jᵀr, with J's columns
+/// ∂model/∂x_j and r = data − model (so Jᵀr is the descent direction's right-hand side).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Normal {
+    /// JᵀJ (p × p).
+    pub jtj: DMatrix<f64>,
+    /// Jᵀr (p).
+    pub jtr: DVector<f64>,
+}
+
+impl Normal {
+    /// From J's columns and the residuals.
+    pub fn from_columns(columns: &[Vec<f64>], r: &[f64]) -> Self {
+        let p = columns.len();
+        let dot = |a: &[f64], b: &[f64]| a.iter().zip(b).map(|(x, y)| x * y).sum::<f64>();
+        let mut jtj = DMatrix::zeros(p, p);
+        for i in 0..p {
+            for j in 0..=i {
+                let v = dot(&columns[i], &columns[j]);
+                jtj[(i, j)] = v;
+                jtj[(j, i)] = v;
+            }
+        }
+        let jtr = DVector::from_fn(p, |i, _| dot(&columns[i], r));
+        Self { jtj, jtr }
+    }
+
+    fn is_finite(&self) -> bool {
+        self.jtj.iter().chain(self.jtr.iter()).all(|v| v.is_finite())
+    }
+}
+
+/// One evaluated trial point: its cost, and either its residuals (for a difference
+/// Jacobian) or the model's exact normal equations.
+struct Trial {
+    cost: f64,
+    residuals: Option<Vec<f64>>,
+    normal: Option<Normal>,
+}
+
+impl Trial {
+    fn finite(&self) -> bool {
+        self.cost.is_finite()
+            && self.residuals.as_ref().is_none_or(|r| r.iter().all(|v| v.is_finite()))
+            && self.normal.as_ref().is_none_or(Normal::is_finite)
+    }
+}
 
 /// Minimise ‖r(x)‖² from `x0`. `residuals` returns the residual vector (always of the
 /// same length) or an error; an error or a non-finite entry rejects the trial. Fails only
@@ -79,7 +128,9 @@ pub fn levenberg_marquardt<F>(
 where
     F: Fn(&[f64]) -> Result<Vec<f64>, FitError> + Sync,
 {
-    let trial = |x: &[f64]| residuals(x).map(|r| (r, None));
+    let trial = |x: &[f64]| {
+        residuals(x).map(|r| Trial { cost: cost_of(&r), residuals: Some(r), normal: None })
+    };
     lm_core(&trial, Some(residuals), x0, opts)
 }
 
@@ -94,13 +145,31 @@ pub fn levenberg_marquardt_exact<F>(
 where
     F: Fn(&[f64]) -> Result<(Vec<f64>, Vec<Vec<f64>>), FitError> + Sync,
 {
-    let trial = |x: &[f64]| model(x).map(|(r, j)| (r, Some(j)));
+    let trial = |x: &[f64]| {
+        model(x).map(|(r, j)| Trial {
+            cost: cost_of(&r),
+            normal: Some(Normal::from_columns(&j, &r)),
+            residuals: None,
+        })
+    };
     lm_core::<_, fn(&[f64]) -> Result<Vec<f64>, FitError>>(&trial, None, x0, opts)
 }
 
-fn finite(t: &Trial) -> bool {
-    t.0.iter().all(|v| v.is_finite())
-        && t.1.as_ref().is_none_or(|j| j.iter().flatten().all(|v| v.is_finite()))
+/// [`levenberg_marquardt_exact`] for a model that forms its own normal equations:
+/// `model(x)` gives the cost ‖r‖² and [`Normal`] at x (no n-long vector crosses the
+/// interface, so a model can keep its buffers).
+pub fn levenberg_marquardt_normal<F>(
+    model: &F,
+    x0: &[f64],
+    opts: &LmOptions,
+) -> Result<LmOutcome, FitError>
+where
+    F: Fn(&[f64]) -> Result<(f64, Normal), FitError> + Sync,
+{
+    let trial = |x: &[f64]| {
+        model(x).map(|(cost, normal)| Trial { cost, normal: Some(normal), residuals: None })
+    };
+    lm_core::<_, fn(&[f64]) -> Result<Vec<f64>, FitError>>(&trial, None, x0, opts)
 }
 
 fn lm_core<T, F>(
@@ -118,7 +187,7 @@ where
     let eval = |x: &[f64]| -> Option<Trial> {
         evaluations.fetch_add(1, Ordering::Relaxed);
         match model(x) {
-            Ok(t) if finite(&t) => Some(t),
+            Ok(t) if t.finite() => Some(t),
             _ => {
                 failed.fetch_add(1, Ordering::Relaxed);
                 None
@@ -137,8 +206,8 @@ where
     };
     let p = x0.len();
     let mut x = x0.to_vec();
-    let (mut r, mut exact) = match model(x0) {
-        Ok(t) if finite(&t) => t,
+    let mut current = match model(x0) {
+        Ok(t) if t.finite() => t,
         Ok(_) => {
             return Err(FitError::Optimiser(
                 "the starting point gives non-finite residuals".into(),
@@ -149,8 +218,7 @@ where
         }
     };
     evaluations.fetch_add(1, Ordering::Relaxed);
-    let n = r.len();
-    let mut cost = cost_of(&r);
+    let mut cost = current.cost;
     let mut lambda = 1e-3;
     let mut iterations = 0;
     let mut termination = format!("iteration budget of {} reached", opts.max_iterations);
@@ -161,16 +229,17 @@ where
     // Trust radius: the largest move of any parameter; halved with every rejected trial,
     // so a failing region is backed away from even where the gradient says nothing.
     let mut radius = opts.max_step;
+    let mut secant = opts.secant.then(|| Secant::new(p));
     while p > 0 && !converged && iterations < opts.max_iterations {
         iterations += 1;
-        let columns: Vec<Vec<f64>> = match exact.take() {
-            Some(j) => j,
-            None => {
+        let Normal { jtj: a, jtr: g } = match (current.normal.take(), &current.residuals) {
+            (Some(normal), _) => normal,
+            (None, Some(r)) => {
                 // Forward-difference Jacobian, one column per parameter, in parallel; a
                 // column whose trial fails is tried backwards, then left at zero (frozen
                 // this iteration).
                 let h = opts.fd_step;
-                (0..p)
+                let columns: Vec<Vec<f64>> = (0..p)
                     .into_par_iter()
                     .map(|j| {
                         for step in [h, -h] {
@@ -178,27 +247,34 @@ where
                             xj[j] += step;
                             if let Some(rj) = eval_r(&xj) {
                                 // Residual = data − model, so ∂model/∂x = −∂r/∂x.
-                                return rj.iter().zip(&r).map(|(a, b)| -(a - b) / step).collect();
+                                return rj.iter().zip(r).map(|(a, b)| -(a - b) / step).collect();
                             }
                         }
-                        vec![0.0; n]
+                        vec![0.0; r.len()]
                     })
-                    .collect()
+                    .collect();
+                Normal::from_columns(&columns, r)
             }
+            (None, None) => unreachable!("a trial carries its residuals or its normal equations"),
         };
-        let jac = DMatrix::from_fn(n, p, |i, j| columns[j][i]);
-        let a = jac.transpose() * &jac;
-        let g = jac.transpose() * DVector::from_column_slice(&r); // = Jᵀ(y − f)
         let diag: Vec<f64> = (0..p).map(|k| a[(k, k)].max(1e-300)).collect();
+        if let Some(sec) = secant.as_mut() {
+            sec.update(&a, &g);
+        }
+        let model = secant.as_ref().and_then(|sec| sec.hessian(&a));
         let mut accepted = false;
         let mut tries = 0;
         while !accepted && tries < 30 {
             tries += 1;
-            let mut m = a.clone();
-            for k in 0..p {
-                m[(k, k)] += lambda * diag[k];
-            }
-            let Some(chol) = m.cholesky() else {
+            let damped = |h: &DMatrix<f64>| {
+                let mut m = h.clone();
+                for k in 0..p {
+                    m[(k, k)] += lambda * diag[k];
+                }
+                m.cholesky()
+            };
+            // The augmented model where it is positive definite here, else Gauss–Newton's.
+            let Some(chol) = model.as_ref().and_then(&damped).or_else(|| damped(&a)) else {
                 lambda *= 10.0;
                 continue;
             };
@@ -213,12 +289,14 @@ where
             }
             let trial: Vec<f64> = x.iter().zip(delta.iter()).map(|(a, d)| a + d).collect();
             match eval(&trial) {
-                Some((rt, jt)) if cost_of(&rt) < cost => {
-                    let new_cost = cost_of(&rt);
+                Some(t) if t.cost < cost => {
+                    let new_cost = t.cost;
                     let gain = (cost - new_cost) / cost.max(f64::MIN_POSITIVE);
+                    if let Some(sec) = secant.as_mut() {
+                        sec.accepted(&delta, &a, &g, 0.5 * (cost - new_cost));
+                    }
                     x = trial;
-                    r = rt;
-                    exact = jt;
+                    current = t;
                     cost = new_cost;
                     lambda = (lambda * 0.3).max(1e-12);
                     radius = (2.0 * radius).min(opts.max_step);

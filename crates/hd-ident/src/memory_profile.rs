@@ -21,6 +21,15 @@ use nalgebra::{DMatrix, DVector};
 /// of ρ² to ζᵀζ: below it the bordered solve would lose more digits than the full one.
 const MIN_INDEPENDENCE: f64 = 1e-8;
 
+/// Whether the sample interval `h` [s] ending at time `t` [s] equals `h_last` to within the
+/// rounding of the time stamps (4 ulps of t, 8 of h): a uniformly sampled record's
+/// differences vary by that much, and then share one set of step factors. The factors'
+/// change over such a difference is no larger than their uncertainty from the stamps.
+#[inline]
+pub(crate) fn same_interval(h: f64, h_last: f64, t: f64) -> bool {
+    (h - h_last).abs() <= 4.0 * f64::EPSILON * t.abs() + 8.0 * f64::EPSILON * h
+}
+
 /// The spring part of the hysteresis design, factorised once.
 pub struct MemoryProfile {
     offset: bool,
@@ -90,7 +99,7 @@ impl MemoryProfile {
         for i in 0..t.len() {
             if i > 0 {
                 let h = t[i] - t[i - 1];
-                if h != h_last {
+                if !same_interval(h, h_last, t[i]) {
                     factors = m.step_factors(h);
                     h_last = h;
                 }
@@ -130,5 +139,94 @@ impl MemoryProfile {
         let sol = bounded_least_squares(&refs, &ct, lo, hi);
         let rss = sol.rss + beyond;
         rss.is_finite().then_some((rss, sol.coef, sol.at_bound))
+    }
+
+    /// [`MemoryProfile::at`] without the bordered shortcut, for the trials where it is
+    /// unsafe: the QR factor of the whole design `[θ³ θ² θ ζ (1) | y]` accumulated in
+    /// blocks (as stable as one QR of the whole matrix, and still holding no column),
+    /// then the bounded solve on its triangle. `None` only where the RSS is not finite.
+    pub fn at_full(
+        &self,
+        t: &[f64],
+        theta: &[f64],
+        y: &[f64],
+        b: f64,
+        lo: &[f64],
+        hi: &[f64],
+    ) -> Option<(f64, Vec<f64>, Vec<bool>)> {
+        let k = 3 + usize::from(self.offset);
+        let m = FadingMemory { a: 1.0, b };
+        // Row: the fit's order a, b, c (θ³, θ², θ), A (ζ), then the offset; y last.
+        let mut qr = StreamingQr::new(k + 2);
+        let mut row = [0.0f64; 6];
+        let (mut z, mut h_last, mut factors) = (0.0f64, f64::NAN, (1.0, 1.0));
+        for i in 0..t.len() {
+            if i > 0 {
+                let h = t[i] - t[i - 1];
+                if !same_interval(h, h_last, t[i]) {
+                    factors = m.step_factors(h);
+                    h_last = h;
+                }
+                z = m.step_with(z, theta[i] - theta[i - 1], factors.0, factors.1);
+            }
+            let th = theta[i];
+            row[..4].copy_from_slice(&[th * th * th, th * th, th, z]);
+            if self.offset {
+                row[4] = 1.0;
+            }
+            row[k + 1] = y[i];
+            qr.push(&row[..k + 2]);
+        }
+        let r = qr.finish();
+        let cols: Vec<Vec<f64>> = (0..=k).map(|j| r.column(j).iter().copied().collect()).collect();
+        let refs: Vec<&[f64]> = cols.iter().map(Vec::as_slice).collect();
+        let rhs: Vec<f64> = r.column(k + 1).iter().copied().collect();
+        let sol = bounded_least_squares(&refs, &rhs, lo, hi);
+        // The triangle's last row (y's part beyond the design) is in the solve's RSS.
+        let rss = sol.rss;
+        rss.is_finite().then_some((rss, sol.coef, sol.at_bound))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The bordered shortcut and the streamed full factor give the bounded solve of the
+    /// explicit columns.
+    #[test]
+    fn shortcut_and_full_factor_match_the_explicit_solve() {
+        let n = 3000;
+        let t: Vec<f64> = (0..n).map(|k| 1e-3 * k as f64).collect();
+        let th: Vec<f64> =
+            t.iter().map(|&t| 1e-3 * (7.0 * t).sin() + 4e-4 * (41.0 * t).sin()).collect();
+        let b = 60.0;
+        let m = FadingMemory { a: 1.0, b };
+        let mut zeta = vec![0.0; n];
+        for k in 1..n {
+            zeta[k] = m.step_linear(zeta[k - 1], th[k] - th[k - 1], t[k] - t[k - 1]);
+        }
+        let y: Vec<f64> = (0..n)
+            .map(|k| 5e4 * th[k] + 3e4 * zeta[k] + 0.3 + 0.05 * (1.9 * k as f64).sin())
+            .collect();
+        let cols: Vec<Vec<f64>> = vec![
+            th.iter().map(|v| v * v * v).collect(),
+            th.iter().map(|v| v * v).collect(),
+            th.clone(),
+            zeta,
+            vec![1.0; n],
+        ];
+        let refs: Vec<&[f64]> = cols.iter().map(Vec::as_slice).collect();
+        let (lo, hi) = ([f64::NEG_INFINITY; 5], [f64::INFINITY; 5]);
+        let want = bounded_least_squares(&refs, &y, &lo, &hi);
+        let p = MemoryProfile::new(&th, &y, true);
+        for (rss, coef, _) in
+            [p.at(&t, &th, &y, b, &lo, &hi).unwrap(), p.at_full(&t, &th, &y, b, &lo, &hi).unwrap()]
+        {
+            assert!((rss - want.rss).abs() <= 1e-9 * want.rss, "{rss} vs {}", want.rss);
+            for (a, w) in coef.iter().zip(&want.coef).skip(2) {
+                assert!((a - w).abs() <= 1e-7 * w.abs(), "{coef:?} vs {:?}", want.coef);
+            }
+        }
     }
 }

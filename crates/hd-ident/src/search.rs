@@ -126,12 +126,18 @@ pub fn search_log(
     let mut termination = "grid point (no refinement improved it)".to_string();
     let mut iterations = 0;
     let mut evaluations = GRID_POINTS as u64;
-    for &i in &minima {
-        let a = grid[i.saturating_sub(1)];
-        let b = grid[(i + 1).min(GRID_POINTS - 1)];
-        let solver = BrentOpt::new(a, b).set_tolerance(1.5e-8, 1e-8);
-        let cost_fn = LogCost { f, failed: &failed };
-        let run = Executor::new(cost_fn, solver).configure(|s| s.max_iters(MAX_ITERS)).run();
+    // The refinements are independent: run them in parallel, then take them in order.
+    let runs: Vec<_> = minima
+        .par_iter()
+        .map(|&i| {
+            let a = grid[i.saturating_sub(1)];
+            let b = grid[(i + 1).min(GRID_POINTS - 1)];
+            let solver = BrentOpt::new(a, b).set_tolerance(1.5e-8, 1e-8);
+            let cost_fn = LogCost { f, failed: &failed };
+            Executor::new(cost_fn, solver).configure(|s| s.max_iters(MAX_ITERS)).run()
+        })
+        .collect();
+    for run in runs {
         let res = match run {
             Ok(r) => r,
             Err(e) => match e.downcast::<FitError>() {

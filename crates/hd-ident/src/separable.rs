@@ -13,7 +13,7 @@ use crate::report::{
     Correlation, Estimate, Explanation, FitReport, Judgement, Parameters, SearchSummary,
 };
 use crate::search::{GRID_POINTS, search_log};
-use crate::uncertainty::{Covariance, covariance};
+use crate::uncertainty::{Covariance, covariance, covariance_rows};
 use hd_model::registry::lookup;
 use std::time::Instant;
 
@@ -61,6 +61,24 @@ pub trait Separable: Sync {
     fn predict_dq(&self, _beta: &[f64], _q: f64) -> Option<Result<Vec<f64>, FitError>> {
         None
     }
+    /// Whether [`Separable::stream_rows`] gives the Jacobian (default false).
+    fn streams_rows(&self) -> bool {
+        false
+    }
+    /// The Jacobian at the optimum row by row, for records too long to hold its columns:
+    /// hands `f` each sample's values of the linear columns whose `free` entry is set (in
+    /// column order) followed, with `with_q`, by ∂prediction/∂q at `beta` (as
+    /// [`Separable::predict_dq`]). `None` (the default): the columns are built instead.
+    fn stream_rows(
+        &self,
+        _beta: &[f64],
+        _q: f64,
+        _free: &[bool],
+        _with_q: bool,
+        _f: &mut dyn FnMut(&[f64]),
+    ) -> Option<Result<(), FitError>> {
+        None
+    }
     /// Relative step in ln q for the finite-difference sensitivity to q.
     fn fd_step(&self) -> f64 {
         1e-4
@@ -87,7 +105,9 @@ pub struct SeparableFit {
     /// Names of the free parameters, in Jacobian column order.
     pub free: Vec<&'static str>,
     /// Sensitivity of the prediction to each free parameter at the optimum, one column
-    /// per name in `free` [N·m per registry unit].
+    /// per name in `free` [N·m per registry unit]; empty where the problem streams its
+    /// rows instead ([`Separable::stream_rows`]: the hysteresis fit, whose records may
+    /// hold millions of samples).
     pub jacobian: Vec<Vec<f64>>,
     /// The covariance summary behind the report's errors.
     pub covariance: Covariance,
@@ -105,7 +125,8 @@ struct Inner {
     beta: Vec<f64>,
     at_bound: Vec<bool>,
     rss: f64,
-    basis: Basis,
+    /// The columns at q, when the solve built them.
+    basis: Option<Basis>,
 }
 
 fn solve_inner<P: Separable>(
@@ -138,7 +159,7 @@ fn solve_inner<P: Separable>(
         beta[j] = sol.coef[f];
         at_bound[j] = sol.at_bound[f];
     }
-    Ok(Inner { beta, at_bound, rss: sol.rss, basis })
+    Ok(Inner { beta, at_bound, rss: sol.rss, basis: Some(basis) })
 }
 
 /// Fit `problem`, holding the parameters in `fixed` (all of which must belong to it).
@@ -181,7 +202,7 @@ pub fn fit_separable<P: Separable>(problem: &P, fixed: &Fixed) -> Result<Separab
         }
     };
     let inner = match quick(q) {
-        Some((rss, beta, at_bound)) => Inner { at_bound, beta, rss, basis: problem.basis(q)? },
+        Some((rss, beta, at_bound)) => Inner { at_bound, beta, rss, basis: None },
         None => solve_inner(problem, q, &lin_fixed, &lo, &hi)?,
     };
     let _ = inner.rss;
@@ -192,31 +213,46 @@ pub fn fit_separable<P: Separable>(problem: &P, fixed: &Fixed) -> Result<Separab
     let mean = y.iter().sum::<f64>() / n as f64;
     let sst: f64 = y.iter().map(|v| (v - mean).powi(2)).sum();
 
-    // Jacobian of the prediction over the free parameters.
+    // Jacobian of the prediction over the free parameters: streamed by row where the
+    // problem can, else built as columns.
     let mut jac: Vec<Vec<f64>> = Vec::new();
-    let mut jac_names: Vec<&'static str> = Vec::new();
-    let at_bound = inner.at_bound;
-    for ((j, name), col) in lin.iter().enumerate().zip(inner.basis.columns) {
-        if lin_fixed[j].is_none() {
-            jac.push(col);
-            jac_names.push(name);
-        }
-    }
+    let mut jac_names: Vec<&'static str> =
+        lin.iter().enumerate().filter(|(j, _)| lin_fixed[*j].is_none()).map(|(_, n)| *n).collect();
     if q_fixed.is_none() {
-        let column = match problem.predict_dq(&beta, q) {
-            Some(col) => col?,
-            None => {
-                let h = problem.fd_step();
-                let up = problem.predict(&beta, q * h.exp())?;
-                let down = problem.predict(&beta, q * (-h).exp())?;
-                let dq = q * (h.exp() - (-h).exp());
-                up.iter().zip(&down).map(|(u, d)| (u - d) / dq).collect()
-            }
-        };
-        jac.push(column);
         jac_names.push(qname);
     }
-    let cov = covariance(&jac, rss);
+    let at_bound = inner.at_bound;
+    let free_mask: Vec<bool> = lin_fixed.iter().map(Option::is_none).collect();
+    let cov = if problem.streams_rows() {
+        let mut rows = |f: &mut dyn FnMut(&[f64])| {
+            problem.stream_rows(&beta, q, &free_mask, q_fixed.is_none(), f).unwrap_or(Ok(()))
+        };
+        covariance_rows(jac_names.len(), n, rss, &mut rows)?
+    } else {
+        let basis = match inner.basis {
+            Some(b) => b,
+            None => problem.basis(q)?,
+        };
+        for (j, col) in basis.columns.into_iter().enumerate() {
+            if lin_fixed[j].is_none() {
+                jac.push(col);
+            }
+        }
+        if q_fixed.is_none() {
+            let column = match problem.predict_dq(&beta, q) {
+                Some(col) => col?,
+                None => {
+                    let h = problem.fd_step();
+                    let up = problem.predict(&beta, q * h.exp())?;
+                    let down = problem.predict(&beta, q * (-h).exp())?;
+                    let dq = q * (h.exp() - (-h).exp());
+                    up.iter().zip(&down).map(|(u, d)| (u - d) / dq).collect()
+                }
+            };
+            jac.push(column);
+        }
+        covariance(&jac, rss)
+    };
 
     // Assemble the estimates.
     let mut params = Parameters::default();
@@ -231,7 +267,7 @@ pub fn fit_separable<P: Separable>(problem: &P, fixed: &Fixed) -> Result<Separab
             params.0.push((name.to_string(), Estimate::held(value, unit, "fixed")));
             continue;
         };
-        let col_rms = (jac[k].iter().map(|v| v * v).sum::<f64>() / n as f64).sqrt();
+        let col_rms = cov.column_norms[k] / (n as f64).sqrt();
         let nonlinear = j >= lin.len();
         let contribution = if nonlinear { 0.01 * q * col_rms } else { value.abs() * col_rms };
         let strongest = (0..jac_names.len())
@@ -291,6 +327,7 @@ pub fn fit_separable<P: Separable>(problem: &P, fixed: &Fixed) -> Result<Separab
         remarks: sample_warning.into_iter().collect(),
         wall_time_s: start.elapsed().as_secs_f64(),
         loop_energy: Vec::new(),
+        refinement_starts: Vec::new(),
     };
     Ok(SeparableFit {
         report,

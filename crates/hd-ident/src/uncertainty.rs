@@ -32,6 +32,8 @@ pub struct Covariance {
     pub dof: usize,
     /// Half-width factor of a 95 % interval (Student's t, 97.5 % quantile).
     pub t95: f64,
+    /// Euclidean norm of each Jacobian column [N·m per unit of the parameter].
+    pub column_norms: Vec<f64>,
 }
 
 impl Covariance {
@@ -44,11 +46,39 @@ impl Covariance {
 /// Covariance of the parameters whose model sensitivities are the columns `jac` (each of
 /// length n, ∂prediction/∂parameter), given the residual sum of squares `rss`.
 pub fn covariance(jac: &[Vec<f64>], rss: f64) -> Covariance {
-    let p = jac.len();
     let n = jac.first().map_or(0, Vec::len);
+    let mut row = vec![0.0; jac.len()];
+    covariance_rows(jac.len(), n, rss, &mut |f: &mut dyn FnMut(&[f64])| {
+        for i in 0..n {
+            for (x, col) in row.iter_mut().zip(jac) {
+                *x = col[i];
+            }
+            f(&row);
+        }
+        Ok(())
+    })
+    .expect("rows from columns never fail")
+}
+
+/// Hands each row of the Jacobian (p values) to the callback, in order; may be called
+/// more than once.
+pub type RowSource<'a> =
+    dyn FnMut(&mut dyn FnMut(&[f64])) -> Result<(), crate::error::FitError> + 'a;
+
+/// [`covariance`] from a Jacobian of `p` columns and `n` rows that is streamed row by row
+/// (twice: once for the column norms, once into the QR factor), so that no column is
+/// held: for records of millions of samples.
+pub fn covariance_rows(
+    p: usize,
+    n: usize,
+    rss: f64,
+    rows: &mut RowSource,
+) -> Result<Covariance, crate::error::FitError> {
     let dof = n.saturating_sub(p);
     let sigma = if dof > 0 { (rss / dof as f64).sqrt() } else { f64::NAN };
-    let norms: Vec<f64> = jac.iter().map(|c| c.iter().map(|v| v * v).sum::<f64>().sqrt()).collect();
+    let mut sq = vec![0.0; p];
+    rows(&mut |r: &[f64]| sq.iter_mut().zip(r).for_each(|(s, v)| *s += v * v))?;
+    let norms: Vec<f64> = sq.iter().map(|s| s.sqrt()).collect();
     let mut out = Covariance {
         std_error: vec![None; p],
         correlation: vec![vec![None; p]; p],
@@ -56,22 +86,23 @@ pub fn covariance(jac: &[Vec<f64>], rss: f64) -> Covariance {
         sigma,
         dof,
         t95: t975(dof),
+        column_norms: norms.clone(),
     };
     if p == 0 || n < p {
-        return out;
+        return Ok(out);
     }
     // R of the column-scaled Jacobian, accumulated in blocks (no n×p copy).
     let mut qr = crate::qr_stream::StreamingQr::new(p);
-    let mut row = vec![0.0; p];
-    for i in 0..n {
-        for ((x, col), norm) in row.iter_mut().zip(jac).zip(&norms) {
-            *x = if *norm > 0.0 { col[i] / norm } else { 0.0 };
+    let mut scaled = vec![0.0; p];
+    rows(&mut |r: &[f64]| {
+        for ((x, v), norm) in scaled.iter_mut().zip(r).zip(&norms) {
+            *x = if *norm > 0.0 { v / norm } else { 0.0 };
         }
-        qr.push(&row);
-    }
+        qr.push(&scaled);
+    })?;
     let r = qr.finish();
     let svd = r.svd(false, true);
-    let Some(vt) = svd.v_t else { return out };
+    let Some(vt) = svd.v_t else { return Ok(out) };
     let s = &svd.singular_values;
     let smax = s.max();
     // Scaled covariance over the informative directions.
@@ -106,7 +137,7 @@ pub fn covariance(jac: &[Vec<f64>], rss: f64) -> Covariance {
             }
         }
     }
-    out
+    Ok(out)
 }
 
 #[cfg(test)]

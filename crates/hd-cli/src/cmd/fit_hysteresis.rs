@@ -81,6 +81,8 @@ pub fn run(args: HysteresisArgs) -> Result<()> {
         for fit in &cmp.fits {
             let sub = ensure_dir(&dir.join(fit.law.name()))?;
             outputs(&sub, &data, fit, &src)?;
+            let cols = [data.t(), data.theta(), data.torque(), &fit.fitted, &fit.residuals];
+            table_out(&sub, cols.map(<[f64]>::to_vec))?;
         }
         let text = cmp.to_json();
         let md = cmp.to_markdown(&args.file.display().to_string());
@@ -109,42 +111,97 @@ pub fn run(args: HysteresisArgs) -> Result<()> {
     progress.finish();
     let fit = fit.with_context(|| format!("fitting {}", args.file.display()))?;
     outputs(&dir, &data, &fit, &src)?;
+    let (n, wall) = (data.len(), fit.report.wall_time_s);
+    // The table last, from the columns themselves (no copy of a long record).
+    let [t, theta, torque] = data.into_columns();
+    table_out(&dir, [t, theta, torque, fit.fitted, fit.residuals])?;
     eprintln!(
-        "fitted the {} law to {} samples in {:.3} s; wrote {}",
+        "fitted the {} law to {n} samples in {wall:.3} s; wrote {}",
         law.name(),
-        data.len(),
-        fit.report.wall_time_s,
         dir.display()
     );
     Ok(())
 }
 
-/// fit.json, fitted.parquet and the plots of one law's fit in `dir`.
+/// Most points handed to one curve of a plot: a longer record is first cut to the
+/// envelope of its buckets of consecutive samples (each keeps its first, lowest, highest
+/// and last point, in order), as `hdw simulate` does for long runs. The plot keeps at
+/// most a few points per pixel column anyway, so the picture hardly changes, and a record
+/// of millions of samples needs no copy of its columns to be drawn.
+const PLOT_POINTS: usize = 200_000;
+
+/// The points (x[k], y(k)) of one curve, cut to at most about [`PLOT_POINTS`].
+fn curve(name: impl Into<String>, x: &[f64], y: impl Fn(usize) -> f64) -> Series {
+    let n = x.len();
+    if n <= PLOT_POINTS {
+        return Series::new(name, x.to_vec(), (0..n).map(y).collect());
+    }
+    let per = (4 * n).div_ceil(PLOT_POINTS);
+    let (mut xs, mut ys) = (Vec::with_capacity(PLOT_POINTS + 4), Vec::new());
+    for start in (0..n).step_by(per) {
+        let end = (start + per).min(n);
+        let (mut lo, mut hi) = (start, start);
+        for k in start..end {
+            let v = y(k);
+            if v < y(lo) {
+                lo = k;
+            }
+            if v > y(hi) {
+                hi = k;
+            }
+        }
+        let mut keep = [start, lo, hi, end - 1];
+        keep.sort_unstable();
+        for (i, &k) in keep.iter().enumerate() {
+            if i == 0 || k != keep[i - 1] {
+                xs.push(x[k]);
+                ys.push(y(k));
+            }
+        }
+    }
+    Series::new(name, xs, ys)
+}
+
+/// fitted.parquet: t, theta, torque, fitted, residual (row for row with the input). The
+/// frame is built one column at a time, each column's vector dropped once it is in, so a
+/// long record is held about once while it is written, not three times.
+fn table_out(dir: &Path, cols: [Vec<f64>; 5]) -> Result<()> {
+    let names = ["t", "theta", "torque", "fitted", "residual"];
+    let one = |name: &str, col: Vec<f64>| {
+        let mut table = OutTable::default();
+        table.push(name, Cells::F64(col));
+        hd_io::parquet_out::out_table_frame(&table)
+    };
+    let mut cols = names.into_iter().zip(cols);
+    let (name, first) = cols.next().expect("five columns");
+    let mut frame = one(name, first)?;
+    for (name, col) in cols {
+        let part = one(name, col)?;
+        frame.hstack_mut(part.columns())?;
+    }
+    hd_io::write_frame(&dir.join("fitted.parquet"), &mut frame)?;
+    Ok(())
+}
+
+/// fit.json and the plots of one law's fit in `dir` (the table is [`table_out`]'s).
 fn outputs(dir: &Path, data: &HysteresisData, fit: &LawFit, src: &DataSource) -> Result<()> {
     let mut report = fit.report.clone();
     report.data.push(src.clone());
     report_out(dir, &report)?;
-    let mut table = OutTable::default();
-    table.push("t", Cells::F64(data.t().to_vec()));
-    table.push("theta", Cells::F64(data.theta().to_vec()));
-    table.push("torque", Cells::F64(data.torque().to_vec()));
-    table.push("fitted", Cells::F64(fit.fitted.clone()));
-    table.push("residual", Cells::F64(fit.residuals.clone()));
-    hd_io::write_out_table(&dir.join("fitted.parquet"), &table)?;
     let law = fit.law.name();
-    let th = data.theta().to_vec();
-    let measured = Series::new("measured", th.clone(), data.torque().to_vec());
-    let fitted = Series::new(format!("fitted ({law})"), th.clone(), fit.fitted.clone());
+    let (th, y, f) = (data.theta(), data.torque(), &fit.fitted);
+    let measured = curve("measured", th, |k| y[k]);
+    let fitted = curve(format!("fitted ({law})"), th, |k| f[k]);
     let title = format!("Hysteresis fit ({law}): transmitted torque against deflection");
     fit_plot(&dir.join("loop.svg"), &title, "θ [rad]", "Tb [N·m]", &measured, &fitted)?;
     // The same loop with the linear spring c·θ taken off both, so the hysteresis shows.
-    let minus_c =
-        |y: &[f64]| -> Vec<f64> { y.iter().zip(&th).map(|(v, t)| v - fit.c * t).collect() };
-    let measured = Series::new("measured − c·θ", th.clone(), minus_c(data.torque()));
-    let fitted = Series::new(format!("fitted ({law}) − c·θ"), th.clone(), minus_c(&fit.fitted));
+    let c = fit.c;
+    let measured = curve("measured − c·θ", th, |k| y[k] - c * th[k]);
+    let fitted = curve(format!("fitted ({law}) − c·θ"), th, |k| f[k] - c * th[k]);
     let title = format!("Hysteresis fit ({law}): torque minus the linear spring c·θ");
     fit_plot(&dir.join("memory.svg"), &title, "θ [rad]", "Tb − c·θ [N·m]", &measured, &fitted)?;
-    let res = Series::new("residual", data.t().to_vec(), fit.residuals.clone());
+    let r = &fit.residuals;
+    let res = curve("residual", data.t(), |k| r[k]);
     let title = format!("Hysteresis fit ({law}) residuals");
     residual_plot(&dir.join("residuals.svg"), &title, "t [s]", "Tb [N·m]", &res)?;
     Ok(())

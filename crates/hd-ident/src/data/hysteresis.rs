@@ -50,4 +50,8 @@ impl HysteresisData {
     pub fn is_empty(&self) -> bool {
         self.t.is_empty()
     }
+    /// The columns t, θ, torque, handed back without a copy.
+    pub fn into_columns(self) -> [Vec<f64>; 3] {
+        [self.t, self.theta, self.torque]
+    }
 }

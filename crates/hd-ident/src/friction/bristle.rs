@@ -52,15 +52,28 @@ pub fn bristle_run(
     first_torque: f64,
     grad: bool,
 ) -> Result<BristleRun, FitError> {
+    let mut run = BristleRun::default();
+    bristle_run_into(&mut run, t, omega, law, first_torque, grad)?;
+    Ok(run)
+}
+
+/// [`bristle_run`] into `run`, whose vectors are cleared and refilled (their capacity is
+/// kept, so a fit that runs the state many times allocates once).
+pub fn bristle_run_into(
+    run: &mut BristleRun,
+    t: &[f64],
+    omega: &[f64],
+    law: &LuGre,
+    first_torque: f64,
+    grad: bool,
+) -> Result<(), FitError> {
     let n = t.len();
-    let mut run = BristleRun {
-        w: Vec::with_capacity(n),
-        slip: Vec::with_capacity(n),
-        d_w: Vec::with_capacity(if grad { n } else { 0 }),
-        d_slip: Vec::with_capacity(if grad { n } else { 0 }),
-    };
+    run.w.clear();
+    run.slip.clear();
+    run.d_w.clear();
+    run.d_slip.clear();
     if n == 0 {
-        return Ok(run);
+        return Ok(());
     }
     let (mut w, mut dw) = start(law, omega[0], first_torque);
     for k in 0..n {
@@ -97,5 +110,5 @@ pub fn bristle_run(
             law.sigma0
         )));
     }
-    Ok(run)
+    Ok(())
 }

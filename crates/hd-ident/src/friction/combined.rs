@@ -269,5 +269,6 @@ fn combine(
         remarks,
         wall_time_s: start.elapsed().as_secs_f64(),
         loop_energy: Vec::new(),
+        refinement_starts: Vec::new(),
     }
 }

@@ -155,6 +155,10 @@ pub struct FitReport {
     /// of the fitted law and of the measured torque.
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub loop_energy: Vec<crate::stiffness::cycles::LoopBlock>,
+    /// Joint friction fits: the values of the free nonlinear parameters at each start of
+    /// the Levenberg–Marquardt refinement, so the fit can be reproduced elsewhere.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub refinement_starts: Vec<std::collections::BTreeMap<String, f64>>,
 }
 
 impl FitReport {

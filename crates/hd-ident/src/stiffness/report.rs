@@ -105,6 +105,7 @@ pub(crate) fn build(entries: Vec<Entry>, y: &[f64], fitted: &[f64], work: Work) 
         remarks: work.remarks,
         wall_time_s: work.started.elapsed().as_secs_f64(),
         loop_energy: Vec::new(),
+        refinement_starts: Vec::new(),
     }
 }
 

@@ -282,7 +282,7 @@ const TWO_POW_M56: f64 = 1.387_778_780_781_445_7e-17;
 /// |tc|·2⁻⁵⁴, so |rise|·2⁻ᵏ ≤ |tc|·2⁻⁵⁶ suffices. The bound 2⁻ᵏ is built from k's bits:
 /// no floor, no exp.
 #[inline(always)]
-fn term_is_invisible(x: f64, rise: f64, tc: f64) -> bool {
+pub(crate) fn term_is_invisible(x: f64, rise: f64, tc: f64) -> bool {
     let k = ((x * std::f64::consts::LOG2_E) as i64 - 1).clamp(0, 1022);
     let bound = f64::from_bits(((1023 - k) as u64) << 52);
     rise.abs() * bound <= tc.abs() * TWO_POW_M56
@@ -327,6 +327,7 @@ impl FrictionLaw for LuGre {
     }
     /// At constant v the bristle equation is linear in w: `ẇ = λ·(sign(v)·G(v) − w)` with
     /// `λ = σ0·|v|/G(v)`, so `w(h) = w_ss + (w − w_ss)·e^{−λ·h}`, w_ss = sign(v)·G(v).
+    #[inline]
     fn step_at_speed(&self, v: f64, w: f64, h: f64) -> f64 {
         if v == 0.0 {
             return w;

@@ -13,7 +13,7 @@
 //! The load-dependent levels (`mu_*`) are not used here: these updates are for records of
 //! friction alone (the fits hold the factors at zero).
 
-use super::friction::{FrictionLaw, LuGre};
+use super::friction::{FrictionLaw, LuGre, term_is_invisible};
 
 /// Index of each parameter in a [`ShapeGrad`]: the Coulomb and static levels, the
 /// Stribeck speed, the bristle stiffness, and the negative-side levels.
@@ -46,12 +46,16 @@ pub struct BristleStep {
 impl LuGre {
     /// The Stribeck level `G(v)` [N·m] (unloaded) and its derivatives with respect to the
     /// levels and ωs. Only the levels of v's side have non-zero entries (v = 0 counts as
-    /// positive, as in [`LuGre::levels`]).
+    /// positive, as in [`LuGre::levels`]). Where the Stribeck term cannot change the level
+    /// by a bit (as in [`LuGre::stribeck`]) no exponential is evaluated and e^{−(v/ωs)²}
+    /// counts as 0: the level is tc, and ∂G/∂Ts, ∂G/∂ωs drop a term below 1e-16 of it.
+    #[inline(always)]
     pub fn level_grad(&self, v: f64) -> LevelGrad {
         let (tc, ts) = self.levels(v);
         // The same level as [`LuGre::stribeck`] (unloaded) from one exponential.
         let r = v * (1.0 / self.ws);
-        let e = (-r * r).exp();
+        let x = r * r;
+        let e = if term_is_invisible(x, ts - tc, tc) { 0.0 } else { (-x).exp() };
         let level = crate::fma::fmadd(ts - tc, e, tc);
         let mut grad = [0.0; 6];
         let (kc, ks) = if v < 0.0 { (4, 5) } else { (0, 1) };
@@ -64,6 +68,7 @@ impl LuGre {
     /// The state [N·m] after `h` seconds at the held speed v [rad/s] from w₀ [N·m]
     /// (unchanged at v = 0), with ∂w₁/∂w₀ and ∂w₁/∂p. The same map as
     /// [`crate::laws::friction::FrictionLaw::step_at_speed`].
+    #[inline(always)]
     pub fn step_held(&self, v: f64, w0: f64, h: f64) -> BristleStep {
         if v == 0.0 || h <= 0.0 {
             return BristleStep { w: w0, d_w0: 1.0, grad: [0.0; 6] };
@@ -73,9 +78,17 @@ impl LuGre {
         let sv = v.signum();
         let av = v.abs();
         let lambda = self.sigma0 * av / g;
-        let decay = (-lambda * h).exp();
-        // 1 − e^{−λh} without cancellation for small λh.
-        let rise = -(-lambda * h).exp_m1();
+        // e^{−λh} and 1 − e^{−λh} from one transcendental: e^{−λh} − 1 where λh is small
+        // (no cancellation in the rise), e^{−λh} where it is not (no cancellation in the
+        // decay; the rise 1 − e^{−λh} ≥ 1 − e^{−1/2} then loses under a bit).
+        let lh = lambda * h;
+        let (decay, rise) = if lh < 0.5 {
+            let m = (-lh).exp_m1();
+            (1.0 + m, -m)
+        } else {
+            let d = (-lh).exp();
+            (d, 1.0 - d)
+        };
         let w_ss = sv * g;
         let gap = w0 - w_ss;
         let w = w_ss + gap * decay;
@@ -89,6 +102,7 @@ impl LuGre {
     /// One sample interval of a speed record read as linear from v₀ to v₁ [rad/s] over
     /// `h` [s]: stepped at the mean speed, or, when the speed changes sign inside, in two
     /// parts split at the zero crossing, each at its own mean (v₀/2, then v₁/2).
+    #[inline]
     pub fn step_interval(&self, v0: f64, v1: f64, w0: f64, h: f64) -> BristleStep {
         if v0 * v1 < 0.0 {
             let t_zero = h * v0.abs() / (v0.abs() + v1.abs());
@@ -105,6 +119,7 @@ impl LuGre {
     }
 
     /// [`LuGre::step_interval`]'s state alone [N·m], without the derivatives.
+    #[inline]
     pub fn step_interval_state(&self, v0: f64, v1: f64, w0: f64, h: f64) -> f64 {
         if v0 * v1 < 0.0 {
             let t_zero = h * v0.abs() / (v0.abs() + v1.abs());
@@ -117,6 +132,7 @@ impl LuGre {
 
     /// The bristle rate ṡ = v − |v|·w/G(v) [rad/s] at speed v and state w (unloaded), with
     /// ∂ṡ/∂w [1/(N·m·s)] and ∂ṡ/∂p at fixed w.
+    #[inline]
     pub fn slip_rate_grad(&self, v: f64, w: f64) -> (f64, f64, ShapeGrad) {
         let lg = self.level_grad(v);
         let av = v.abs();

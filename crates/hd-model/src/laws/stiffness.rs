@@ -188,6 +188,16 @@ impl FadingMemory {
         ((-bh).exp(), gain)
     }
 
+    /// The factors of [`FadingMemory::step_linear_grad`] for an interval of `h` > 0 seconds:
+    /// those of [`FadingMemory::step_factors`] and `h·φ′(B·h)` [s], so that
+    /// `∂z₁/∂B = −h·e^{−Bh}·z₀ + A·d_theta·h·φ′(Bh)` (a record sampled at a constant
+    /// interval needs them once).
+    #[inline]
+    pub fn step_grad_factors(&self, h: f64) -> (f64, f64, f64) {
+        let (decay, gain) = self.step_factors(h);
+        (decay, gain, h * phi_slope(self.b * h))
+    }
+
     /// [`FadingMemory::step_linear`] with its factors from [`FadingMemory::step_factors`].
     #[inline]
     pub fn step_with(&self, z: f64, d_theta: f64, decay: f64, gain: f64) -> f64 {

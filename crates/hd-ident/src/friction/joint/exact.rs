@@ -6,13 +6,15 @@
 //! column that moves with p is ṡ's ([`crate::varpro`] assembles the rest).
 
 use super::{JointProblem, NONLINEAR_ALL, Projected};
+#[cfg(test)]
 use crate::error::FitError;
+#[cfg(test)]
 use crate::varpro::{Moving, projected_jacobian};
 
 impl JointProblem<'_> {
     /// Indices into the bristle run's gradient that parameter `name` moves (the
     /// symmetric law's Tc and Ts also set the negative-side levels).
-    fn grad_slots(&self, name: &str) -> Vec<usize> {
+    pub(super) fn grad_slots(&self, name: &str) -> Vec<usize> {
         let k = NONLINEAR_ALL.iter().position(|n| *n == name).expect("a nonlinear name");
         if !self.asymmetric && k < 2 { vec![k, k + 4] } else { vec![k] }
     }
@@ -46,7 +48,9 @@ impl JointProblem<'_> {
     }
 
     /// The projected residuals at x (logarithms of the free nonlinear parameters) and
-    /// the model's exact derivatives with respect to x, one column per parameter.
+    /// the model's exact derivatives with respect to x, one column per parameter: the
+    /// allocating reference for the fit's own evaluation ([`JointProblem::normal_at`]).
+    #[cfg(test)]
     pub(super) fn residuals_and_jacobian(
         &self,
         x: &[f64],

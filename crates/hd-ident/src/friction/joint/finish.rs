@@ -19,7 +19,7 @@ pub(super) fn finish(
     iterations: usize,
     evaluations: usize,
     termination: &str,
-    starts: usize,
+    starts: &[[f64; 6]],
 ) -> Result<SeparableFit, FitError> {
     let proj = problem.project_with(v, true)?;
     let y = problem.data.torque();
@@ -98,8 +98,9 @@ pub(super) fn finish(
     let values: Vec<(&'static str, f64)> = all.iter().map(|&(n, v, _)| (n, v)).collect();
     let mut remarks = remarks;
     remarks.push(format!(
-        "joint refinement: Levenberg–Marquardt over ln of {} from {starts} starts; {} by bounded linear least squares at every trial",
+        "joint refinement: Levenberg–Marquardt over ln of {} from {} starts; {} by bounded linear least squares at every trial",
         problem.nonlinear.join(", "),
+        starts.len(),
         problem.linear.iter().map(|(n, _)| *n).collect::<Vec<_>>().join(", ")
     ));
     let report = FitReport {
@@ -124,6 +125,19 @@ pub(super) fn finish(
         remarks,
         wall_time_s: started.elapsed().as_secs_f64(),
         loop_energy: Vec::new(),
+        refinement_starts: starts
+            .iter()
+            .map(|s| {
+                problem
+                    .nonlinear
+                    .iter()
+                    .map(|name| {
+                        let k = NONLINEAR_ALL.iter().position(|n| n == name).expect("a name");
+                        (name.to_string(), s[k])
+                    })
+                    .collect()
+            })
+            .collect(),
     };
     Ok(SeparableFit {
         report,

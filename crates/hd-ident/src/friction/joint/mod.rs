@@ -20,6 +20,7 @@
 //!    the optimum, as for every fit.
 
 mod exact;
+mod fast;
 mod finish;
 mod start;
 
@@ -28,7 +29,7 @@ use crate::data::{TransientData, require_samples};
 use crate::error::{FitError, chain};
 use crate::fix::Fixed;
 use crate::linear::bounded_least_squares;
-use crate::lm::{LmOptions, hit_budget, levenberg_marquardt_exact};
+use crate::lm::{LmOptions, hit_budget, levenberg_marquardt_normal};
 use crate::report::{Explanation, SearchSummary};
 use crate::search::{GRID_POINTS, search_log};
 use crate::separable::SeparableFit;
@@ -80,6 +81,10 @@ pub struct JointProblem<'a> {
     /// viscous term at the first sample) [N·m]: the bristle state starts at the first
     /// torque minus this.
     first_bias: f64,
+    /// A column of ones (the offset's).
+    ones: Vec<f64>,
+    /// Buffers for the evaluations ([`fast`]).
+    pool: fast::Pool,
 }
 
 /// The model's pieces for one set of nonlinear values.
@@ -131,7 +136,16 @@ impl<'a> JointProblem<'a> {
             .filter(|&n| n != OFFSET || opts.offset)
             .map(|n| (n, if n == OFFSET { None } else { fixed.get(n) }))
             .collect();
-        Self { data, nonlinear, linear, base, asymmetric, first_bias: 0.0 }
+        Self {
+            data,
+            nonlinear,
+            linear,
+            base,
+            asymmetric,
+            first_bias: 0.0,
+            ones: vec![1.0; data.len()],
+            pool: fast::Pool::default(),
+        }
     }
 
     /// All nonlinear values with the free ones taken from `x` (logarithms).
@@ -230,7 +244,13 @@ impl<'a> JointProblem<'a> {
     }
 
     fn rss_at(&self, v: &[f64; 6]) -> Result<f64, FitError> {
-        Ok(self.project(v)?.residuals.iter().map(|r| r * r).sum())
+        self.rss_fast(v)
+    }
+
+    /// Levenberg–Marquardt over the free nonlinear parameters' logarithms from `x0`.
+    fn refine(&self, x0: &[f64], lm: &LmOptions) -> Result<crate::lm::LmOutcome, FitError> {
+        let model = |x: &[f64]| self.pool.with(|ws| self.normal_at(x, ws));
+        levenberg_marquardt_normal(&model, x0, lm)
     }
 
     /// Range of σ0 worth searching, from the record: see [`super::transient`].
@@ -388,13 +408,12 @@ pub fn fit_joint(
             starts.push(v);
         }
     }
-    let lm = LmOptions { max_iterations: MAX_ITERATIONS, ..Default::default() };
-    let model = |x: &[f64]| problem.residuals_and_jacobian(x);
+    let lm = LmOptions { max_iterations: MAX_ITERATIONS, secant: true, ..Default::default() };
     let refined: Vec<Result<Refined, FitError>> = starts
         .par_iter()
         .map(|v| {
             let x0 = problem.x_of(v);
-            let out = levenberg_marquardt_exact(&model, &x0, &lm)?;
+            let out = problem.refine(&x0, &lm)?;
             Ok(Refined::from_outcome(&problem, out))
         })
         .collect();
@@ -442,8 +461,7 @@ pub fn fit_joint(
     if bias != 0.0 {
         problem.first_bias = bias;
         let x0 = problem.x_of(&best.values);
-        let model = |x: &[f64]| problem.residuals_and_jacobian(x);
-        if let Ok(out) = levenberg_marquardt_exact(&model, &x0, &lm) {
+        if let Ok(out) = problem.refine(&x0, &lm) {
             iterations += out.iterations;
             evaluations += out.evaluations;
             best = Refined::from_outcome(&problem, out);
@@ -463,7 +481,7 @@ pub fn fit_joint(
         iterations,
         evaluations,
         &best.termination,
-        starts.len(),
+        &starts,
     )?;
     Ok(fit)
 }

@@ -41,8 +41,22 @@ fn exact_jacobian_matches_central_differences() {
         let x = problem.x_of(&problem.base);
         let proj = problem.project(&problem.values(&x)).unwrap();
         assert!(proj.at_bound.iter().all(|b| !b), "at a bound: {:?}", proj.beta);
-        let (_, jac) = problem.residuals_and_jacobian(&x).unwrap();
+        let (r, jac) = problem.residuals_and_jacobian(&x).unwrap();
         assert_eq!(jac.len(), problem.nonlinear.len());
+        // The fit's own evaluation (workspace, Gram solve) gives the same normal equations.
+        let reference = crate::lm::Normal::from_columns(&jac, &r);
+        let (cost, normal) = problem.pool.with(|ws| problem.normal_at(&x, ws)).unwrap();
+        let rss: f64 = r.iter().map(|v| v * v).sum();
+        assert!((cost - rss).abs() <= 1e-12 * rss, "{cost} vs {rss}");
+        let close = |a: f64, b: f64, scale: f64| (a - b).abs() <= 1e-9 * scale;
+        let big = reference.jtj.amax();
+        for (a, b) in normal.jtj.iter().zip(reference.jtj.iter()) {
+            assert!(close(*a, *b, big), "JᵀJ {a} vs {b}");
+        }
+        let big = reference.jtr.amax().max(1e-9 * big.sqrt() * rss.sqrt());
+        for (a, b) in normal.jtr.iter().zip(reference.jtr.iter()) {
+            assert!(close(*a, *b, big), "Jᵀr {a} vs {b}");
+        }
         let h = 1e-5;
         for (j, name) in problem.nonlinear.iter().enumerate() {
             let at = |dx: f64| {

@@ -1,0 +1,341 @@
+//! The joint fit's inner evaluations without per-trial allocation: the bristle run, the
+//! projection onto the linear parameters and the Levenberg–Marquardt normal equations,
+//! all in buffers that one start (or one search thread) keeps for its whole run.
+//!
+//! The linear parameters (σ1, σ2, offset: at most three columns) are solved from the
+//! column-scaled Gram matrix of their columns (one pass of dot products, no n × k copy).
+//! Where that matrix is too ill-conditioned for normal equations (a Cholesky pivot below
+//! [`MIN_PIVOT`]) the solve falls back to the QR/SVD path of [`crate::linear`]. The
+//! Jacobian of the projected residual is [`crate::varpro`]'s, formed column by column in
+//! the workspace, and reduced at once to JᵀJ and Jᵀr.
+
+use super::super::bristle::{BristleRun, bristle_run_into};
+use super::{JointProblem, NONLINEAR_ALL};
+use crate::error::FitError;
+use crate::fix::OFFSET;
+use crate::linear::bounded_least_squares;
+use crate::lm::Normal;
+use hd_model::registry::lookup;
+use nalgebra::{DMatrix, DVector};
+use std::sync::Mutex;
+
+/// Smallest squared Cholesky pivot of the unit-diagonal Gram matrix accepted: below it the
+/// normal equations would lose more than about half the digits (condition number above
+/// 1e5 of the scaled columns), and the QR/SVD solve is used instead.
+pub const MIN_PIVOT: f64 = 1e-10;
+
+/// Buffers of one evaluation.
+#[derive(Default)]
+pub(super) struct Workspace {
+    run: BristleRun,
+    /// Measured torque less the bristle torque and fixed linear terms, then the residual.
+    resid: Vec<f64>,
+    /// ∂(w + σ1·ṡ)/∂p for the free nonlinear parameters, row-major (n × their count).
+    d: Vec<f64>,
+}
+
+/// Workspaces handed out to concurrent evaluations (the search's grid runs in parallel).
+#[derive(Default)]
+pub(super) struct Pool(Mutex<Vec<Workspace>>);
+
+impl Pool {
+    /// Run `f` with a workspace from the pool (a new one when all are in use).
+    pub(super) fn with<R>(&self, f: impl FnOnce(&mut Workspace) -> R) -> R {
+        let mut ws = self.0.lock().map(|mut p| p.pop()).ok().flatten().unwrap_or_default();
+        let out = f(&mut ws);
+        if let Ok(mut p) = self.0.lock() {
+            p.push(ws);
+        }
+        out
+    }
+}
+
+/// The projection at one point: the linear parameters (every model linear parameter, the
+/// fixed ones at their values) and the free ones not held at a bound.
+struct Solved {
+    beta: Vec<f64>,
+    /// Indices (into `JointProblem::linear`) of the free columns not at a bound.
+    active: Vec<usize>,
+}
+
+/// Σ aᵢ·bᵢ, summed in four interleaved partial sums (independent chains the CPU overlaps,
+/// where one running sum waits on every addition).
+fn dot(a: &[f64], b: &[f64]) -> f64 {
+    let n = a.len().min(b.len());
+    let (mut s, split) = ([0.0f64; 4], n - n % 4);
+    for (x, y) in a[..split].chunks_exact(4).zip(b[..split].chunks_exact(4)) {
+        for l in 0..4 {
+            s[l] += x[l] * y[l];
+        }
+    }
+    let tail: f64 = a[split..n].iter().zip(&b[split..n]).map(|(x, y)| x * y).sum();
+    (s[0] + s[1]) + (s[2] + s[3]) + tail
+}
+
+/// Cholesky factor of the scaled Gram matrix restricted to `set`, when every squared pivot
+/// is at least [`MIN_PIVOT`].
+fn factor(scaled: &DMatrix<f64>, set: &[usize]) -> Option<nalgebra::Cholesky<f64, nalgebra::Dyn>> {
+    let m = DMatrix::from_fn(set.len(), set.len(), |a, b| scaled[(set[a], set[b])]);
+    let chol = m.cholesky()?;
+    let l = chol.l_dirty();
+    (0..set.len()).all(|i| l[(i, i)] * l[(i, i)] >= MIN_PIVOT).then_some(chol)
+}
+
+impl JointProblem<'_> {
+    /// The column of linear parameter `j` (σ1: ṡ from `run`; σ2: ω; offset: 1).
+    fn linear_column<'b>(&'b self, j: usize, run: &'b BristleRun) -> &'b [f64] {
+        match self.linear[j].0 {
+            "sigma1" => &run.slip,
+            "sigma2" => self.data.omega(),
+            _ => &self.ones,
+        }
+    }
+
+    fn linear_bounds(&self, j: usize) -> (f64, f64) {
+        match self.linear[j].0 {
+            OFFSET => (f64::NEG_INFINITY, f64::INFINITY),
+            name => lookup(name).map_or((f64::NEG_INFINITY, f64::INFINITY), |i| (i.min, i.max)),
+        }
+    }
+
+    /// Run the state at `v` and project: afterwards `ws.resid` holds the residuals.
+    fn project_into(
+        &self,
+        v: &[f64; 6],
+        grad: bool,
+        ws: &mut Workspace,
+    ) -> Result<Solved, FitError> {
+        let law = self.law(v);
+        let (t, omega, y) = (self.data.t(), self.data.omega(), self.data.torque());
+        bristle_run_into(&mut ws.run, t, omega, &law, y[0] - self.first_bias, grad)?;
+        let Workspace { run, resid, .. } = ws;
+        resid.clear();
+        resid.extend(y.iter().zip(&run.w).map(|(a, b)| a - b));
+        let mut free = Vec::with_capacity(self.linear.len());
+        for (j, (_, fixed)) in self.linear.iter().enumerate() {
+            match fixed {
+                Some(val) => {
+                    let col = self.linear_column(j, run);
+                    resid.iter_mut().zip(col).for_each(|(r, c)| *r -= val * c);
+                }
+                None => free.push(j),
+            }
+        }
+        let mut beta: Vec<f64> = self.linear.iter().map(|(_, f)| f.unwrap_or(0.0)).collect();
+        let mut at_bound = vec![false; beta.len()];
+        let cols: Vec<&[f64]> = free.iter().map(|&j| self.linear_column(j, run)).collect();
+        let lo: Vec<f64> = free.iter().map(|&j| self.linear_bounds(j).0).collect();
+        let hi: Vec<f64> = free.iter().map(|&j| self.linear_bounds(j).1).collect();
+        let (coef, held) = match gram_bounded(&cols, resid, &lo, &hi) {
+            Some(s) => s,
+            None => {
+                let s = bounded_least_squares(&cols, resid, &lo, &hi);
+                (s.coef, s.at_bound)
+            }
+        };
+        for (k, &j) in free.iter().enumerate() {
+            beta[j] = coef[k];
+            at_bound[j] = held[k];
+            resid.iter_mut().zip(cols[k]).for_each(|(r, c)| *r -= coef[k] * c);
+        }
+        let active = free.iter().copied().filter(|&j| !at_bound[j]).collect();
+        Ok(Solved { beta, active })
+    }
+
+    /// RSS at nonlinear values `v` (the search's cost), in a pooled workspace.
+    pub(super) fn rss_fast(&self, v: &[f64; 6]) -> Result<f64, FitError> {
+        self.pool.with(|ws| {
+            self.project_into(v, false, ws)?;
+            Ok(dot(&ws.resid, &ws.resid))
+        })
+    }
+
+    /// The cost ‖r‖² and the normal equations of the projected residual at x (logarithms
+    /// of the free nonlinear parameters), in `ws`. Two passes after the state's: the
+    /// first forms d_i = ∂(w + σ1·ṡ)/∂p_i (row by row, all parameters at once) with Aᵀd_i
+    /// and (∂ṡ/∂p_i)ᵀr; the second adds the projection's correction
+    /// J_i = d_i + A·(AᵀA)⁻¹(∂Aᵀ/∂p_i·r − Aᵀd_i) and accumulates JᵀJ and Jᵀr, so no
+    /// column of J is stored.
+    pub(super) fn normal_at(
+        &self,
+        x: &[f64],
+        ws: &mut Workspace,
+    ) -> Result<(f64, Normal), FitError> {
+        let v = self.values(x);
+        let solved = self.project_into(&v, true, ws)?;
+        let q = self.nonlinear.len();
+        let Workspace { run, resid, d } = ws;
+        let n = resid.len();
+        let s1 =
+            self.linear.iter().position(|(nm, _)| *nm == "sigma1").map_or(0.0, |j| solved.beta[j]);
+        let active: Vec<&[f64]> =
+            solved.active.iter().map(|&j| self.linear_column(j, run)).collect();
+        let slip_slot = solved.active.iter().position(|&j| self.linear[j].0 == "sigma1");
+        let m = active.len();
+        // Which gradient slots each parameter sums, and its value (∂/∂ln p = p·∂/∂p).
+        let mut slots = [[usize::MAX; 2]; 6];
+        let mut scale = [0.0; 6];
+        for (i, name) in self.nonlinear.iter().enumerate() {
+            for (slot, k) in slots[i].iter_mut().zip(self.grad_slots(name)) {
+                *slot = k;
+            }
+            scale[i] = v[NONLINEAR_ALL.iter().position(|nm| nm == name).expect("a name")];
+        }
+        // Pass 1.
+        d.clear();
+        d.resize(n * q, 0.0);
+        let mut atd = [[0.0f64; 6]; 3];
+        let mut dsr = [0.0f64; 6];
+        for k in 0..n {
+            let (dw, ds, r) = (&run.d_w[k], &run.d_slip[k], resid[k]);
+            let row = &mut d[k * q..(k + 1) * q];
+            for i in 0..q {
+                let [a, b] = slots[i];
+                let (mut dwi, mut dsi) = (dw[a], ds[a]);
+                if b != usize::MAX {
+                    dwi += dw[b];
+                    dsi += ds[b];
+                }
+                dsr[i] += dsi * r;
+                row[i] = dwi + s1 * dsi;
+            }
+            for (a, col) in active.iter().enumerate() {
+                let c = col[k];
+                for i in 0..q {
+                    atd[a][i] += c * row[i];
+                }
+            }
+        }
+        // The correction's coefficients: J_i = d_i + Σ_a coef[a][i]·A_a.
+        let mut coef = [[0.0f64; 6]; 3];
+        if m > 0 {
+            let norms: Vec<f64> =
+                active.iter().map(|c| dot(c, c).sqrt().max(f64::MIN_POSITIVE)).collect();
+            let scaled =
+                DMatrix::from_fn(m, m, |a, b| dot(active[a], active[b]) / (norms[a] * norms[b]));
+            let all: Vec<usize> = (0..m).collect();
+            let inv = factor(&scaled, &all).map(|c| c.inverse()).or_else(|| scaled.try_inverse());
+            if let Some(inv) = inv {
+                for i in 0..q {
+                    let mut rhs = DVector::from_fn(m, |a, _| -atd[a][i] / norms[a]);
+                    if let Some(slot) = slip_slot {
+                        rhs[slot] += dsr[i] / norms[slot];
+                    }
+                    let u = &inv * rhs;
+                    for a in 0..m {
+                        coef[a][i] = u[a] / norms[a];
+                    }
+                }
+            }
+        }
+        // Pass 2.
+        let mut jtj = [[0.0f64; 6]; 6];
+        let mut jtr = [0.0f64; 6];
+        let mut j = [0.0f64; 6];
+        for k in 0..n {
+            let row = &d[k * q..(k + 1) * q];
+            for i in 0..q {
+                let mut x = row[i];
+                for a in 0..m {
+                    x += coef[a][i] * active[a][k];
+                }
+                j[i] = x * scale[i];
+            }
+            let r = resid[k];
+            for a in 0..q {
+                jtr[a] += j[a] * r;
+                for b in 0..=a {
+                    jtj[a][b] += j[a] * j[b];
+                }
+            }
+        }
+        let cost = dot(resid, resid);
+        let normal = Normal {
+            jtj: DMatrix::from_fn(q, q, |a, b| if b <= a { jtj[a][b] } else { jtj[b][a] }),
+            jtr: DVector::from_fn(q, |a, _| jtr[a]),
+        };
+        Ok((cost, normal))
+    }
+}
+
+/// Minimise ‖y − Σ β_j·col_j‖² with `lo ≤ β ≤ hi` from the column-scaled Gram matrix, by
+/// the same active set as [`bounded_least_squares`]; `None` where a column is zero or the
+/// matrix is too ill-conditioned for normal equations (see [`MIN_PIVOT`]).
+fn gram_bounded(
+    cols: &[&[f64]],
+    y: &[f64],
+    lo: &[f64],
+    hi: &[f64],
+) -> Option<(Vec<f64>, Vec<bool>)> {
+    let k = cols.len();
+    let norms: Vec<f64> = cols.iter().map(|c| dot(c, c).sqrt()).collect();
+    if norms.iter().any(|n| !(*n > 0.0 && n.is_finite())) {
+        return None;
+    }
+    let scaled = DMatrix::from_fn(k, k, |a, b| dot(cols[a], cols[b]) / (norms[a] * norms[b]));
+    let aty: Vec<f64> = (0..k).map(|a| dot(cols[a], y) / norms[a]).collect();
+    let mut held: Vec<Option<f64>> = vec![None; k];
+    loop {
+        let free: Vec<usize> = (0..k).filter(|&j| held[j].is_none()).collect();
+        // Scaled unknowns u_j = norm_j·β_j; held ones move to the right-hand side.
+        let rhs = DVector::from_fn(free.len(), |a, _| {
+            let f = free[a];
+            aty[f]
+                - (0..k).filter_map(|h| held[h].map(|v| scaled[(f, h)] * v * norms[h])).sum::<f64>()
+        });
+        let u =
+            if free.is_empty() { DVector::zeros(0) } else { factor(&scaled, &free)?.solve(&rhs) };
+        let mut violated = false;
+        for (a, &j) in free.iter().enumerate() {
+            let b = u[a] / norms[j];
+            if b < lo[j] {
+                held[j] = Some(lo[j]);
+                violated = true;
+            } else if b > hi[j] {
+                held[j] = Some(hi[j]);
+                violated = true;
+            }
+        }
+        if !violated || free.is_empty() {
+            let mut coef: Vec<f64> = held.iter().map(|h| h.unwrap_or(0.0)).collect();
+            for (a, &j) in free.iter().enumerate() {
+                coef[j] = u[a] / norms[j];
+            }
+            return Some((coef, held.iter().map(Option::is_some).collect()));
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn gram_solve_matches_the_qr_solve_with_and_without_bounds() {
+        let n = 400;
+        let c1: Vec<f64> = (0..n).map(|i| (0.05 * i as f64).sin()).collect();
+        let c2: Vec<f64> = (0..n).map(|i| 1e-3 * i as f64).collect();
+        let c3 = vec![1.0; n];
+        let y: Vec<f64> = (0..n)
+            .map(|i| 2.0 * c1[i] - 30.0 * c2[i] + 0.5 + 0.01 * (1.7 * i as f64).cos())
+            .collect();
+        let cols: [&[f64]; 3] = [&c1, &c2, &c3];
+        for (lo, hi) in [
+            ([f64::NEG_INFINITY; 3], [f64::INFINITY; 3]),
+            ([0.0, 0.0, f64::NEG_INFINITY], [f64::INFINITY; 3]),
+        ] {
+            let (coef, held) = gram_bounded(&cols, &y, &lo, &hi).unwrap();
+            let qr = bounded_least_squares(&cols, &y, &lo, &hi);
+            assert_eq!(held, qr.at_bound);
+            for (a, b) in coef.iter().zip(&qr.coef) {
+                assert!((a - b).abs() <= 1e-10 * b.abs().max(1.0), "{coef:?} vs {:?}", qr.coef);
+            }
+        }
+        // Dependent columns: left to the QR/SVD solve.
+        let twice: Vec<f64> = c1.iter().map(|v| 2.0 * v).collect();
+        assert!(
+            gram_bounded(&[&c1, &twice], &y, &[f64::NEG_INFINITY; 2], &[f64::INFINITY; 2])
+                .is_none()
+        );
+    }
+}
