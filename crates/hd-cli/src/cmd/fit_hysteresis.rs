@@ -1,6 +1,6 @@
 //! `hdw fit hysteresis`: one stiffness law, or every law ranked by BIC (`--law all`).
 
-use super::common::ensure_dir;
+use super::common::{ensure_dir, staged_plot};
 use super::fit::report_out;
 use super::fit_input::{angle_factor, column_names, data_context, load, scale, source};
 use super::fit_progress::FitProgress;
@@ -9,7 +9,7 @@ use clap::Args;
 use hd_ident::stiffness::{Law, LawFit, LawOptions, compare_laws, fit_law};
 use hd_ident::{DataSource, Fixed, HysteresisData};
 use hd_model::{Cells, OutTable};
-use hd_plot::{Series, fit_plot, residual_plot};
+use hd_plot::{Series, ThinnedCurve, fit_plot, residual_plot};
 use std::path::{Path, PathBuf};
 
 /// `hdw fit hysteresis`.
@@ -78,21 +78,25 @@ pub fn run(args: HysteresisArgs) -> Result<()> {
             FitProgress::start(format!("fitting every stiffness law to {} samples", data.len()));
         let cmp = compare_laws(&data, &opts);
         progress.finish();
-        for fit in &cmp.fits {
-            let sub = ensure_dir(&dir.join(fit.law.name()))?;
-            outputs(&sub, &data, fit, &src)?;
-            let cols = [data.t(), data.theta(), data.torque(), &fit.fitted, &fit.residuals];
-            table_out(&sub, cols.map(<[f64]>::to_vec))?;
-        }
-        let text = cmp.to_json();
         let md = cmp.to_markdown(&args.file.display().to_string());
-        for (name, body) in [("comparison.json", text), ("comparison.md", md.clone())] {
-            let path = dir.join(name);
-            hd_io::atomic::write_atomically(&path, |f| {
-                use std::io::Write;
-                f.write_all(body.as_bytes()).map_err(|e| hd_io::IoError::fs(&path, e))
-            })?;
-        }
+        // Every law's outputs and the comparison land together, or none does.
+        hd_io::atomic::group(|| -> Result<()> {
+            for fit in &cmp.fits {
+                let sub = ensure_dir(&dir.join(fit.law.name()))?;
+                outputs(&sub, &data, fit, &src)?;
+                let cols = [data.t(), data.theta(), data.torque(), &fit.fitted, &fit.residuals];
+                table_out(&sub, cols.map(<[f64]>::to_vec))?;
+            }
+            for (name, body) in [("comparison.json", cmp.to_json()), ("comparison.md", md.clone())]
+            {
+                let path = dir.join(name);
+                hd_io::atomic::write_atomically(&path, |f| {
+                    use std::io::Write;
+                    f.write_all(body.as_bytes()).map_err(|e| hd_io::IoError::fs(&path, e))
+                })?;
+            }
+            Ok(())
+        })?;
         use std::io::Write;
         let _ = writeln!(std::io::stdout().lock(), "{md}");
         eprintln!(
@@ -110,11 +114,14 @@ pub fn run(args: HysteresisArgs) -> Result<()> {
     let fit = fit_law(&data, law, &opts);
     progress.finish();
     let fit = fit.with_context(|| format!("fitting {}", args.file.display()))?;
-    outputs(&dir, &data, &fit, &src)?;
     let (n, wall) = (data.len(), fit.report.wall_time_s);
-    // The table last, from the columns themselves (no copy of a long record).
-    let [t, theta, torque] = data.into_columns();
-    table_out(&dir, [t, theta, torque, fit.fitted, fit.residuals])?;
+    // fit.json, the plots and the table land together, or none does.
+    hd_io::atomic::group(|| -> Result<()> {
+        outputs(&dir, &data, &fit, &src)?;
+        // The table last, from the columns themselves (no copy of a long record).
+        let [t, theta, torque] = data.into_columns();
+        table_out(&dir, [t, theta, torque, fit.fitted, fit.residuals])
+    })?;
     eprintln!(
         "fitted the {} law to {n} samples in {wall:.3} s; wrote {}",
         law.name(),
@@ -130,35 +137,19 @@ pub fn run(args: HysteresisArgs) -> Result<()> {
 /// of millions of samples needs no copy of its columns to be drawn.
 const PLOT_POINTS: usize = 200_000;
 
-/// The points (x[k], y(k)) of one curve, cut to at most about [`PLOT_POINTS`].
+/// The points (x[k], y(k)) of one curve, cut to at most about [`PLOT_POINTS`] by
+/// hd-plot's [`ThinnedCurve`] (buckets of consecutive samples, each keeping its first,
+/// lowest, highest and last point).
 fn curve(name: impl Into<String>, x: &[f64], y: impl Fn(usize) -> f64) -> Series {
     let n = x.len();
     if n <= PLOT_POINTS {
         return Series::new(name, x.to_vec(), (0..n).map(y).collect());
     }
-    let per = (4 * n).div_ceil(PLOT_POINTS);
-    let (mut xs, mut ys) = (Vec::with_capacity(PLOT_POINTS + 4), Vec::new());
-    for start in (0..n).step_by(per) {
-        let end = (start + per).min(n);
-        let (mut lo, mut hi) = (start, start);
-        for k in start..end {
-            let v = y(k);
-            if v < y(lo) {
-                lo = k;
-            }
-            if v > y(hi) {
-                hi = k;
-            }
-        }
-        let mut keep = [start, lo, hi, end - 1];
-        keep.sort_unstable();
-        for (i, &k) in keep.iter().enumerate() {
-            if i == 0 || k != keep[i - 1] {
-                xs.push(x[k]);
-                ys.push(y(k));
-            }
-        }
+    let mut thin = ThinnedCurve::new(PLOT_POINTS / 4);
+    for (k, &xk) in x.iter().enumerate() {
+        thin.push(xk, y(k));
     }
+    let (xs, ys) = thin.points();
     Series::new(name, xs, ys)
 }
 
@@ -193,16 +184,22 @@ fn outputs(dir: &Path, data: &HysteresisData, fit: &LawFit, src: &DataSource) ->
     let measured = curve("measured", th, |k| y[k]);
     let fitted = curve(format!("fitted ({law})"), th, |k| f[k]);
     let title = format!("Hysteresis fit ({law}): transmitted torque against deflection");
-    fit_plot(&dir.join("loop.svg"), &title, "θ [rad]", "Tb [N·m]", &measured, &fitted)?;
+    staged_plot(&dir.join("loop.svg"), |p| {
+        fit_plot(p, &title, "θ [rad]", "Tb [N·m]", &measured, &fitted)
+    })?;
     // The same loop with the linear spring c·θ taken off both, so the hysteresis shows.
     let c = fit.c;
     let measured = curve("measured − c·θ", th, |k| y[k] - c * th[k]);
     let fitted = curve(format!("fitted ({law}) − c·θ"), th, |k| f[k] - c * th[k]);
     let title = format!("Hysteresis fit ({law}): torque minus the linear spring c·θ");
-    fit_plot(&dir.join("memory.svg"), &title, "θ [rad]", "Tb − c·θ [N·m]", &measured, &fitted)?;
+    staged_plot(&dir.join("memory.svg"), |p| {
+        fit_plot(p, &title, "θ [rad]", "Tb − c·θ [N·m]", &measured, &fitted)
+    })?;
     let r = &fit.residuals;
     let res = curve("residual", data.t(), |k| r[k]);
     let title = format!("Hysteresis fit ({law}) residuals");
-    residual_plot(&dir.join("residuals.svg"), &title, "t [s]", "Tb [N·m]", &res)?;
+    staged_plot(&dir.join("residuals.svg"), |p| {
+        residual_plot(p, &title, "t [s]", "Tb [N·m]", &res)
+    })?;
     Ok(())
 }
