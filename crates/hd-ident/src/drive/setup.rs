@@ -5,7 +5,7 @@
 use super::config::{DelayChoice, DriveConfig};
 use super::controller::{Controller, Reproduction, reproduce};
 use super::error::DriveError;
-use super::fit::{FitSpec, OutputKind, noise_level};
+use super::fit::{DriveFit, FitSpec, OutputKind, noise_level};
 use super::idim::{IdimFit, idim_ls};
 use super::lm::LmSettings;
 use super::model::FrictionLaw;
@@ -113,7 +113,10 @@ pub fn start(
     }
 }
 
-/// The fit of `law`: start (inverse model, then `[params]`), free set, bounds.
+/// The fit of `law`: start, free set, bounds. Start values come from `[params]`, else
+/// (LuGre laws) the fitted base law `base`, else the inverse model, else (the LuGre
+/// parameters) [`lugre_start`].
+#[allow(clippy::too_many_arguments)]
 pub fn spec(
     cfg: &DriveConfig,
     file: &str,
@@ -122,6 +125,8 @@ pub fn spec(
     gain: f64,
     outputs: &[(OutputKind, f64)],
     idim: Option<&IdimFit>,
+    base: Option<&DriveFit>,
+    experiments: &[Experiment],
 ) -> Result<FitSpec, DriveError> {
     let names = law.names();
     let fix = cfg.fix();
@@ -129,10 +134,13 @@ pub fn spec(
     for &n in names {
         let from_idim =
             idim.and_then(|f| f.names.iter().position(|m| *m == n).map(|k| f.values[k]));
+        let from_base =
+            base.and_then(|f| f.names.iter().position(|m| *m == n).map(|k| f.values[k]));
         let v = match (cfg.params.get(n), n) {
             (Some(&v), _) => v,
             (None, "gain") => gain,
-            (None, _) => from_idim.ok_or_else(|| {
+            (None, n) if law.is_lugre() && !law.base().names().contains(&n) => f64::NAN,
+            (None, _) => from_base.or(from_idim).ok_or_else(|| {
                 DriveError::config(
                     format!("{file}, [params] {n}"),
                     format!("no start value for {n} ({} friction); give it in [params] or use [start] method = \"idim\"", law.name()),
@@ -141,12 +149,19 @@ pub fn spec(
         };
         start.push(v);
     }
+    if law.is_lugre() {
+        for (k, v) in lugre_start(law, &start, experiments) {
+            if !cfg.params.contains_key(names[k]) {
+                start[k] = v;
+            }
+        }
+    }
     let (mut lower, mut upper) = (Vec::new(), Vec::new());
     for (k, &n) in names.iter().enumerate() {
         let (lo, hi) = match cfg.bounds.get(n) {
             Some(&[lo, hi]) => (lo, hi),
             None if n == "offset" => (f64::NEG_INFINITY, f64::INFINITY),
-            None if n == "M" || n == "gain" => (1e-12, f64::INFINITY),
+            None if ["M", "gain", "sigma0", "vs"].contains(&n) => (1e-12, f64::INFINITY),
             None => (0.0, f64::INFINITY),
         };
         // A start outside the bounds is moved inside.
@@ -169,4 +184,41 @@ pub fn spec(
             ..LmSettings::default()
         },
     })
+}
+
+/// Start values of a LuGre law's own parameters (index in [`FrictionLaw::names`], value),
+/// from the start of its Coulomb–viscous levels `start` (the base law's fit) and the record:
+/// static levels Fs± 20 % above the Coulomb levels; the Stribeck speed vs a tenth of the
+/// record's RMS speed (from differences of the measured position); the bristle stiffness σ0
+/// such that the bristle–mass oscillation √(σ0/M) sits at a tenth of the sample rate (a
+/// pre-sliding spring stiff against the loop, still resolved by the sample steps); the
+/// bristle damping σ1 = √(σ0·M), half the critical damping of that oscillation.
+pub fn lugre_start(law: FrictionLaw, start: &[f64], experiments: &[Experiment]) -> Vec<(usize, f64)> {
+    let names = law.names();
+    let at = |n: &str| names.iter().position(|m| *m == n);
+    let value = |n: &str| at(n).map(|k| start[k]).unwrap_or(f64::NAN);
+    let m = value("M");
+    let h = experiments[0].h;
+    let (mut ss, mut count) = (0.0, 0usize);
+    for e in experiments {
+        for w in e.position.windows(2) {
+            ss += ((w[1] - w[0]) / e.h).powi(2);
+            count += 1;
+        }
+    }
+    let rms_speed = (ss / count.max(1) as f64).sqrt();
+    let omega = 0.1 * std::f64::consts::TAU / h;
+    let sigma0 = m * omega * omega;
+    let mut out = Vec::new();
+    for (fs, fc) in [("Fs", "Fc"), ("Fs_pos", "Fc_pos"), ("Fs_neg", "Fc_neg")] {
+        if let Some(k) = at(fs) {
+            out.push((k, 1.2 * value(fc)));
+        }
+    }
+    for (n, v) in [("vs", 0.1 * rms_speed), ("sigma0", sigma0), ("sigma1", (sigma0 * m).sqrt())] {
+        if let Some(k) = at(n) {
+            out.push((k, v));
+        }
+    }
+    out
 }
