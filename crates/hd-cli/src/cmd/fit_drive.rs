@@ -191,8 +191,32 @@ pub fn run(args: DriveArgs) -> Result<()> {
             &experiments,
         )?);
     }
+    // Each LuGre law from its Stribeck starts (setup::stribeck_variants), all in parallel;
+    // the lower cost is kept, a start that fails is dropped while another succeeds.
+    let variants: Vec<(usize, FitSpec)> = lugre_specs
+        .iter()
+        .enumerate()
+        .flat_map(|(k, s)| setup::stribeck_variants(&cfg, s).into_iter().map(move |v| (k, v)))
+        .collect();
+    let variant_specs: Vec<FitSpec> = variants.iter().map(|v| v.1.clone()).collect();
+    let mut best: Vec<Option<(Result<DriveFit, _>, f64)>> =
+        (0..lugre_specs.len()).map(|_| None).collect();
+    for ((k, _), (fit, secs)) in variants.iter().zip(fit_all(&variant_specs)) {
+        let keep = match (&best[*k], &fit) {
+            (None, _) | (Some((Err(_), _)), Ok(_)) => true,
+            (Some((Ok(b), _)), Ok(f)) => f.cost < b.cost,
+            _ => false,
+        };
+        let total = secs + best[*k].as_ref().map(|b| b.1).unwrap_or(0.0);
+        if keep {
+            best[*k] = Some((fit, total));
+        } else if let Some(b) = best[*k].as_mut() {
+            b.1 = total;
+        }
+    }
     let mut lugre_fits = Vec::new();
-    for ((fit, secs), spec) in fit_all(&lugre_specs).into_iter().zip(&lugre_specs) {
+    for (b, spec) in best.into_iter().zip(&lugre_specs) {
+        let (fit, secs) = b.ok_or_else(|| anyhow!("{}: no start", spec.law.name()))?;
         lugre_fits.push((fit.with_context(|| format!("{} friction", spec.law.name()))?, secs));
     }
     bar.finish_and_clear();

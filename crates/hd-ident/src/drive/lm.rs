@@ -83,11 +83,25 @@ pub fn minimise(
         let a = jac.transpose() * &jac;
         let g = -(jac.transpose() * DVector::from_column_slice(&r));
         let diag: Vec<f64> = (0..p).map(|k| a[(k, k)].max(1e-300)).collect();
+        // A parameter on a bound that the descent direction pushes outward is held for this
+        // iteration (an active bound): projecting its step would bend every other one.
+        let held: Vec<bool> = (0..p)
+            .map(|k| (x[k] <= lower[k] && g[k] < 0.0) || (x[k] >= upper[k] && g[k] > 0.0))
+            .collect();
         let mut accepted = false;
         for _ in 0..40 {
             let mut m = a.clone();
             for k in 0..p {
                 m[(k, k)] += lambda * diag[k];
+            }
+            let mut g = g.clone();
+            for k in (0..p).filter(|&k| held[k]) {
+                for j in 0..p {
+                    m[(k, j)] = 0.0;
+                    m[(j, k)] = 0.0;
+                }
+                m[(k, k)] = 1.0;
+                g[k] = 0.0;
             }
             let Some(chol) = m.cholesky() else {
                 lambda *= 10.0;

@@ -156,11 +156,17 @@ pub fn spec(
             }
         }
     }
+    // A bristle–mass oscillation above the Nyquist frequency is not seen by the record:
+    // σ0 ≤ M·(π/h)², σ1 at most twice the critical damping there.
+    let m = names.iter().position(|n| *n == "M").map(|k| start[k]).unwrap_or(f64::NAN);
+    let sigma0_max = m * (std::f64::consts::PI / experiments[0].h).powi(2);
     let (mut lower, mut upper) = (Vec::new(), Vec::new());
     for (k, &n) in names.iter().enumerate() {
         let (lo, hi) = match cfg.bounds.get(n) {
             Some(&[lo, hi]) => (lo, hi),
             None if n == "offset" => (f64::NEG_INFINITY, f64::INFINITY),
+            None if n == "sigma0" => (1e-12, sigma0_max),
+            None if n == "sigma1" => (0.0, 4.0 * (sigma0_max * m).sqrt()),
             None if ["M", "gain", "sigma0", "vs"].contains(&n) => (1e-12, f64::INFINITY),
             None => (0.0, f64::INFINITY),
         };
@@ -188,11 +194,12 @@ pub fn spec(
 
 /// Start values of a LuGre law's own parameters (index in [`FrictionLaw::names`], value),
 /// from the start of its Coulomb–viscous levels `start` (the base law's fit) and the record:
-/// static levels Fs± 20 % above the Coulomb levels; the Stribeck speed vs a tenth of the
-/// record's RMS speed (from differences of the measured position); the bristle stiffness σ0
-/// such that the bristle–mass oscillation √(σ0/M) sits at a tenth of the sample rate (a
-/// pre-sliding spring stiff against the loop, still resolved by the sample steps); the
-/// bristle damping σ1 = √(σ0·M), half the critical damping of that oscillation.
+/// static levels Fs± 20 % above the Coulomb levels ([`stribeck_variants`] adds the start
+/// 20 % below); the Stribeck speed vs a tenth of the record's RMS speed (from differences of
+/// the measured position); the bristle stiffness σ0 such that the bristle–mass oscillation
+/// √(σ0/M) sits at a fortieth of the sample rate (a pre-sliding spring well resolved by the
+/// samples; the bounds let it rise to the Nyquist frequency); the bristle damping
+/// σ1 = 0.2·√(σ0·M), a tenth of the critical damping of that oscillation.
 pub fn lugre_start(law: FrictionLaw, start: &[f64], experiments: &[Experiment]) -> Vec<(usize, f64)> {
     let names = law.names();
     let at = |n: &str| names.iter().position(|m| *m == n);
@@ -207,7 +214,7 @@ pub fn lugre_start(law: FrictionLaw, start: &[f64], experiments: &[Experiment]) 
         }
     }
     let rms_speed = (ss / count.max(1) as f64).sqrt();
-    let omega = 0.1 * std::f64::consts::TAU / h;
+    let omega = std::f64::consts::TAU / (40.0 * h);
     let sigma0 = m * omega * omega;
     let mut out = Vec::new();
     for (fs, fc) in [("Fs", "Fc"), ("Fs_pos", "Fc_pos"), ("Fs_neg", "Fc_neg")] {
@@ -215,10 +222,32 @@ pub fn lugre_start(law: FrictionLaw, start: &[f64], experiments: &[Experiment]) 
             out.push((k, 1.2 * value(fc)));
         }
     }
-    for (n, v) in [("vs", 0.1 * rms_speed), ("sigma0", sigma0), ("sigma1", (sigma0 * m).sqrt())] {
+    for (n, v) in [("vs", 0.1 * rms_speed), ("sigma0", sigma0), ("sigma1", 0.2 * (sigma0 * m).sqrt())] {
         if let Some(k) = at(n) {
             out.push((k, v));
         }
     }
     out
+}
+
+/// The starts a LuGre fit runs from: `spec` itself and, unless `[params]` sets them, the
+/// same with the static levels Fs± 20 % below the Coulomb levels instead of above (a record
+/// may favour friction that falls, or rises, towards rest; from the wrong side the Stribeck
+/// hump can collapse, vs → 0, before the levels move). The fit keeps the lower cost.
+pub fn stribeck_variants(cfg: &DriveConfig, spec: &FitSpec) -> Vec<FitSpec> {
+    let names = spec.law.names();
+    let mut below = spec.clone();
+    let mut changed = false;
+    for (fs, fc) in [("Fs", "Fc"), ("Fs_pos", "Fc_pos"), ("Fs_neg", "Fc_neg")] {
+        let (Some(i), Some(j)) =
+            (names.iter().position(|n| *n == fs), names.iter().position(|n| *n == fc))
+        else {
+            continue;
+        };
+        if !cfg.params.contains_key(fs) {
+            below.start[i] = (0.8 * spec.start[j]).clamp(spec.lower[i], spec.upper[i]);
+            changed = true;
+        }
+    }
+    if changed { vec![spec.clone(), below] } else { vec![spec.clone()] }
 }
