@@ -220,7 +220,8 @@ mod tests {
     #[test]
     fn derivatives_match_the_hand_derived_ones() {
         let (x, y) = (0.3, -0.45);
-        let f = |x: Dual<3>, y: Dual<3>| (x * y).exp() / (y + 1.0) - x.ln_1p() + y.exp_m1() - x * 2.0;
+        let f =
+            |x: Dual<3>, y: Dual<3>| (x * y).exp() / (y + 1.0) - x.ln_1p() + y.exp_m1() - x * 2.0;
         let r = f(Dual::var(x, 0), Dual::var(y, 1));
         let e = (x * y).exp();
         let fx = y * e / (1.0 + y) - 1.0 / (1.0 + x) - 2.0;

@@ -128,11 +128,8 @@ impl<T: Scalar> LuGreDrive<T> {
         // ẇ = λ·(w_ss − w): the mean of w is w_ss + (w0 − w_ss)·(1 − e^{−λd})/(λd).
         let w_ss = if vr > 0.0 { level } else { -level };
         let x = self.sigma0 * v.abs() / level * d;
-        let phi = if x.re() < 1e-4 {
-            T::cst(1.0) - x * 0.5 + x * x / 6.0
-        } else {
-            -(-x).exp_m1() / x
-        };
+        let phi =
+            if x.re() < 1e-4 { T::cst(1.0) - x * 0.5 + x * x / 6.0 } else { -(-x).exp_m1() / x };
         (w1, w_ss + (w0 - w_ss) * phi)
     }
 

@@ -200,7 +200,11 @@ pub fn spec(
 /// √(σ0/M) sits at a fortieth of the sample rate (a pre-sliding spring well resolved by the
 /// samples; the bounds let it rise to the Nyquist frequency); the bristle damping
 /// σ1 = 0.2·√(σ0·M), a tenth of the critical damping of that oscillation.
-pub fn lugre_start(law: FrictionLaw, start: &[f64], experiments: &[Experiment]) -> Vec<(usize, f64)> {
+pub fn lugre_start(
+    law: FrictionLaw,
+    start: &[f64],
+    experiments: &[Experiment],
+) -> Vec<(usize, f64)> {
     let names = law.names();
     let at = |n: &str| names.iter().position(|m| *m == n);
     let value = |n: &str| at(n).map(|k| start[k]).unwrap_or(f64::NAN);
@@ -222,7 +226,9 @@ pub fn lugre_start(law: FrictionLaw, start: &[f64], experiments: &[Experiment]) 
             out.push((k, 1.2 * value(fc)));
         }
     }
-    for (n, v) in [("vs", 0.1 * rms_speed), ("sigma0", sigma0), ("sigma1", 0.2 * (sigma0 * m).sqrt())] {
+    for (n, v) in
+        [("vs", 0.1 * rms_speed), ("sigma0", sigma0), ("sigma1", 0.2 * (sigma0 * m).sqrt())]
+    {
         if let Some(k) = at(n) {
             out.push((k, v));
         }

@@ -12,10 +12,10 @@ use super::tests::{controller, record};
 
 /// EMPS-like directional LuGre values (order of [`FrictionLaw::names`]): M, Fv_pos, Fc_pos,
 /// Fv_neg, Fc_neg, Fs_pos, Fs_neg, vs, sigma0, sigma1, gain.
-const TRUTH: [f64; 11] = [95.0, 170.0, 19.0, 240.0, 21.0, 24.0, 25.0, 0.01, 3.0e7, 4.0e4, 35.0];
+const TRUTH: [f64; 11] = [95.0, 170.0, 21.5, 240.0, 22.0, 14.0, 16.0, 0.0175, 2.8e6, 1.0e3, 35.0];
 
 /// The symmetric law's values: M, Fv, Fc, offset, Fs, vs, sigma0, sigma1, gain.
-const TRUTH_SYM: [f64; 9] = [95.0, 200.0, 20.0, -3.0, 25.0, 0.01, 3.0e7, 4.0e4, 35.0];
+const TRUTH_SYM: [f64; 9] = [95.0, 200.0, 20.0, -3.0, 15.0, 0.017, 2.0e6, 1.2e3, 35.0];
 
 fn truth(law: FrictionLaw) -> Vec<f64> {
     match law {
@@ -49,17 +49,20 @@ fn fine(d: &LuGreDrive<f64>, s: Motion<f64>, f: f64, h: f64, m: usize) -> Motion
         let (a2, b2) = rhs(v + 0.5 * dt * a1, w + 0.5 * dt * b1);
         let (a3, b3) = rhs(v + 0.5 * dt * a2, w + 0.5 * dt * b2);
         let (a4, b4) = rhs(v + dt * a3, w + dt * b3);
-        x += dt / 6.0 * ((v) + 2.0 * (v + 0.5 * dt * a1) + 2.0 * (v + 0.5 * dt * a2) + (v + dt * a3));
+        x += dt / 6.0
+            * ((v) + 2.0 * (v + 0.5 * dt * a1) + 2.0 * (v + 0.5 * dt * a2) + (v + dt * a3));
         v += dt / 6.0 * (a1 + 2.0 * a2 + 2.0 * a3 + a4);
         w += dt / 6.0 * (b1 + 2.0 * b2 + 2.0 * b3 + b4);
     }
     Motion { x, v, w }
 }
 
-/// The closed loop of a record run twice: with the drive's sample step, and with the fine
-/// Runge–Kutta integration (2000 steps per sample) under the same controller. Over reversals,
-/// stops and breakaways the positions agree to 2.5e-9 m (a tenth of the EMPS record's
-/// position noise, 2.55e-8 m) and the forces to 0.012 N RMS (a tenth of its force noise).
+/// The closed loop of a record run twice, at values like the EMPS fit's: with the drive's
+/// sample step, and with the fine Runge–Kutta integration (2000 steps per sample) under the
+/// same controller. Measured over reversals, stops and breakaways: position differences
+/// 2.0–2.4e-9 m RMS (a tenth of the EMPS record's position noise, 2.55e-8 m; at most
+/// 2.4e-8 m at single samples after a reversal) and force differences 0.004–0.005 N RMS
+/// (a twenty-fifth of its force noise, 0.117 N). Tolerances: 10× those.
 #[test]
 fn closed_loop_matches_a_fine_integration() {
     for law in [FrictionLaw::LuGre, FrictionLaw::DirectionalLuGre] {
@@ -78,10 +81,18 @@ fn closed_loop_matches_a_fine_integration() {
             q.push(s.x);
         }
         let dx = fast.position.iter().zip(&q).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
-        let df = (fast.command.iter().zip(&force).map(|(u, f)| (d.gain * u - f).powi(2)).sum::<f64>()
-            / force.len() as f64)
+        let rx = (fast.position.iter().zip(&q).map(|(a, b)| (a - b).powi(2)).sum::<f64>()
+            / q.len() as f64)
             .sqrt();
-        assert!(dx < 2.5e-9 && df < 0.012, "{}: position {dx:e} m, force {df:e} N", law.name());
+        let df =
+            (fast.command.iter().zip(&force).map(|(u, f)| (d.gain * u - f).powi(2)).sum::<f64>()
+                / force.len() as f64)
+                .sqrt();
+        assert!(
+            rx < 2.5e-8 && dx < 2.5e-7 && df < 0.05,
+            "{}: position {rx:e} m RMS, {dx:e} m at most; force {df:e} N RMS",
+            law.name()
+        );
     }
 }
 
@@ -151,7 +162,11 @@ fn output_error_fit_recovers_a_lugre_drive() {
             outputs: vec![(OutputKind::Force, 0.1), (OutputKind::Position, 1e-6)],
             start,
             free,
-            lower: vec![1e-12; n].iter().zip(names).map(|(l, m)| if *m == "offset" { f64::NEG_INFINITY } else { *l }).collect(),
+            lower: vec![1e-12; n]
+                .iter()
+                .zip(names)
+                .map(|(l, m)| if *m == "offset" { f64::NEG_INFINITY } else { *l })
+                .collect(),
             upper: vec![f64::INFINITY; n],
             settings: LmSettings::default(),
         };

@@ -208,8 +208,8 @@ fn speed_slope_matches_central_differences() {
             let (step, d_v) = l.step_held_with_speed(v, w0, 1e-3);
             assert_eq!(step, l.step_held(v, w0, 1e-3));
             let dv = 1e-7 * v.abs();
-            let fd = (l.step_held(v + dv, w0, 1e-3).w - l.step_held(v - dv, w0, 1e-3).w)
-                / (2.0 * dv);
+            let fd =
+                (l.step_held(v + dv, w0, 1e-3).w - l.step_held(v - dv, w0, 1e-3).w) / (2.0 * dv);
             assert!((fd - d_v).abs() <= 1e-6 * fd.abs().max(1.0), "v {v}, w0 {w0}: {fd} vs {d_v}");
         }
     }
