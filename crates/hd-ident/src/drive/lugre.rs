@@ -13,9 +13,10 @@
 //!
 //! Each sample (held command) is cut into substeps; in each, the bristle is advanced
 //! exactly at a held speed (so any bristle stiffness is stable), the mean bristle force over
-//! the substep follows from the same exponential, and the speed by a predictor–corrector
-//! (the bristle held first at the start speed, then at the mean of the start and predicted
-//! end speeds): second order in the substep for the mass, exact for the stiff bristle.
+//! the substep follows from the same exponential, and the speed by a predictor–corrector:
+//! the end speed predicted with the previous substep's mean friction, the bristle then held
+//! at the mean of the start and predicted end speeds. Second order in the substep for the
+//! mass, exact for the stiff bristle, one bristle update per substep.
 
 use super::dual::Scalar;
 use super::model::Motion;
@@ -23,7 +24,11 @@ use hd_model::laws::friction::LuGre;
 
 /// Largest (rate × substep) the substep count allows: the bristle-mass oscillation
 /// √(σ0/M) and the bristle damping 2σ1/M [1/s] times the substep [s].
-const RATE_STEP: f64 = 0.25;
+const RATE_STEP: f64 = 0.125;
+
+/// Fewest substeps per sample: two, so that the count does not flip between one and two
+/// (a small jump of the objective) while a fit moves σ0 and σ1 about moderate values.
+const MIN_SUBSTEPS: usize = 2;
 
 /// Most substeps per sample.
 const MAX_SUBSTEPS: usize = 64;
@@ -85,7 +90,7 @@ impl<T: Scalar> LuGreDrive<T> {
     pub fn substeps(&self, h: f64) -> usize {
         let m = self.m.re();
         let rate = (self.sigma0.re() / m).max(0.0).sqrt().max(2.0 * self.sigma1.re() / m);
-        ((rate * h / RATE_STEP).ceil() as usize).clamp(1, MAX_SUBSTEPS)
+        ((rate * h / RATE_STEP).ceil() as usize).clamp(MIN_SUBSTEPS, MAX_SUBSTEPS)
     }
 
     /// The bristle force after `d` [s] at the held speed `v` from `w0`, and its mean over
@@ -148,25 +153,19 @@ impl<T: Scalar> LuGreDrive<T> {
         let per_mass = T::cst(d) / self.m; // [s/kg]
         let damping = self.sigma1 / self.sigma0 / d; // (σ1/σ0)/d [1]
         let mut s = s;
-        // The predictor's friction: held at the start speed for the first substep, then the
-        // previous substep's mean (an O(d) error in the force is O(d²) in the predicted
-        // speed, which the corrector only reads at its midpoint).
-        let mut previous: Option<T> = None;
+        // The predictor's friction is the previous substep's mean (also across samples): an
+        // O(d) error in the force is O(d²) in the predicted speed, which the corrector only
+        // reads at its midpoint. One bristle update per substep.
         for _ in 0..n {
             let force = |v: T| {
                 let (w1, mean) = self.bristle(&law, &shape, v, s.w, d);
                 (w1, mean + (w1 - s.w) * damping + self.viscous(v))
             };
-            let f0 = match previous {
-                Some(f0) => f0,
-                None => force(s.v).1,
-            };
-            let predicted = s.v + (net - f0) * per_mass;
+            let predicted = s.v + (net - s.friction) * per_mass;
             let mid = (s.v + predicted) * 0.5;
             let (w1, fm) = force(mid);
             let v1 = s.v + (net - fm) * per_mass;
-            s = Motion { x: s.x + (s.v + v1) * (0.5 * d), v: v1, w: w1 };
-            previous = Some(fm);
+            s = Motion { x: s.x + (s.v + v1) * (0.5 * d), v: v1, w: w1, friction: fm };
         }
         s
     }

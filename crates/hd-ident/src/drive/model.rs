@@ -265,8 +265,9 @@ pub struct Rigid<T> {
     pub gain: T,
 }
 
-/// Position and speed of the drive [m, m/s or rad, rad/s], and the LuGre bristle force
-/// [N or N·m] (zero for Coulomb–viscous friction).
+/// Position and speed of the drive [m, m/s or rad, rad/s], and the LuGre bristle force and
+/// mean friction force of the last substep [N or N·m] (both zero for Coulomb–viscous
+/// friction).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Motion<T> {
     /// Position.
@@ -275,6 +276,15 @@ pub struct Motion<T> {
     pub v: T,
     /// Bristle force σ0·z.
     pub w: T,
+    /// Mean friction force over the last substep (the next step's predictor starts from it).
+    pub friction: T,
+}
+
+impl<T: Scalar> Motion<T> {
+    /// At rest at `x`, bristle unloaded.
+    pub fn rest(x: T) -> Self {
+        Motion { x, v: T::cst(0.0), w: T::cst(0.0), friction: T::cst(0.0) }
+    }
 }
 
 /// `(1 − e^{−a·t})/a` and `(a·t − 1 + e^{−a·t})/a²`: the speed and position responses of a
@@ -311,7 +321,7 @@ impl<T: Scalar> Rigid<T> {
             } else if net.re() < -self.fc_neg.re() {
                 -1.0
             } else {
-                return Motion { x: s.x, v: T::cst(0.0), w: s.w }; // sticks for the rest of the step
+                return Motion { v: T::cst(0.0), ..s }; // sticks for the rest of the step
             };
             let (fv, fc) =
                 if dir > 0.0 { (self.fv_pos, self.fc_pos) } else { (self.fv_neg, self.fc_neg) };
@@ -324,14 +334,14 @@ impl<T: Scalar> Rigid<T> {
                     if a.re() == 0.0 { s.v / (-acc0) } else { (a * s.v / (-acc0)).ln_1p() / a };
                 if stop.re() < left.re() {
                     let (p1, p2) = lag_integrals(a, stop);
-                    s = Motion { x: s.x + s.v * p1 + acc0 * p2, v: T::cst(0.0), w: s.w };
+                    s = Motion { x: s.x + s.v * p1 + acc0 * p2, v: T::cst(0.0), ..s };
                     left = left - stop;
                     continue;
                 }
             }
             let (p1, p2) = lag_integrals(a, left);
             let e = (-(a * left)).exp();
-            return Motion { x: s.x + s.v * p1 + acc0 * p2, v: s.v * e + acc0 * p1, w: s.w };
+            return Motion { x: s.x + s.v * p1 + acc0 * p2, v: s.v * e + acc0 * p1, ..s };
         }
         s
     }

@@ -33,7 +33,7 @@ pub fn simulate<T: Scalar>(
     let mut q: Vec<T> = Vec::with_capacity(n);
     let mut computed: Vec<T> = Vec::with_capacity(n);
     let mut applied: Vec<T> = Vec::with_capacity(n);
-    let mut s = Motion { x: T::cst(e.position[0]), v: T::cst(0.0), w: T::cst(0.0) };
+    let mut s = Motion::rest(T::cst(e.position[0]));
     q.push(s.x);
     for k in 0..n {
         computed.push(c.clamp(c.law(e.reference[k], &q, k) + e.disturbance[k]));

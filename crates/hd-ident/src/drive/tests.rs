@@ -112,7 +112,7 @@ fn exact_step_matches_a_fine_integration() {
         (0.0, 4.0),
         (-0.2, 3.0),
     ] {
-        let s = d.step(Motion { x: 0.1, v: v0, w: 0.0 }, f, h);
+        let s = d.step(Motion { v: v0, ..Motion::rest(0.1) }, f, h);
         let (x, v) = fine(&d, 0.1, v0, f, h);
         assert!(
             (s.x - x).abs() < 1e-8 && (s.v - v).abs() < 1e-5,
@@ -243,9 +243,9 @@ fn output_error_fit_recovers_the_parameters_from_a_poor_start() {
 #[test]
 fn constant_force_below_the_coulomb_level_holds() {
     let d = rigid(FrictionLaw::CoulombViscous, &TRUTH);
-    let s = d.step(Motion { x: 0.2, v: 0.0, w: 0.0 }, 16.0, 1e-3); // 16 − (−3) = 19 < 20
-    assert_eq!(s, Motion { x: 0.2, v: 0.0, w: 0.0 });
-    let s = d.step(Motion { x: 0.2, v: 0.0, w: 0.0 }, 17.5, 1e-3); // 20.5 > 20: breaks away
+    let s = d.step(Motion::rest(0.2), 16.0, 1e-3); // 16 − (−3) = 19 < 20
+    assert_eq!(s, Motion::rest(0.2));
+    let s = d.step(Motion::rest(0.2), 17.5, 1e-3); // 20.5 > 20: breaks away
     assert!(s.v > 0.0 && s.x > 0.2);
     let _ = Dual::<4>::cst(0.0).re();
 }

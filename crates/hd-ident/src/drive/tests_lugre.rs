@@ -54,15 +54,15 @@ fn fine(d: &LuGreDrive<f64>, s: Motion<f64>, f: f64, h: f64, m: usize) -> Motion
         v += dt / 6.0 * (a1 + 2.0 * a2 + 2.0 * a3 + a4);
         w += dt / 6.0 * (b1 + 2.0 * b2 + 2.0 * b3 + b4);
     }
-    Motion { x, v, w }
+    Motion { x, v, w, friction: 0.0 }
 }
 
 /// The closed loop of a record run twice, at values like the EMPS fit's: with the drive's
 /// sample step, and with the fine Runge–Kutta integration (2000 steps per sample) under the
-/// same controller. Measured over reversals, stops and breakaways: position differences
-/// 2.0–2.4e-9 m RMS (a tenth of the EMPS record's position noise, 2.55e-8 m; at most
-/// 2.4e-8 m at single samples after a reversal) and force differences 0.004–0.005 N RMS
-/// (a twenty-fifth of its force noise, 0.117 N). Tolerances: 10× those.
+/// same controller. Measured over reversals, stops and breakaways (2 substeps per sample):
+/// position differences 1.9–2.2e-9 m RMS (a twelfth of the EMPS record's position noise,
+/// 2.55e-8 m; at most 2.2e-8 m at single samples after a reversal) and force differences
+/// 0.0034–0.0038 N RMS (a thirtieth of its force noise, 0.117 N). Tolerances: 10× those.
 #[test]
 fn closed_loop_matches_a_fine_integration() {
     for law in [FrictionLaw::LuGre, FrictionLaw::DirectionalLuGre] {
@@ -72,7 +72,7 @@ fn closed_loop_matches_a_fine_integration() {
         let e = record(law, &p, 0, 3000);
         let fast = simulate(law, &p, &c, &e);
         let mut q = vec![e.position[0]];
-        let mut s = Motion { x: e.position[0], v: 0.0, w: 0.0 };
+        let mut s = Motion::rest(e.position[0]);
         let mut force = Vec::new();
         for k in 0..e.len() {
             let u = c.clamp(c.law(e.reference[k], &q, k));
