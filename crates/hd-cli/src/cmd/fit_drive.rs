@@ -233,7 +233,9 @@ pub fn run(args: DriveArgs) -> Result<()> {
             (&base_specs[b], base_fits[b].clone())
         };
         let start_scores = score_all(law, &spec.start, &controller, gain, &experiments, &out_kinds);
-        starts.push((idims[b].clone(), start_scores));
+        // A LuGre law starts from its base's fit, not from an inverse model of its own.
+        let idim = if law.is_lugre() { None } else { idims[b].clone() };
+        starts.push((idim, start_scores, spec.start.clone()));
         let val = validation.as_ref().map(|v| {
             score_all(law, &fit.values, &controller, gain, std::slice::from_ref(v), &out_kinds)
                 .remove(0)
