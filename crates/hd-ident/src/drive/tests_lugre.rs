@@ -186,3 +186,50 @@ fn output_error_fit_recovers_a_lugre_drive() {
         }
     }
 }
+
+/// The documented LuGre start: σ0 = M·(2π·f_s/40)², σ1 = 0.2·√(σ0·M), vs a tenth of the RMS
+/// speed, Fs± = 1.2·Fc± and a second start at 0.8·Fc±; `[params]` values are kept and not
+/// varied.
+#[test]
+fn lugre_start_values_and_the_second_start() {
+    use super::config::DriveConfig;
+    use super::setup::{lugre_start, stribeck_variants};
+    let law = FrictionLaw::DirectionalLuGre;
+    let e = record(law, &TRUTH, 0, 2000);
+    let speeds: Vec<f64> = e.position.windows(2).map(|w| (w[1] - w[0]) / e.h).collect();
+    let rms = (speeds.iter().map(|v| v * v).sum::<f64>() / speeds.len() as f64).sqrt();
+    let mut start = TRUTH.to_vec();
+    for (k, v) in lugre_start(law, &start, std::slice::from_ref(&e)) {
+        start[k] = v;
+    }
+    let at = |n: &str| start[law.names().iter().position(|m| *m == n).unwrap()];
+    let sigma0 = 95.0 * (std::f64::consts::TAU * 1000.0 / 40.0f64).powi(2);
+    assert!((at("sigma0") / sigma0 - 1.0).abs() < 1e-12);
+    assert!((at("sigma1") / (0.2 * (sigma0 * 95.0).sqrt()) - 1.0).abs() < 1e-12);
+    assert!((at("vs") / (0.1 * rms) - 1.0).abs() < 1e-12);
+    assert_eq!((at("Fs_pos"), at("Fs_neg")), (1.2 * 21.5, 1.2 * 22.0));
+    let cfg = |params: &str| {
+        let text = format!(
+            "gain = 35.0\nfriction = \"directional-lugre\"\n[[experiment]]\nname = \"e\"\nfile = \"e.csv\"\ntime = \"t\"\nposition = \"q\"\nreference = \"r\"\ncommand = \"u\"\n[controller]\nkp = 1.0\nkv = 1.0\n{params}"
+        );
+        DriveConfig::parse(&text, "fit.toml").unwrap()
+    };
+    let n = start.len();
+    let spec = FitSpec {
+        law,
+        controller: controller(0),
+        gain: 35.0,
+        outputs: vec![(OutputKind::Force, 0.1)],
+        start: start.clone(),
+        free: vec![true; n],
+        lower: vec![0.0; n],
+        upper: vec![f64::INFINITY; n],
+        settings: LmSettings::default(),
+    };
+    let v = stribeck_variants(&cfg(""), &spec);
+    assert_eq!(v.len(), 2);
+    assert_eq!(v[1].start[5..7], [0.8 * 21.5, 0.8 * 22.0]);
+    assert_eq!(v[1].start[..5], spec.start[..5]);
+    let v = stribeck_variants(&cfg("[params]\nFs_pos = 30.0\nFs_neg = 31.0\n"), &spec);
+    assert_eq!(v.len(), 1);
+}
