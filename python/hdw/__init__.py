@@ -12,7 +12,8 @@ DataFrames when polars is installed (dicts of numpy arrays otherwise).
 
 Functions: :func:`parameters`, :func:`metrics`, :func:`simulate`, :func:`simulate_many`,
 :func:`run_study`, :func:`fit_hysteresis`, :func:`fit_friction`, :func:`sobol_indices`,
-:func:`export_fmu` (an FMU of the drive, through the hdw command line).
+:func:`export_fmu` (an FMU of the drive) and :func:`fit_drive` (a whole drive from its
+logged loop), the last two through the hdw command line.
 Errors: ``ValueError`` for bad input (naming the field and what was expected),
 :class:`SimulationError` when the integrator cannot finish a run.
 """
@@ -23,6 +24,7 @@ from typing import Any, List
 
 from . import _hdw
 from ._fit import FitResult, fit_friction, fit_hysteresis
+from ._fit_drive import DriveFitResult, fit_drive
 from ._fmu import export_fmu
 from ._run import SimResult, simulate, simulate_many
 from ._sensitivity import sobol_indices
@@ -33,10 +35,12 @@ SimulationError = _hdw.SimulationError
 __version__: str = _hdw.__version__
 
 __all__ = [
+    "DriveFitResult",
     "FitResult",
     "SimResult",
     "SimulationError",
     "export_fmu",
+    "fit_drive",
     "fit_friction",
     "fit_hysteresis",
     "metrics",

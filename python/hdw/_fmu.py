@@ -42,11 +42,11 @@ def _params_toml(
     return "\n".join(lines) + "\n"
 
 
-def _hdw_binary(hdw: Optional[str]) -> str:
+def _hdw_binary(hdw: Optional[str], caller: str = "export_fmu") -> str:
     found = hdw or os.environ.get("HDW") or shutil.which("hdw")
     if not found:
         raise FileNotFoundError(
-            "export_fmu runs the hdw command line, which was not found: build it with "
+            f"{caller} runs the hdw command line, which was not found: build it with "
             "`cargo build -p hd-cli` and pass hdw=PATH, set $HDW, or put it on PATH"
         )
     return found

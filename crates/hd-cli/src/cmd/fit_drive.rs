@@ -9,7 +9,9 @@ use super::fit_drive_out::{Outcome, write_outputs};
 use anyhow::{Context, Result, anyhow};
 use clap::Args;
 use hd_ident::drive::config::{ExperimentConfig, NumberOrVariable};
-use hd_ident::drive::{DriveConfig, Experiment, fit_drive, score_all, setup};
+use hd_ident::drive::{
+    DriveConfig, DriveFit, Experiment, FitSpec, FrictionLaw, fit_drive, score_all, setup,
+};
 use indicatif::{ProgressBar, ProgressStyle};
 use rayon::prelude::*;
 use std::path::{Path, PathBuf};
@@ -119,15 +121,6 @@ pub fn run(args: DriveArgs) -> Result<()> {
     let laws = cfg.laws(&file)?;
     let out_kinds: Vec<_> = outputs.iter().map(|o| o.0).collect();
 
-    let mut starts = Vec::new();
-    let mut specs = Vec::new();
-    for &law in &laws {
-        let idim = setup::start(&cfg, law, gain, &experiments)?;
-        let spec = setup::spec(&cfg, &file, law, &controller, gain, &outputs, idim.as_ref())?;
-        let start_scores = score_all(law, &spec.start, &controller, gain, &experiments, &out_kinds);
-        starts.push((idim, start_scores));
-        specs.push(spec);
-    }
     let dir = ensure_dir(&args.out)?;
 
     let bar = ProgressBar::new_spinner();
@@ -136,24 +129,115 @@ pub fn run(args: DriveArgs) -> Result<()> {
             .unwrap_or_else(|_| ProgressStyle::default_spinner()),
     );
     bar.enable_steady_tick(std::time::Duration::from_millis(200));
-    bar.set_message(format!("fitting {} law(s)", specs.len()));
-    let fits: Vec<_> = specs
-        .par_iter()
-        .map(|spec| {
-            let t0 = Instant::now();
-            let progress = |it: usize, cost: f64| {
-                bar.set_message(format!("{}: iteration {it}, cost {cost:.6e}", spec.law.name()));
-            };
-            let fit = fit_drive(spec, &experiments, &progress);
-            (fit, t0.elapsed().as_secs_f64())
-        })
+    bar.set_message(format!("fitting {} law(s)", laws.len()));
+    let fit_all = |specs: &[FitSpec]| -> Vec<(Result<DriveFit, _>, f64)> {
+        specs
+            .par_iter()
+            .map(|spec| {
+                let t0 = Instant::now();
+                let progress = |it: usize, cost: f64| {
+                    bar.set_message(format!(
+                        "{}: iteration {it}, cost {cost:.6e}",
+                        spec.law.name()
+                    ));
+                };
+                let fit = fit_drive(spec, &experiments, &progress);
+                (fit, t0.elapsed().as_secs_f64())
+            })
+            .collect()
+    };
+    // Stage 1: the Coulomb–viscous laws (those asked for, and the bases of the LuGre laws,
+    // which start from them); stage 2: the LuGre laws from their bases' fits.
+    let mut bases: Vec<FrictionLaw> = Vec::new();
+    for law in laws.iter().map(|l| l.base()) {
+        if !bases.contains(&law) {
+            bases.push(law);
+        }
+    }
+    let mut idims = Vec::new();
+    let mut base_specs = Vec::new();
+    for &law in &bases {
+        let idim = setup::start(&cfg, law, gain, &experiments)?;
+        base_specs.push(setup::spec(
+            &cfg,
+            &file,
+            law,
+            &controller,
+            gain,
+            &outputs,
+            idim.as_ref(),
+            None,
+            &experiments,
+        )?);
+        idims.push(idim);
+    }
+    let mut base_fits = Vec::new();
+    for ((fit, secs), spec) in fit_all(&base_specs).into_iter().zip(&base_specs) {
+        base_fits.push((fit.with_context(|| format!("{} friction", spec.law.name()))?, secs));
+    }
+    let lugre: Vec<FrictionLaw> = laws.iter().copied().filter(|l| l.is_lugre()).collect();
+    let mut lugre_specs = Vec::new();
+    for &law in &lugre {
+        let b = bases.iter().position(|&l| l == law.base()).unwrap_or(0);
+        lugre_specs.push(setup::spec(
+            &cfg,
+            &file,
+            law,
+            &controller,
+            gain,
+            &outputs,
+            idims[b].as_ref(),
+            Some(&base_fits[b].0),
+            &experiments,
+        )?);
+    }
+    // Each LuGre law from its Stribeck starts (setup::stribeck_variants), all in parallel;
+    // the lower cost is kept, a start that fails is dropped while another succeeds.
+    let variants: Vec<(usize, FitSpec)> = lugre_specs
+        .iter()
+        .enumerate()
+        .flat_map(|(k, s)| setup::stribeck_variants(&cfg, s).into_iter().map(move |v| (k, v)))
         .collect();
+    let variant_specs: Vec<FitSpec> = variants.iter().map(|v| v.1.clone()).collect();
+    let mut best: Vec<Option<(Result<DriveFit, _>, f64)>> =
+        (0..lugre_specs.len()).map(|_| None).collect();
+    for ((k, _), (fit, secs)) in variants.iter().zip(fit_all(&variant_specs)) {
+        let keep = match (&best[*k], &fit) {
+            (None, _) | (Some((Err(_), _)), Ok(_)) => true,
+            (Some((Ok(b), _)), Ok(f)) => f.cost < b.cost,
+            _ => false,
+        };
+        // The starts run side by side: the law's time is the longest.
+        let total = secs.max(best[*k].as_ref().map(|b| b.1).unwrap_or(0.0));
+        if keep {
+            best[*k] = Some((fit, total));
+        } else if let Some(b) = best[*k].as_mut() {
+            b.1 = total;
+        }
+    }
+    let mut lugre_fits = Vec::new();
+    for (b, spec) in best.into_iter().zip(&lugre_specs) {
+        let (fit, secs) = b.ok_or_else(|| anyhow!("{}: no start", spec.law.name()))?;
+        lugre_fits.push((fit.with_context(|| format!("{} friction", spec.law.name()))?, secs));
+    }
     bar.finish_and_clear();
+
+    let mut starts = Vec::new();
     let mut fitted = Vec::new();
-    for ((fit, secs), spec) in fits.into_iter().zip(&specs) {
-        let fit = fit.with_context(|| format!("{} friction", spec.law.name()))?;
+    for &law in &laws {
+        let b = bases.iter().position(|&l| l == law.base()).unwrap_or(0);
+        let (spec, (fit, secs)) = if law.is_lugre() {
+            let k = lugre.iter().position(|&l| l == law).unwrap_or(0);
+            (&lugre_specs[k], lugre_fits[k].clone())
+        } else {
+            (&base_specs[b], base_fits[b].clone())
+        };
+        let start_scores = score_all(law, &spec.start, &controller, gain, &experiments, &out_kinds);
+        // A LuGre law starts from its base's fit, not from an inverse model of its own.
+        let idim = if law.is_lugre() { None } else { idims[b].clone() };
+        starts.push((idim, start_scores, spec.start.clone()));
         let val = validation.as_ref().map(|v| {
-            score_all(spec.law, &fit.values, &controller, gain, std::slice::from_ref(v), &out_kinds)
+            score_all(law, &fit.values, &controller, gain, std::slice::from_ref(v), &out_kinds)
                 .remove(0)
         });
         fitted.push((fit, secs, val));

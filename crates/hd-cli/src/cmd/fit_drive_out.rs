@@ -30,8 +30,9 @@ pub struct Outcome {
     pub experiments: Vec<Experiment>,
     /// The validation record.
     pub validation: Option<Experiment>,
-    /// Per law: the inverse-model start and its closed-loop scores.
-    pub starts: Vec<(Option<IdimFit>, Vec<ExperimentScore>)>,
+    /// Per law: the inverse-model start (none for a LuGre law, which starts from its base
+    /// law's fit), the closed-loop scores of the start, and the start values.
+    pub starts: Vec<(Option<IdimFit>, Vec<ExperimentScore>, Vec<f64>)>,
     /// Per law: the fit, its time [s], its validation scores.
     pub fitted: Vec<(DriveFit, f64, Option<ExperimentScore>)>,
 }
@@ -174,9 +175,17 @@ pub fn write_outputs(dir: &Path, o: &Outcome) -> Result<()> {
         .starts
         .iter()
         .zip(&o.fitted)
-        .map(|((idim, sc), (fit, _, _))| {
+        .map(|((idim, sc, values), (fit, _, _))| {
             json!({
                 "law": fit.law.name(),
+                "from": if fit.law.is_lugre() {
+                    Value::from(format!("{} fit", fit.law.base().name()))
+                } else {
+                    Value::from("idim")
+                },
+                "values": fit.names.iter().zip(values)
+                    .map(|(n, v)| (n.to_string(), json!(v)))
+                    .collect::<Map<_, _>>(),
                 "idim": idim.as_ref().map(|f| json!({
                     "parameters": f.names.iter().zip(&f.values).zip(&f.std_errors)
                         .map(|((n, v), s)| (n.to_string(), json!({"value": v, "std_error": s})))
@@ -258,7 +267,7 @@ pub fn write_outputs(dir: &Path, o: &Outcome) -> Result<()> {
             .join(", ")
     );
     let _ = writeln!(r, "## Inverse-model start (IDIM-LS)\n");
-    for ((idim, sc), (fit, _, _)) in o.starts.iter().zip(&o.fitted) {
+    for ((idim, sc, values), (fit, _, _)) in o.starts.iter().zip(&o.fitted) {
         if let Some(f) = idim {
             let vals: Vec<String> = f
                 .names
@@ -274,6 +283,16 @@ pub fn write_outputs(dir: &Path, o: &Outcome) -> Result<()> {
                 vals.join(", "),
                 f.rel_error_percent,
                 f.rows
+            );
+        } else if fit.law.is_lugre() {
+            let start: Vec<String> =
+                fit.names.iter().zip(values).map(|(n, v)| format!("{n} = {v:.5}")).collect();
+            let _ = writeln!(
+                r,
+                "- {}: from the {} output-error fit and the LuGre start values (docs/fit-drive.md): {} (a second start puts Fs 20 % below Fc)",
+                fit.law.name(),
+                fit.law.base().name(),
+                start.join(", ")
             );
         }
         for s in sc {

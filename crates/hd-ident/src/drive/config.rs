@@ -116,7 +116,7 @@ pub struct FitConfig {
 pub struct DriveConfig {
     /// `linear` (default) or `rotary`.
     pub axis: Option<String>,
-    /// `coulomb-viscous` (default), `directional` or `all`.
+    /// `coulomb-viscous` (default), `directional`, `lugre`, `directional-lugre` or `all`.
     pub friction: Option<String>,
     /// Force (or torque) per unit command [N/V or N·m/V].
     pub gain: NumberOrVariable,
@@ -226,7 +226,9 @@ impl DriveConfig {
         FrictionLaw::parse(s).map(|l| vec![l]).ok_or_else(|| {
             DriveError::config(
                 format!("{file}, friction"),
-                format!("'{s}'; expected \"coulomb-viscous\", \"directional\" or \"all\""),
+                format!(
+                    "'{s}'; expected \"coulomb-viscous\", \"directional\", \"lugre\", \"directional-lugre\" or \"all\""
+                ),
             )
         })
     }

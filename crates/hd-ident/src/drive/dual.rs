@@ -1,5 +1,7 @@
 //! Forward-mode derivatives of the drive's discrete-time recursion: a number that carries its
-//! value and its partial derivatives with respect to up to [`NP`] parameters.
+//! value and its partial derivatives with respect to `N` parameters (`N` is a compile-time
+//! size: the fit picks the smallest of [`SIZES`] that holds its free parameters, so a
+//! four-parameter law does not carry twelve derivatives through every operation).
 //!
 //! Running the closed-loop simulation with [`Dual`] instead of `f64` propagates the forward
 //! sensitivities ∂state/∂parameter through every operation of the same code — the exact
@@ -10,15 +12,19 @@
 use std::ops::{Add, Div, Mul, Neg, Sub};
 
 /// Largest number of parameters differentiated at once.
-pub const NP: usize = 8;
+pub const NP: usize = 12;
 
-/// A value with its partial derivatives ∂value/∂pₖ, k < [`NP`].
+/// The derivative counts the fit is compiled for (the smallest that holds the free
+/// parameters is used).
+pub const SIZES: [usize; 3] = [4, 8, NP];
+
+/// A value with its partial derivatives ∂value/∂pₖ, k < N.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Dual {
+pub struct Dual<const N: usize> {
     /// The value.
     pub v: f64,
     /// Its partial derivatives.
-    pub d: [f64; NP],
+    pub d: [f64; N],
 }
 
 /// The arithmetic of the simulation: `f64` for plain runs, [`Dual`] for sensitivities.
@@ -44,6 +50,14 @@ pub trait Scalar:
     fn ln_1p(self) -> Self;
     /// e^x − 1.
     fn exp_m1(self) -> Self;
+    /// A value computed outside the generic code (by an `f64` law) with its partial
+    /// derivatives with respect to inputs of this type: `parts` holds (∂value/∂input,
+    /// input) pairs. For `f64`, the value itself; for [`Dual`], the chain rule.
+    fn lift(value: f64, parts: &[(f64, Self)]) -> Self;
+    /// |x| (derivative −1 or +1; +1 at 0).
+    fn abs(self) -> Self {
+        if self.re() < 0.0 { -self } else { self }
+    }
 }
 
 impl Scalar for f64 {
@@ -62,12 +76,15 @@ impl Scalar for f64 {
     fn exp_m1(self) -> Self {
         f64::exp_m1(self)
     }
+    fn lift(value: f64, _parts: &[(f64, Self)]) -> Self {
+        value
+    }
 }
 
-impl Dual {
+impl<const N: usize> Dual<N> {
     /// Parameter `k` at value `v` (∂/∂pₖ = 1).
     pub fn var(v: f64, k: usize) -> Self {
-        let mut d = [0.0; NP];
+        let mut d = [0.0; N];
         d[k] = 1.0;
         Dual { v, d }
     }
@@ -83,9 +100,9 @@ impl Dual {
     }
 }
 
-impl Scalar for Dual {
+impl<const N: usize> Scalar for Dual<N> {
     fn cst(v: f64) -> Self {
-        Dual { v, d: [0.0; NP] }
+        Dual { v, d: [0.0; N] }
     }
     fn re(self) -> f64 {
         self.v
@@ -100,11 +117,22 @@ impl Scalar for Dual {
     fn exp_m1(self) -> Self {
         self.chain(self.v.exp_m1(), self.v.exp())
     }
+    fn lift(value: f64, parts: &[(f64, Self)]) -> Self {
+        let mut d = [0.0; N];
+        for (slope, x) in parts {
+            if *slope != 0.0 {
+                for (a, b) in d.iter_mut().zip(x.d) {
+                    *a += slope * b;
+                }
+            }
+        }
+        Dual { v: value, d }
+    }
 }
 
-impl Add for Dual {
-    type Output = Dual;
-    fn add(mut self, o: Dual) -> Dual {
+impl<const N: usize> Add for Dual<N> {
+    type Output = Dual<N>;
+    fn add(mut self, o: Dual<N>) -> Dual<N> {
         self.v += o.v;
         for (a, b) in self.d.iter_mut().zip(o.d) {
             *a += b;
@@ -113,9 +141,9 @@ impl Add for Dual {
     }
 }
 
-impl Sub for Dual {
-    type Output = Dual;
-    fn sub(mut self, o: Dual) -> Dual {
+impl<const N: usize> Sub for Dual<N> {
+    type Output = Dual<N>;
+    fn sub(mut self, o: Dual<N>) -> Dual<N> {
         self.v -= o.v;
         for (a, b) in self.d.iter_mut().zip(o.d) {
             *a -= b;
@@ -124,10 +152,10 @@ impl Sub for Dual {
     }
 }
 
-impl Mul for Dual {
-    type Output = Dual;
-    fn mul(self, o: Dual) -> Dual {
-        let mut d = [0.0; NP];
+impl<const N: usize> Mul for Dual<N> {
+    type Output = Dual<N>;
+    fn mul(self, o: Dual<N>) -> Dual<N> {
+        let mut d = [0.0; N];
         for (k, x) in d.iter_mut().enumerate() {
             *x = self.d[k] * o.v + self.v * o.d[k];
         }
@@ -135,11 +163,11 @@ impl Mul for Dual {
     }
 }
 
-impl Div for Dual {
-    type Output = Dual;
-    fn div(self, o: Dual) -> Dual {
+impl<const N: usize> Div for Dual<N> {
+    type Output = Dual<N>;
+    fn div(self, o: Dual<N>) -> Dual<N> {
         let q = self.v / o.v;
-        let mut d = [0.0; NP];
+        let mut d = [0.0; N];
         for (k, x) in d.iter_mut().enumerate() {
             *x = (self.d[k] - q * o.d[k]) / o.v;
         }
@@ -147,39 +175,39 @@ impl Div for Dual {
     }
 }
 
-impl Neg for Dual {
-    type Output = Dual;
-    fn neg(self) -> Dual {
+impl<const N: usize> Neg for Dual<N> {
+    type Output = Dual<N>;
+    fn neg(self) -> Dual<N> {
         self.chain(-self.v, -1.0)
     }
 }
 
-impl Add<f64> for Dual {
-    type Output = Dual;
-    fn add(mut self, o: f64) -> Dual {
+impl<const N: usize> Add<f64> for Dual<N> {
+    type Output = Dual<N>;
+    fn add(mut self, o: f64) -> Dual<N> {
         self.v += o;
         self
     }
 }
 
-impl Sub<f64> for Dual {
-    type Output = Dual;
-    fn sub(mut self, o: f64) -> Dual {
+impl<const N: usize> Sub<f64> for Dual<N> {
+    type Output = Dual<N>;
+    fn sub(mut self, o: f64) -> Dual<N> {
         self.v -= o;
         self
     }
 }
 
-impl Mul<f64> for Dual {
-    type Output = Dual;
-    fn mul(self, o: f64) -> Dual {
+impl<const N: usize> Mul<f64> for Dual<N> {
+    type Output = Dual<N>;
+    fn mul(self, o: f64) -> Dual<N> {
         self.chain(self.v * o, o)
     }
 }
 
-impl Div<f64> for Dual {
-    type Output = Dual;
-    fn div(self, o: f64) -> Dual {
+impl<const N: usize> Div<f64> for Dual<N> {
+    type Output = Dual<N>;
+    fn div(self, o: f64) -> Dual<N> {
         self.chain(self.v / o, 1.0 / o)
     }
 }
@@ -192,7 +220,8 @@ mod tests {
     #[test]
     fn derivatives_match_the_hand_derived_ones() {
         let (x, y) = (0.3, -0.45);
-        let f = |x: Dual, y: Dual| (x * y).exp() / (y + 1.0) - x.ln_1p() + y.exp_m1() - x * 2.0;
+        let f =
+            |x: Dual<3>, y: Dual<3>| (x * y).exp() / (y + 1.0) - x.ln_1p() + y.exp_m1() - x * 2.0;
         let r = f(Dual::var(x, 0), Dual::var(y, 1));
         let e = (x * y).exp();
         let fx = y * e / (1.0 + y) - 1.0 / (1.0 + x) - 2.0;

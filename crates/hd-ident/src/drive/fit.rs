@@ -4,7 +4,7 @@
 //! exact Jacobian of the simulation ([`super::dual`]).
 
 use super::controller::Controller;
-use super::dual::{Dual, NP, Scalar};
+use super::dual::{Dual, NP, SIZES, Scalar};
 use super::identifiability::{Determination, determination};
 use super::lm::{LmResult, LmSettings, minimise};
 use super::model::FrictionLaw;
@@ -167,6 +167,26 @@ fn residuals<T: Scalar>(spec: &FitSpec, p: &[T], experiments: &[Experiment]) -> 
     out
 }
 
+/// The residuals at `p` and their Jacobian with respect to the free parameters
+/// `free_idx` (at most N of them), from one simulation in `Dual<N>`.
+fn jacobian<const N: usize>(
+    spec: &FitSpec,
+    p: &[f64],
+    free_idx: &[usize],
+    experiments: &[Experiment],
+) -> (Vec<f64>, DMatrix<f64>) {
+    let pd: Vec<Dual<N>> = (0..p.len())
+        .map(|k| match free_idx.iter().position(|&f| f == k) {
+            Some(slot) => Dual::var(p[k], slot),
+            None => Dual::cst(p[k]),
+        })
+        .collect();
+    let rd = residuals(spec, &pd, experiments);
+    let r: Vec<f64> = rd.iter().map(|d| d.v).collect();
+    let j = DMatrix::from_fn(r.len(), free_idx.len(), |i, c| rd[i].d[c]);
+    (r, j)
+}
+
 /// Fit `spec` to the experiments. `progress(iteration, cost)` is called as it goes.
 pub fn fit_drive(
     spec: &FitSpec,
@@ -192,19 +212,12 @@ pub fn fit_drive(
     };
     let with_jac = |x: &[f64]| {
         let p = full(x);
-        let pd: Vec<Dual> = (0..p.len())
-            .map(|k| match free_idx.iter().position(|&f| f == k) {
-                Some(slot) => Dual::var(p[k], slot),
-                None => Dual::cst(p[k]),
-            })
-            .collect();
-        let rd = residuals(spec, &pd, experiments);
-        let r: Vec<f64> = rd.iter().map(|d| d.v).collect();
-        if !finite(&r) {
-            return None;
-        }
-        let j = DMatrix::from_fn(r.len(), free_idx.len(), |i, c| rd[i].d[c]);
-        Some((r, j))
+        let (r, j) = match free_idx.len() {
+            k if k <= SIZES[0] => jacobian::<{ SIZES[0] }>(spec, &p, &free_idx, experiments),
+            k if k <= SIZES[1] => jacobian::<{ SIZES[1] }>(spec, &p, &free_idx, experiments),
+            _ => jacobian::<{ SIZES[2] }>(spec, &p, &free_idx, experiments),
+        };
+        finite(&r).then_some((r, j))
     };
     let x0: Vec<f64> = free_idx.iter().map(|&k| spec.start[k]).collect();
     let lo: Vec<f64> = free_idx.iter().map(|&k| spec.lower[k]).collect();

@@ -55,8 +55,10 @@ pub struct IdimFit {
 fn regressors(law: FrictionLaw, v: f64, a: f64) -> Vec<f64> {
     let (pos, neg) = (v > 0.0, v < 0.0);
     match law {
-        FrictionLaw::CoulombViscous => vec![a, v, v.signum() * f64::from(pos || neg), 1.0],
-        FrictionLaw::Directional => vec![
+        FrictionLaw::CoulombViscous | FrictionLaw::LuGre => {
+            vec![a, v, v.signum() * f64::from(pos || neg), 1.0]
+        }
+        FrictionLaw::Directional | FrictionLaw::DirectionalLuGre => vec![
             a,
             if pos { v } else { 0.0 },
             f64::from(pos),
@@ -66,13 +68,16 @@ fn regressors(law: FrictionLaw, v: f64, a: f64) -> Vec<f64> {
     }
 }
 
-/// IDIM-LS of `law`'s parameters (all but the gain, which is `gain`) on the experiments.
+/// IDIM-LS of `law`'s parameters (all but the gain, which is `gain`) on the experiments;
+/// for a LuGre law, of its Coulomb–viscous base ([`FrictionLaw::base`]), the steady part of
+/// LuGre that a linear regression reaches.
 pub fn idim_ls(
     law: FrictionLaw,
     experiments: &[Experiment],
     gain: f64,
     o: &IdimOptions,
 ) -> Result<IdimFit, DriveError> {
+    let law = law.base();
     let names: Vec<&'static str> = law.names().iter().copied().filter(|n| *n != "gain").collect();
     let p = names.len();
     let mut rows: Vec<Vec<f64>> = Vec::new();

@@ -1,7 +1,8 @@
 //! Whole-drive identification from a logged closed loop (`hdw fit drive`).
 //!
 //! A rigid drive ([`model::Rigid`]: inertia or mass, Coulomb + viscous friction, symmetric or
-//! direction-dependent, an offset, force = gain × command) runs in its logged loop under the
+//! direction-dependent, an offset, force = gain × command; or [`lugre::LuGreDrive`]: LuGre
+//! friction with a bristle state) runs in its logged loop under the
 //! record's own discrete controller ([`controller::Controller`]), advanced exactly over each
 //! sample ([`model::Rigid::step`]). The fit starts from the inverse model ([`idim::idim_ls`])
 //! and refines by Levenberg–Marquardt on the simulation error ([`fit::fit_drive`]) with the
@@ -17,6 +18,7 @@ pub mod fit;
 pub mod identifiability;
 pub mod idim;
 pub mod lm;
+pub mod lugre;
 pub mod model;
 pub mod record;
 pub mod score;
@@ -28,10 +30,13 @@ pub use controller::{Controller, Reproduction, reproduce};
 pub use error::DriveError;
 pub use fit::{DriveFit, ExperimentScore, FitSpec, OutputKind, fit_drive, score_all};
 pub use idim::{IdimFit, IdimOptions, idim_ls};
-pub use model::{Axis, FrictionLaw, Motion, Rigid};
+pub use lugre::LuGreDrive;
+pub use model::{Axis, Drive, FrictionLaw, Motion, Rigid};
 pub use record::Experiment;
 pub use score::{Score, score};
 pub use simulate::{Simulated, simulate};
 
 #[cfg(test)]
 mod tests;
+#[cfg(test)]
+mod tests_lugre;

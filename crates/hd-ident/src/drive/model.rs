@@ -1,16 +1,19 @@
 //! The rigid drive that `hdw fit drive` identifies: one inertia (or mass) driven by a force
-//! (or torque) proportional to a command, against Coulomb + viscous friction that may differ
-//! by direction and a constant offset:
+//! (or torque) proportional to a command, against friction and a constant offset. With
+//! Coulomb + viscous friction (which may differ by direction):
 //!
 //! `M·ẍ = g·u − F_f(ẋ) − offset`, `F_f(v) = Fv±·v + Fc±·sign(v)` (the `+` values for v > 0, the
 //! `−` values for v < 0), sticking at v = 0 while |g·u − offset| does not exceed the Coulomb
 //! level of the direction it pushes.
+//!
+//! With LuGre friction (a bristle state, Stribeck levels) the drive is [`LuGreDrive`].
 //!
 //! Units follow the axis ([`Axis`]): a linear axis (ball screw, belt) in kg, N, m; a rotary
 //! one in kg·m², N·m, rad. The parameter names are the friction law's ([`FrictionLaw::names`])
 //! plus the drive gain `gain` [N/V or N·m/V].
 
 use super::dual::Scalar;
+use super::lugre::LuGreDrive;
 
 /// What kind of motion the axis makes; sets the units of every parameter and output.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
@@ -59,11 +62,25 @@ impl Axis {
                     "kg·m²"
                 }
             }
-            n if n.starts_with("Fv") => {
+            n if n.starts_with("Fv") || n == "sigma1" => {
                 if lin {
                     "N·s/m"
                 } else {
                     "N·m·s/rad"
+                }
+            }
+            "sigma0" => {
+                if lin {
+                    "N/m"
+                } else {
+                    "N·m/rad"
+                }
+            }
+            "vs" => {
+                if lin {
+                    "m/s"
+                } else {
+                    "rad/s"
                 }
             }
             "gain" => {
@@ -86,18 +103,46 @@ pub enum FrictionLaw {
     /// Separate viscous and Coulomb levels for positive and negative speeds (they absorb
     /// the offset, which is not separable from them).
     Directional,
+    /// LuGre: bristle stiffness σ0 and damping σ1, viscous Fv, Coulomb Fc and static Fs
+    /// levels with Stribeck speed vs, the same both ways, plus an offset.
+    LuGre,
+    /// LuGre with viscous, Coulomb and static levels for each direction (one Stribeck
+    /// speed, one bristle); the levels absorb the offset.
+    DirectionalLuGre,
 }
 
 impl FrictionLaw {
     /// Every law, in the order `--friction all` fits them.
-    pub const ALL: [FrictionLaw; 2] = [FrictionLaw::CoulombViscous, FrictionLaw::Directional];
+    pub const ALL: [FrictionLaw; 4] = [
+        FrictionLaw::CoulombViscous,
+        FrictionLaw::Directional,
+        FrictionLaw::LuGre,
+        FrictionLaw::DirectionalLuGre,
+    ];
 
     /// The name used in configurations and reports.
     pub fn name(self) -> &'static str {
         match self {
             FrictionLaw::CoulombViscous => "coulomb-viscous",
             FrictionLaw::Directional => "directional",
+            FrictionLaw::LuGre => "lugre",
+            FrictionLaw::DirectionalLuGre => "directional-lugre",
         }
+    }
+
+    /// The Coulomb–viscous law with the same directions: the inverse-model start and the
+    /// first fit of a LuGre law, whose values start the LuGre fit.
+    pub fn base(self) -> FrictionLaw {
+        match self {
+            FrictionLaw::LuGre => FrictionLaw::CoulombViscous,
+            FrictionLaw::DirectionalLuGre => FrictionLaw::Directional,
+            l => l,
+        }
+    }
+
+    /// Whether the law carries a bristle state.
+    pub fn is_lugre(self) -> bool {
+        self.base() != self
     }
 
     /// Parse a law's name.
@@ -111,13 +156,20 @@ impl FrictionLaw {
         match self {
             FrictionLaw::CoulombViscous => &["M", "Fv", "Fc", "offset", "gain"],
             FrictionLaw::Directional => &["M", "Fv_pos", "Fc_pos", "Fv_neg", "Fc_neg", "gain"],
+            FrictionLaw::LuGre => {
+                &["M", "Fv", "Fc", "offset", "Fs", "vs", "sigma0", "sigma1", "gain"]
+            }
+            FrictionLaw::DirectionalLuGre => &[
+                "M", "Fv_pos", "Fc_pos", "Fv_neg", "Fc_neg", "Fs_pos", "Fs_neg", "vs", "sigma0",
+                "sigma1", "gain",
+            ],
         }
     }
 
     /// The drive described by parameter vector `p` (in the order of [`FrictionLaw::names`]).
-    pub fn drive<T: Scalar>(self, p: &[T]) -> Rigid<T> {
+    pub fn drive<T: Scalar>(self, p: &[T]) -> Drive<T> {
         match self {
-            FrictionLaw::CoulombViscous => Rigid {
+            FrictionLaw::CoulombViscous => Drive::Rigid(Rigid {
                 m: p[0],
                 fv_pos: p[1],
                 fc_pos: p[2],
@@ -125,8 +177,8 @@ impl FrictionLaw {
                 fc_neg: p[2],
                 offset: p[3],
                 gain: p[4],
-            },
-            FrictionLaw::Directional => Rigid {
+            }),
+            FrictionLaw::Directional => Drive::Rigid(Rigid {
                 m: p[0],
                 fv_pos: p[1],
                 fc_pos: p[2],
@@ -134,7 +186,62 @@ impl FrictionLaw {
                 fc_neg: p[4],
                 offset: T::cst(0.0),
                 gain: p[5],
-            },
+            }),
+            FrictionLaw::LuGre => Drive::LuGre(LuGreDrive {
+                m: p[0],
+                fv_pos: p[1],
+                fv_neg: p[1],
+                fc_pos: p[2],
+                fc_neg: p[2],
+                offset: p[3],
+                fs_pos: p[4],
+                fs_neg: p[4],
+                vs: p[5],
+                sigma0: p[6],
+                sigma1: p[7],
+                gain: p[8],
+            }),
+            FrictionLaw::DirectionalLuGre => Drive::LuGre(LuGreDrive {
+                m: p[0],
+                fv_pos: p[1],
+                fc_pos: p[2],
+                fv_neg: p[3],
+                fc_neg: p[4],
+                fs_pos: p[5],
+                fs_neg: p[6],
+                vs: p[7],
+                sigma0: p[8],
+                sigma1: p[9],
+                offset: T::cst(0.0),
+                gain: p[10],
+            }),
+        }
+    }
+}
+
+/// A drive of either kind.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Drive<T> {
+    /// Coulomb + viscous friction, stepped exactly.
+    Rigid(Rigid<T>),
+    /// LuGre friction.
+    LuGre(LuGreDrive<T>),
+}
+
+impl<T: Scalar> Drive<T> {
+    /// Force per unit command [N/V or N·m/V].
+    pub fn gain(&self) -> T {
+        match self {
+            Drive::Rigid(d) => d.gain,
+            Drive::LuGre(d) => d.gain,
+        }
+    }
+
+    /// The motion after `h` [s] under the constant drive force `f` [N or N·m] from `s`.
+    pub fn step(&self, s: Motion<T>, f: T, h: f64) -> Motion<T> {
+        match self {
+            Drive::Rigid(d) => d.step(s, f, h),
+            Drive::LuGre(d) => d.step(s, f, h),
         }
     }
 }
@@ -158,13 +265,26 @@ pub struct Rigid<T> {
     pub gain: T,
 }
 
-/// Position and speed of the drive [m, m/s or rad, rad/s].
+/// Position and speed of the drive [m, m/s or rad, rad/s], and the LuGre bristle force and
+/// mean friction force of the last substep [N or N·m] (both zero for Coulomb–viscous
+/// friction).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Motion<T> {
     /// Position.
     pub x: T,
     /// Speed.
     pub v: T,
+    /// Bristle force σ0·z.
+    pub w: T,
+    /// Mean friction force over the last substep (the next step's predictor starts from it).
+    pub friction: T,
+}
+
+impl<T: Scalar> Motion<T> {
+    /// At rest at `x`, bristle unloaded.
+    pub fn rest(x: T) -> Self {
+        Motion { x, v: T::cst(0.0), w: T::cst(0.0), friction: T::cst(0.0) }
+    }
 }
 
 /// `(1 − e^{−a·t})/a` and `(a·t − 1 + e^{−a·t})/a²`: the speed and position responses of a
@@ -201,7 +321,7 @@ impl<T: Scalar> Rigid<T> {
             } else if net.re() < -self.fc_neg.re() {
                 -1.0
             } else {
-                return Motion { x: s.x, v: T::cst(0.0) }; // sticks for the rest of the step
+                return Motion { v: T::cst(0.0), ..s }; // sticks for the rest of the step
             };
             let (fv, fc) =
                 if dir > 0.0 { (self.fv_pos, self.fc_pos) } else { (self.fv_neg, self.fc_neg) };
@@ -214,14 +334,14 @@ impl<T: Scalar> Rigid<T> {
                     if a.re() == 0.0 { s.v / (-acc0) } else { (a * s.v / (-acc0)).ln_1p() / a };
                 if stop.re() < left.re() {
                     let (p1, p2) = lag_integrals(a, stop);
-                    s = Motion { x: s.x + s.v * p1 + acc0 * p2, v: T::cst(0.0) };
+                    s = Motion { x: s.x + s.v * p1 + acc0 * p2, v: T::cst(0.0), ..s };
                     left = left - stop;
                     continue;
                 }
             }
             let (p1, p2) = lag_integrals(a, left);
             let e = (-(a * left)).exp();
-            return Motion { x: s.x + s.v * p1 + acc0 * p2, v: s.v * e + acc0 * p1 };
+            return Motion { x: s.x + s.v * p1 + acc0 * p2, v: s.v * e + acc0 * p1, ..s };
         }
         s
     }

@@ -5,11 +5,14 @@
 use super::config::{DelayChoice, DriveConfig};
 use super::controller::{Controller, Reproduction, reproduce};
 use super::error::DriveError;
-use super::fit::{FitSpec, OutputKind, noise_level};
+use super::fit::{DriveFit, FitSpec, OutputKind, noise_level};
 use super::idim::{IdimFit, idim_ls};
 use super::lm::LmSettings;
 use super::model::FrictionLaw;
 use super::record::Experiment;
+
+/// Relative cost change below which a LuGre fit stops.
+pub const LUGRE_COST_TOLERANCE: f64 = 1e-7;
 
 /// The controller of the configuration with the delay it asks for, and the reproduction
 /// check of every delay considered on every experiment (averaged in quadrature over the
@@ -113,7 +116,10 @@ pub fn start(
     }
 }
 
-/// The fit of `law`: start (inverse model, then `[params]`), free set, bounds.
+/// The fit of `law`: start, free set, bounds. Start values come from `[params]`, else
+/// (LuGre laws) the fitted base law `base`, else the inverse model, else (the LuGre
+/// parameters) [`lugre_start`].
+#[allow(clippy::too_many_arguments)]
 pub fn spec(
     cfg: &DriveConfig,
     file: &str,
@@ -122,6 +128,8 @@ pub fn spec(
     gain: f64,
     outputs: &[(OutputKind, f64)],
     idim: Option<&IdimFit>,
+    base: Option<&DriveFit>,
+    experiments: &[Experiment],
 ) -> Result<FitSpec, DriveError> {
     let names = law.names();
     let fix = cfg.fix();
@@ -129,10 +137,13 @@ pub fn spec(
     for &n in names {
         let from_idim =
             idim.and_then(|f| f.names.iter().position(|m| *m == n).map(|k| f.values[k]));
+        let from_base =
+            base.and_then(|f| f.names.iter().position(|m| *m == n).map(|k| f.values[k]));
         let v = match (cfg.params.get(n), n) {
             (Some(&v), _) => v,
             (None, "gain") => gain,
-            (None, _) => from_idim.ok_or_else(|| {
+            (None, n) if law.is_lugre() && !law.base().names().contains(&n) => f64::NAN,
+            (None, _) => from_base.or(from_idim).ok_or_else(|| {
                 DriveError::config(
                     format!("{file}, [params] {n}"),
                     format!("no start value for {n} ({} friction); give it in [params] or use [start] method = \"idim\"", law.name()),
@@ -141,12 +152,25 @@ pub fn spec(
         };
         start.push(v);
     }
+    if law.is_lugre() {
+        for (k, v) in lugre_start(law, &start, experiments) {
+            if !cfg.params.contains_key(names[k]) {
+                start[k] = v;
+            }
+        }
+    }
+    // A bristle–mass oscillation above the Nyquist frequency is not seen by the record:
+    // σ0 ≤ M·(π/h)², σ1 at most twice the critical damping there.
+    let m = names.iter().position(|n| *n == "M").map(|k| start[k]).unwrap_or(f64::NAN);
+    let sigma0_max = m * (std::f64::consts::PI / experiments[0].h).powi(2);
     let (mut lower, mut upper) = (Vec::new(), Vec::new());
     for (k, &n) in names.iter().enumerate() {
         let (lo, hi) = match cfg.bounds.get(n) {
             Some(&[lo, hi]) => (lo, hi),
             None if n == "offset" => (f64::NEG_INFINITY, f64::INFINITY),
-            None if n == "M" || n == "gain" => (1e-12, f64::INFINITY),
+            None if n == "sigma0" => (1e-12, sigma0_max),
+            None if n == "sigma1" => (0.0, 4.0 * (sigma0_max * m).sqrt()),
+            None if ["M", "gain", "sigma0", "vs"].contains(&n) => (1e-12, f64::INFINITY),
             None => (0.0, f64::INFINITY),
         };
         // A start outside the bounds is moved inside.
@@ -166,7 +190,80 @@ pub fn spec(
         upper,
         settings: LmSettings {
             max_iterations: cfg.fit.max_iterations.unwrap_or(LmSettings::default().max_iterations),
-            ..LmSettings::default()
+            // LuGre's σ0–σ1 valley is long and flat: stop once an iteration gains less than a
+            // ten-millionth of the cost (for EMPS, 0.04 in the noise-weighted sum of squares,
+            // far below a significant change).
+            cost_tolerance: if law.is_lugre() {
+                LUGRE_COST_TOLERANCE
+            } else {
+                LmSettings::default().cost_tolerance
+            },
         },
     })
+}
+
+/// Start values of a LuGre law's own parameters (index in [`FrictionLaw::names`], value),
+/// from the start of its Coulomb–viscous levels `start` (the base law's fit) and the record:
+/// static levels Fs± 20 % above the Coulomb levels ([`stribeck_variants`] adds the start
+/// 20 % below); the Stribeck speed vs a tenth of the record's RMS speed (from differences of
+/// the measured position); the bristle stiffness σ0 such that the bristle–mass oscillation
+/// √(σ0/M) sits at a fortieth of the sample rate (a pre-sliding spring well resolved by the
+/// samples; the bounds let it rise to the Nyquist frequency); the bristle damping
+/// σ1 = 0.2·√(σ0·M), a tenth of the critical damping of that oscillation.
+pub fn lugre_start(
+    law: FrictionLaw,
+    start: &[f64],
+    experiments: &[Experiment],
+) -> Vec<(usize, f64)> {
+    let names = law.names();
+    let at = |n: &str| names.iter().position(|m| *m == n);
+    let value = |n: &str| at(n).map(|k| start[k]).unwrap_or(f64::NAN);
+    let m = value("M");
+    let h = experiments[0].h;
+    let (mut ss, mut count) = (0.0, 0usize);
+    for e in experiments {
+        for w in e.position.windows(2) {
+            ss += ((w[1] - w[0]) / e.h).powi(2);
+            count += 1;
+        }
+    }
+    let rms_speed = (ss / count.max(1) as f64).sqrt();
+    let omega = std::f64::consts::TAU / (40.0 * h);
+    let sigma0 = m * omega * omega;
+    let mut out = Vec::new();
+    for (fs, fc) in [("Fs", "Fc"), ("Fs_pos", "Fc_pos"), ("Fs_neg", "Fc_neg")] {
+        if let Some(k) = at(fs) {
+            out.push((k, 1.2 * value(fc)));
+        }
+    }
+    for (n, v) in
+        [("vs", 0.1 * rms_speed), ("sigma0", sigma0), ("sigma1", 0.2 * (sigma0 * m).sqrt())]
+    {
+        if let Some(k) = at(n) {
+            out.push((k, v));
+        }
+    }
+    out
+}
+
+/// The starts a LuGre fit runs from: `spec` itself and, unless `[params]` sets them, the
+/// same with the static levels Fs± 20 % below the Coulomb levels instead of above (a record
+/// may favour friction that falls, or rises, towards rest; from the wrong side the Stribeck
+/// hump can collapse, vs → 0, before the levels move). The fit keeps the lower cost.
+pub fn stribeck_variants(cfg: &DriveConfig, spec: &FitSpec) -> Vec<FitSpec> {
+    let names = spec.law.names();
+    let mut below = spec.clone();
+    let mut changed = false;
+    for (fs, fc) in [("Fs", "Fc"), ("Fs_pos", "Fc_pos"), ("Fs_neg", "Fc_neg")] {
+        let (Some(i), Some(j)) =
+            (names.iter().position(|n| *n == fs), names.iter().position(|n| *n == fc))
+        else {
+            continue;
+        };
+        if !cfg.params.contains_key(fs) {
+            below.start[i] = (0.8 * spec.start[j]).clamp(spec.lower[i], spec.upper[i]);
+            changed = true;
+        }
+    }
+    if changed { vec![spec.clone(), below] } else { vec![spec.clone()] }
 }

@@ -33,14 +33,14 @@ pub fn simulate<T: Scalar>(
     let mut q: Vec<T> = Vec::with_capacity(n);
     let mut computed: Vec<T> = Vec::with_capacity(n);
     let mut applied: Vec<T> = Vec::with_capacity(n);
-    let mut s = Motion { x: T::cst(e.position[0]), v: T::cst(0.0) };
+    let mut s = Motion::rest(T::cst(e.position[0]));
     q.push(s.x);
     for k in 0..n {
         computed.push(c.clamp(c.law(e.reference[k], &q, k) + e.disturbance[k]));
         let u = if k >= c.delay { computed[k - c.delay] } else { T::cst(e.command[k]) };
         applied.push(u);
         if k + 1 < n {
-            s = drive.step(s, drive.gain * u, e.h);
+            s = drive.step(s, drive.gain() * u, e.h);
             q.push(s.x);
         }
     }

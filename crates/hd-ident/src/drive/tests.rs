@@ -8,14 +8,25 @@ use super::dual::{Dual, Scalar};
 use super::fit::{FitSpec, OutputKind, fit_drive};
 use super::idim::{IdimOptions, idim_ls};
 use super::lm::LmSettings;
-use super::model::{FrictionLaw, Motion, Rigid};
+use super::model::{Drive, FrictionLaw, Motion, Rigid};
 use super::record::Experiment;
 use super::simulate::simulate;
+
+/// The Coulomb–viscous laws (LuGre has its own tests, tests_lugre.rs).
+const RIGID: [FrictionLaw; 2] = [FrictionLaw::CoulombViscous, FrictionLaw::Directional];
+
+/// The rigid drive of `law` with parameters `p`.
+fn rigid(law: FrictionLaw, p: &[f64]) -> Rigid<f64> {
+    match law.drive(p) {
+        Drive::Rigid(d) => d,
+        Drive::LuGre(_) => panic!("{} is not a Coulomb–viscous law", law.name()),
+    }
+}
 
 /// EMPS-like values: M, Fv, Fc, offset, gain.
 const TRUTH: [f64; 5] = [95.0, 200.0, 20.0, -3.0, 35.0];
 
-fn controller(delay: usize) -> Controller {
+pub(super) fn controller(delay: usize) -> Controller {
     Controller {
         kp: 160.0,
         kv: 243.0,
@@ -28,7 +39,7 @@ fn controller(delay: usize) -> Controller {
 
 /// A record of `law` with parameters `p` following a reference with smooth moves both ways
 /// and dwells (so the drive stops and sticks), `n` samples at 1 kHz.
-fn record(law: FrictionLaw, p: &[f64], delay: usize, n: usize) -> Experiment {
+pub(super) fn record(law: FrictionLaw, p: &[f64], delay: usize, n: usize) -> Experiment {
     let h = 1e-3;
     let t: Vec<f64> = (0..n).map(|k| k as f64 * h).collect();
     let reference: Vec<f64> = t
@@ -89,7 +100,7 @@ fn fine(d: &Rigid<f64>, mut x: f64, mut v: f64, f: f64, h: f64) -> (f64, f64) {
 
 #[test]
 fn exact_step_matches_a_fine_integration() {
-    let d = FrictionLaw::Directional.drive(&[2.0, 30.0, 5.0, 45.0, 8.0, 1.0]);
+    let d = rigid(FrictionLaw::Directional, &[2.0, 30.0, 5.0, 45.0, 8.0, 1.0]);
     let h = 0.02;
     // (v0, force): slide on; decelerate to rest and stick; stop and slide back; break away; stay stuck.
     for (v0, f) in [
@@ -101,7 +112,7 @@ fn exact_step_matches_a_fine_integration() {
         (0.0, 4.0),
         (-0.2, 3.0),
     ] {
-        let s = d.step(Motion { x: 0.1, v: v0 }, f, h);
+        let s = d.step(Motion { v: v0, ..Motion::rest(0.1) }, f, h);
         let (x, v) = fine(&d, 0.1, v0, f, h);
         assert!(
             (s.x - x).abs() < 1e-8 && (s.v - v).abs() < 1e-5,
@@ -115,14 +126,14 @@ fn sensitivities_match_central_differences() {
     // A relative step of 1e-6: small enough that no stop or stick decision of the record
     // changes between the ± trials (a larger one flips some, and the difference quotient then
     // measures a jump, not a derivative).
-    for law in FrictionLaw::ALL {
+    for law in RIGID {
         let p: Vec<f64> = match law {
             FrictionLaw::CoulombViscous => TRUTH.to_vec(),
-            FrictionLaw::Directional => vec![95.0, 170.0, 20.0, 240.0, 21.0, 35.0],
+            _ => vec![95.0, 170.0, 20.0, 240.0, 21.0, 35.0],
         };
         let e = record(law, &p, 0, 3000);
         let c = controller(0);
-        let pd: Vec<Dual> = p.iter().enumerate().map(|(k, &v)| Dual::var(v, k)).collect();
+        let pd: Vec<Dual<8>> = p.iter().enumerate().map(|(k, &v)| Dual::var(v, k)).collect();
         let sd = simulate(law, &pd, &c, &e);
         for k in 0..p.len() {
             let dp = 1e-6 * p[k].abs();
@@ -184,10 +195,10 @@ fn inverse_model_recovers_the_parameters_of_a_clean_record() {
 
 #[test]
 fn output_error_fit_recovers_the_parameters_from_a_poor_start() {
-    for law in FrictionLaw::ALL {
+    for law in RIGID {
         let truth: Vec<f64> = match law {
             FrictionLaw::CoulombViscous => TRUTH.to_vec(),
-            FrictionLaw::Directional => vec![95.0, 170.0, 20.0, 240.0, 21.0, 35.0],
+            _ => vec![95.0, 170.0, 20.0, 240.0, 21.0, 35.0],
         };
         let e = record(law, &truth, 0, 8000);
         let n = truth.len();
@@ -231,10 +242,10 @@ fn output_error_fit_recovers_the_parameters_from_a_poor_start() {
 
 #[test]
 fn constant_force_below_the_coulomb_level_holds() {
-    let d: Rigid<f64> = FrictionLaw::CoulombViscous.drive(&TRUTH);
-    let s = d.step(Motion { x: 0.2, v: 0.0 }, 16.0, 1e-3); // 16 − (−3) = 19 < 20
-    assert_eq!(s, Motion { x: 0.2, v: 0.0 });
-    let s = d.step(Motion { x: 0.2, v: 0.0 }, 17.5, 1e-3); // 20.5 > 20: breaks away
+    let d = rigid(FrictionLaw::CoulombViscous, &TRUTH);
+    let s = d.step(Motion::rest(0.2), 16.0, 1e-3); // 16 − (−3) = 19 < 20
+    assert_eq!(s, Motion::rest(0.2));
+    let s = d.step(Motion::rest(0.2), 17.5, 1e-3); // 20.5 > 20: breaks away
     assert!(s.v > 0.0 && s.x > 0.2);
-    let _ = Dual::cst(0.0).re();
+    let _ = Dual::<4>::cst(0.0).re();
 }

@@ -99,6 +99,31 @@ impl LuGre {
         BristleStep { w, d_w0: decay, grad }
     }
 
+    /// [`LuGre::step_held`] together with ∂w₁/∂v [N·m·s/rad] at fixed w₀ and parameters,
+    /// for callers whose speed is itself computed (a simulated drive carries the step's
+    /// sensitivity to the speed on to its parameters). With w_ss = sign(v)·G(v) and
+    /// λ = σ0·|v|/G: ∂w₁/∂v = sign(v)·G′·(1 − e^{−λh}) − (w₀ − w_ss)·e^{−λh}·h·∂λ/∂v,
+    /// ∂λ/∂v = σ0·(sign(v)·G − |v|·G′)/G². At v = 0 the two one-sided limits differ by the
+    /// |v| term (∓ w₀·σ0·h/G); their mean σ0·h is returned.
+    pub fn step_held_with_speed(&self, v: f64, w0: f64, h: f64) -> (BristleStep, f64) {
+        let step = self.step_held(v, w0, h);
+        if h <= 0.0 {
+            return (step, 0.0);
+        }
+        if v == 0.0 {
+            return (step, self.sigma0 * h);
+        }
+        let (g, g_v) = self.stribeck(v);
+        let (sv, av) = (v.signum(), v.abs());
+        let lambda = self.sigma0 * av / g;
+        let decay = (-lambda * h).exp();
+        let rise = -(-lambda * h).exp_m1();
+        let w_ss = sv * g;
+        let d_lambda = self.sigma0 * (sv * g - av * g_v) / (g * g);
+        let d_v = sv * g_v * rise - (w0 - w_ss) * decay * h * d_lambda;
+        (step, d_v)
+    }
+
     /// One sample interval of a speed record read as linear from v₀ to v₁ [rad/s] over
     /// `h` [s]: stepped at the mean speed, or, when the speed changes sign inside, in two
     /// parts split at the zero crossing, each at its own mean (v₀/2, then v₁/2).

@@ -197,3 +197,22 @@ fn along(l: &LuGre, t: &[f64], v: &[f64]) -> (Vec<f64>, Vec<f64>, Vec<ShapeGrad>
     }
     (w, s, dw, ds)
 }
+
+/// ∂w₁/∂v of [`LuGre::step_held_with_speed`] against central differences in v, on both
+/// sides, with the state behind, at and ahead of its steady level.
+#[test]
+fn speed_slope_matches_central_differences() {
+    let l = law(2e3);
+    for v in [-0.03, -0.004, 0.002, 0.01, 0.05] {
+        for w0 in [-0.3, 0.0, 0.2] {
+            let (step, d_v) = l.step_held_with_speed(v, w0, 1e-3);
+            assert_eq!(step, l.step_held(v, w0, 1e-3));
+            let dv = 1e-7 * v.abs();
+            let fd =
+                (l.step_held(v + dv, w0, 1e-3).w - l.step_held(v - dv, w0, 1e-3).w) / (2.0 * dv);
+            assert!((fd - d_v).abs() <= 1e-6 * fd.abs().max(1.0), "v {v}, w0 {w0}: {fd} vs {d_v}");
+        }
+    }
+    // At rest: the bristle integrates the speed, ∂w₁/∂v = σ0·h.
+    assert_eq!(l.step_held_with_speed(0.0, 0.1, 1e-3).1, 2e3 * 1e-3);
+}

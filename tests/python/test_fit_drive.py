@@ -1,0 +1,53 @@
+"""hdw.fit_drive against `hdw fit drive` on the shipped EMPS estimation run: the same fit.json
+(only the wall times differ), the values of the best law, the outputs written where asked,
+and a refused configuration as a ValueError naming the file and the field."""
+
+import pytest
+
+import hdw
+from hdw_cli import HDW, ROOT, hdw as run_cli, read_json, without
+
+VARYING = {"seconds", "config"}
+
+
+def config(tmp_path, friction="coulomb-viscous"):
+    """The shipped EMPS configuration with one friction law, its record by absolute path."""
+    text = (ROOT / "data" / "emps" / "fit.toml").read_text()
+    data = ROOT / "data" / "emps" / "DATA_EMPS.mat"
+    text = text.replace('friction = "all"', f'friction = "{friction}"')
+    text = text.replace('file = "DATA_EMPS.mat"', f'file = "{data.as_posix()}"')
+    path = tmp_path / "fit.toml"
+    path.write_text(text)
+    return path
+
+
+def test_fit_drive_matches_the_cli(tmp_path):
+    cfg = config(tmp_path)
+    run_cli("fit", "drive", "--config", cfg, "--out", tmp_path / "cli")
+    fit = hdw.fit_drive(cfg, hdw=HDW)
+    expected = read_json(tmp_path / "cli" / "fit.json")
+    assert without(fit.report, VARYING) == without(expected, VARYING)
+    assert fit.best == "coulomb-viscous" and fit.out is None
+    assert set(fit.values) == {"M", "Fv", "Fc", "offset", "gain"}
+    # The published IDIM-LS mass is 95.11 kg; the output-error fit stays close to it.
+    assert abs(fit.values["M"] - 95.11) < 1.0
+    est = fit.scores()["estimation"]
+    assert 0.0 < est["force"]["rel_error"] < 10.0
+    assert "Controller check" in fit.summary
+
+
+def test_fit_drive_writes_where_asked(tmp_path):
+    cfg = config(tmp_path, "directional")
+    out = tmp_path / "out"
+    fit = hdw.fit_drive(cfg, out=out, hdw=HDW)
+    assert fit.out == out
+    for f in ["fit.json", "params.toml", "report.md", "force.svg"]:
+        assert (out / f).is_file(), f
+    assert fit.laws["directional"] == fit.values
+
+
+def test_bad_configuration_is_a_value_error(tmp_path):
+    cfg = config(tmp_path)
+    cfg.write_text(cfg.read_text().replace('position = "qm"', 'position = "qx"'))
+    with pytest.raises(ValueError, match="missing variable 'qx'"):
+        hdw.fit_drive(cfg, hdw=HDW)
