@@ -21,10 +21,14 @@ pub fn out_table_frame(t: &OutTable) -> Result<DataFrame, PolarsError> {
         .map(|c| {
             let name: PlSmallStr = c.name.as_str().into();
             match &c.cells {
-                Cells::F64(v) => Column::new(
-                    name,
-                    v.iter().map(|x| x.is_finite().then_some(*x)).collect::<Vec<Option<f64>>>(),
-                ),
+                // Straight into Arrow's buffers (8 bytes a value and a validity bit), not
+                // through a vector of options (16 bytes a value): a long fit's table.
+                Cells::F64(v) if v.iter().all(|x| x.is_finite()) => Column::new(name, v.as_slice()),
+                Cells::F64(v) => {
+                    let ca: Float64Chunked =
+                        v.iter().map(|x| x.is_finite().then_some(*x)).collect();
+                    Column::from(ca.with_name(name).into_series())
+                }
                 Cells::U64(v) => Column::new(name, v),
                 Cells::OptU64(v) => Column::new(name, v),
                 Cells::Text(v) => Column::new(name, v),

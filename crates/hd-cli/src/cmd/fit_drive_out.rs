@@ -1,7 +1,7 @@
 //! The outputs of `hdw fit drive`: fit.json, params.toml, report.md with plots, and the
 //! summary printed to the terminal. Everything is computed before the first file is written.
 
-use super::common::write_json;
+use super::common::{staged_plot, write_json};
 use anyhow::Result;
 use hd_ident::drive::{
     Axis, Controller, DriveFit, Experiment, ExperimentScore, IdimFit, OutputKind, Reproduction,
@@ -129,35 +129,31 @@ fn plots(
         let name = format!("{prefix}{}.svg", kind.name());
         let title =
             format!("{}: {} measured and simulated ({})", e.name, kind.name(), fit.law.name());
-        line_plot(
-            &dir.join(&name),
-            &title,
-            "t [s]",
-            &format!("{} [{unit}]", kind.name()),
-            &[
-                Series::new("measured", e.t.clone(), meas.clone()),
-                Series::new("simulated", e.t.clone(), sim.clone()),
-            ],
-            false,
-        )?;
+        let curves = [
+            Series::new("measured", e.t.clone(), meas.clone()),
+            Series::new("simulated", e.t.clone(), sim.clone()),
+        ];
+        let y_label = format!("{} [{unit}]", kind.name());
+        staged_plot(&dir.join(&name), |p| line_plot(p, &title, "t [s]", &y_label, &curves, false))?;
         files.push(name);
         let name = format!("{prefix}residuals-{}.svg", kind.name());
         let res: Vec<f64> = meas.iter().zip(&sim).map(|(a, b)| a - b).collect();
-        line_plot(
-            &dir.join(&name),
-            &format!("{}: {} residual, measured − simulated", e.name, kind.name()),
-            "t [s]",
-            &format!("residual [{unit}]"),
-            &[Series::new("residual", e.t.clone(), res)],
-            false,
-        )?;
+        let title = format!("{}: {} residual, measured − simulated", e.name, kind.name());
+        let curve = [Series::new("residual", e.t.clone(), res)];
+        let y_label = format!("residual [{unit}]");
+        staged_plot(&dir.join(&name), |p| line_plot(p, &title, "t [s]", &y_label, &curve, false))?;
         files.push(name);
     }
     Ok(files)
 }
 
-/// Write fit.json, params.toml, report.md and the plots; print the summary.
+/// Write fit.json, params.toml, report.md and the plots, all renamed into place together
+/// at the end (or none, on an error: an earlier fit's files stay whole); print the summary.
 pub fn write_outputs(dir: &Path, o: &Outcome) -> Result<()> {
+    hd_io::atomic::group(|| write_all(dir, o))
+}
+
+fn write_all(dir: &Path, o: &Outcome) -> Result<()> {
     let mut order: Vec<usize> = (0..o.fitted.len()).collect();
     order.sort_by(|&a, &b| o.fitted[a].0.bic.total_cmp(&o.fitted[b].0.bic));
     let best = &o.fitted[order[0]].0;
