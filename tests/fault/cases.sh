@@ -115,7 +115,7 @@ printf 'name = "ms"\n[base]\nt_end = 0.01\n[solver]\nmax_steps = 0\n' > ms.toml
 row "study max_steps = 0" o5 "$HDW" study ms.toml --out o5
 printf 'name = "rep"\n[base]\nt_end = 0.01\n[[axis]]\nname = "voltage"\nvalues = [12, 12, 12]\n' > rep.toml
 row "axis values [12, 12, 12]" o6 "$HDW" study rep.toml --out o6
-printf 'name = "slow"\n[base]\nt_end = 20.0\n[[axis]]\nname = "voltage"\nlinspace = { start = 1, stop = 24, num = 40 }\n' > slow.toml
+printf 'name = "slow"\n[base]\nt_end = 500.0\n[[axis]]\nname = "voltage"\nlinspace = { start = 1, stop = 24, num = 40 }\n' > slow.toml
 "$HDW" study slow.toml --out o7 >/dev/null 2>&1 &
 sleep 2
 row "a second study on a running study's folder" o7 "$HDW" study slow.toml --out o7
