@@ -10,7 +10,7 @@
 use crate::data::HysteresisData;
 use crate::error::FitError;
 use crate::fix::Fixed;
-use crate::memory_profile::{MemoryProfile, same_interval};
+use crate::memory_profile::{MemoryProfile, SharedFactors};
 use crate::report::Explanation;
 use crate::separable::{Basis, Separable, SeparableFit, fit_separable};
 use hd_model::laws::stiffness::{CubicSpring, FadingMemory, Hysteretic, StiffnessLaw};
@@ -79,8 +79,8 @@ struct Predictor {
     offset: f64,
     z: f64,
     last: Option<(f64, f64)>,
-    /// The last interval [s] and its step factors ([`FadingMemory::step_factors`]).
-    factors: (f64, (f64, f64)),
+    /// The step factors of the last interval ([`FadingMemory::step_factors`]).
+    factors: SharedFactors<(f64, f64)>,
 }
 
 impl Predictor {
@@ -89,7 +89,7 @@ impl Predictor {
             spring: CubicSpring { a: beta[0], b: beta[1], c: beta[2] },
             memory: FadingMemory { a: beta[3], b: q },
         };
-        let factors = (f64::NAN, (1.0, 1.0));
+        let factors = SharedFactors::new((1.0, 1.0));
         Self { law, offset: if offset { beta[4] } else { 0.0 }, z: 0.0, last: None, factors }
     }
 
@@ -99,10 +99,7 @@ impl Predictor {
             None => 0.0,
             Some((t0, th0)) => {
                 let (h, m) = (t - t0, &self.law.memory);
-                if !same_interval(h, self.factors.0, t) {
-                    self.factors = (h, m.step_factors(h));
-                }
-                let (decay, gain) = self.factors.1;
+                let (decay, gain) = self.factors.at(h, t, |h| m.step_factors(h));
                 self.z = m.step_with(self.z, th - th0, decay, gain);
                 (th - th0) / h
             }
@@ -174,15 +171,12 @@ impl Separable for HysteresisProblem<'_> {
         let mut all = [0.0; 5];
         let mut row = Vec::with_capacity(7);
         // The step factors, shared by intervals equal within the stamps' rounding.
-        let (mut h_last, mut fac) = (f64::NAN, (1.0, 1.0, 0.0));
+        let mut shared = SharedFactors::new((1.0, 1.0, 0.0));
         for k in 0..t.len() {
             if k > 0 {
                 let (d_theta, h) = (th[k] - th[k - 1], t[k] - t[k - 1]);
-                if !same_interval(h, h_last, t[k]) {
-                    fac = m.step_grad_factors(h);
-                    h_last = h;
-                }
-                let (decay, gain, slope) = fac;
+                let (decay, gain, slope) = shared.at(h, t[k], |h| m.step_grad_factors(h));
+                let h_last = shared.interval();
                 zeta = unit.step_with(zeta, d_theta, decay, gain);
                 // ∂z₁/∂B = −h·e^{−Bh}·z₀ + A·Δθ·h·φ′(Bh), carried: ∂z/∂B ← e^{−Bh}·∂z/∂B + that.
                 let d_b = -h_last * decay * z + m.a * d_theta * slope;

@@ -30,6 +30,38 @@ pub(crate) fn same_interval(h: f64, h_last: f64, t: f64) -> bool {
     (h - h_last).abs() <= 4.0 * f64::EPSILON * t.abs() + 8.0 * f64::EPSILON * h
 }
 
+/// A fading-memory law's step factors for the latest sample interval, recomputed only when
+/// the interval differs from the previous one beyond the stamps' rounding
+/// ([`same_interval`]): a uniformly sampled record pays for them once.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct SharedFactors<F: Copy> {
+    h: f64,
+    factors: F,
+}
+
+impl<F: Copy> SharedFactors<F> {
+    /// No interval seen yet; `placeholder` is never returned.
+    pub(crate) fn new(placeholder: F) -> Self {
+        Self { h: f64::NAN, factors: placeholder }
+    }
+
+    /// The factors for interval `h` [s] ending at time `t` [s], from `compute` when `h` is
+    /// a new interval.
+    #[inline]
+    pub(crate) fn at(&mut self, h: f64, t: f64, compute: impl FnOnce(f64) -> F) -> F {
+        if !same_interval(h, self.h, t) {
+            self.factors = compute(h);
+            self.h = h;
+        }
+        self.factors
+    }
+
+    /// The interval the factors belong to [s].
+    pub(crate) fn interval(&self) -> f64 {
+        self.h
+    }
+}
+
 /// The spring part of the hysteresis design, factorised once.
 pub struct MemoryProfile {
     offset: bool,
@@ -95,15 +127,11 @@ impl MemoryProfile {
         let m = FadingMemory { a: 1.0, b };
         let (mut u, mut zz, mut zy) = ([0.0f64; 4], 0.0, 0.0);
         let mut row = [0.0f64; 4];
-        let (mut z, mut h_last, mut factors) = (0.0f64, f64::NAN, (1.0, 1.0));
+        let (mut z, mut shared) = (0.0f64, SharedFactors::new((1.0, 1.0)));
         for i in 0..t.len() {
             if i > 0 {
-                let h = t[i] - t[i - 1];
-                if !same_interval(h, h_last, t[i]) {
-                    factors = m.step_factors(h);
-                    h_last = h;
-                }
-                z = m.step_with(z, theta[i] - theta[i - 1], factors.0, factors.1);
+                let (decay, gain) = shared.at(t[i] - t[i - 1], t[i], |h| m.step_factors(h));
+                z = m.step_with(z, theta[i] - theta[i - 1], decay, gain);
             }
             spring_row(theta[i], self.offset, &mut row);
             for j in 0..k {
@@ -159,15 +187,11 @@ impl MemoryProfile {
         // Row: the fit's order a, b, c (θ³, θ², θ), A (ζ), then the offset; y last.
         let mut qr = StreamingQr::new(k + 2);
         let mut row = [0.0f64; 6];
-        let (mut z, mut h_last, mut factors) = (0.0f64, f64::NAN, (1.0, 1.0));
+        let (mut z, mut shared) = (0.0f64, SharedFactors::new((1.0, 1.0)));
         for i in 0..t.len() {
             if i > 0 {
-                let h = t[i] - t[i - 1];
-                if !same_interval(h, h_last, t[i]) {
-                    factors = m.step_factors(h);
-                    h_last = h;
-                }
-                z = m.step_with(z, theta[i] - theta[i - 1], factors.0, factors.1);
+                let (decay, gain) = shared.at(t[i] - t[i - 1], t[i], |h| m.step_factors(h));
+                z = m.step_with(z, theta[i] - theta[i - 1], decay, gain);
             }
             let th = theta[i];
             row[..4].copy_from_slice(&[th * th * th, th * th, th, z]);
