@@ -10,7 +10,8 @@ use anyhow::{Context, Result, anyhow};
 use clap::Args;
 use hd_ident::drive::config::{ExperimentConfig, NumberOrVariable};
 use hd_ident::drive::{
-    DriveConfig, DriveFit, Experiment, FitSpec, FrictionLaw, fit_drive, score_all, setup,
+    DisturbanceCheck, DriveConfig, DriveFit, Experiment, FitSpec, FrictionLaw, fit_drive,
+    score_all, settle_units, setup,
 };
 use indicatif::{ProgressBar, ProgressStyle};
 use rayon::prelude::*;
@@ -103,7 +104,7 @@ pub fn run(args: DriveArgs) -> Result<()> {
     let cfg = DriveConfig::parse(&text, &file)?;
     let base = args.config.parent().unwrap_or(Path::new("."));
     let axis = cfg.axis(&file)?;
-    let experiments: Vec<Experiment> = cfg
+    let mut experiments: Vec<Experiment> = cfg
         .experiment
         .iter()
         .map(|ec| load(ec, &ec.name, &base.join(&ec.file)))
@@ -112,11 +113,20 @@ pub fn run(args: DriveArgs) -> Result<()> {
     let gain = resolve(&cfg.gain, "gain", &first)?;
     let kp = resolve(&cfg.controller.kp, "[controller] kp", &first)?;
     let kv = resolve(&cfg.controller.kv, "[controller] kv", &first)?;
-    let validation = match &args.validate {
+    let mut validation = match &args.validate {
         Some(p) => Some(load(&cfg.experiment[0], "validation", p)?),
         None => None,
     };
     let (controller, checks) = setup::controller(&cfg, &file, kp, kv, &experiments)?;
+    // A disturbance column's units, as each record's own command shows them.
+    let disturbance: Vec<DisturbanceCheck> = experiments
+        .iter_mut()
+        .chain(validation.as_mut())
+        .filter_map(|e| settle_units(&controller, e, gain))
+        .collect();
+    for d in &disturbance {
+        eprintln!("{}", d.sentence);
+    }
     let outputs = setup::noise(&cfg, &file, gain, &experiments)?;
     let laws = cfg.laws(&file)?;
     let out_kinds: Vec<_> = outputs.iter().map(|o| o.0).collect();
@@ -248,6 +258,7 @@ pub fn run(args: DriveArgs) -> Result<()> {
         gain,
         controller,
         checks,
+        disturbance,
         outputs,
         experiments,
         validation,

@@ -4,8 +4,8 @@
 use super::common::{staged_plot, write_json};
 use anyhow::Result;
 use hd_ident::drive::{
-    Axis, Controller, DriveFit, Experiment, ExperimentScore, IdimFit, OutputKind, Reproduction,
-    simulate,
+    Axis, Controller, DisturbanceCheck, DriveFit, Experiment, ExperimentScore, IdimFit, OutputKind,
+    Reproduction, simulate,
 };
 use hd_plot::{Series, line_plot};
 use serde_json::{Map, Value, json};
@@ -24,6 +24,8 @@ pub struct Outcome {
     pub controller: Controller,
     /// Reproduction of the recorded command per delay.
     pub checks: Vec<Reproduction>,
+    /// The units found for each record's disturbance column.
+    pub disturbance: Vec<DisturbanceCheck>,
     /// Outputs and noise levels.
     pub outputs: Vec<(OutputKind, f64)>,
     /// The fitted experiments.
@@ -205,6 +207,12 @@ fn write_all(dir: &Path, o: &Outcome) -> Result<()> {
             "delay": o.controller.delay,
             "check": o.checks.iter().map(|c| json!({"delay": c.delay, "rms": c.rms, "percent": c.percent})).collect::<Vec<_>>(),
         },
+        "disturbance": o.disturbance.iter().map(|d| json!({
+            "record": d.record,
+            "scale": d.scale,
+            "readings": d.readings.iter().map(|r| json!({"reading": r.name, "scale": r.scale, "rms": r.rms, "percent": r.percent})).collect::<Vec<_>>(),
+            "sentence": d.sentence,
+        })).collect::<Vec<_>>(),
         "noise": o.outputs.iter().map(|(k, s)| (k.name().to_string(), json!(s))).collect::<Map<_, _>>(),
         "best": best.law.name(),
         "parameters": best_json["parameters"],
@@ -253,6 +261,9 @@ fn write_all(dir: &Path, o: &Outcome) -> Result<()> {
         let _ = writeln!(r, "| {} | {:.5} | {:.3} |", c.delay, c.rms, c.percent);
     }
     let _ = writeln!(r, "\nDelay used: {} sample(s).\n", o.controller.delay);
+    for d in &o.disturbance {
+        let _ = writeln!(r, "Disturbance column, {}.\n", d.sentence);
+    }
     let _ = writeln!(
         r,
         "Noise levels: {}.\n",

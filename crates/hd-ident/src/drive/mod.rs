@@ -11,6 +11,7 @@
 
 pub mod config;
 pub mod controller;
+pub mod disturbance;
 pub mod dual;
 pub mod error;
 pub mod filter;
@@ -27,6 +28,7 @@ pub mod simulate;
 
 pub use config::DriveConfig;
 pub use controller::{Controller, Reproduction, reproduce};
+pub use disturbance::{DisturbanceCheck, settle_units};
 pub use error::DriveError;
 pub use fit::{DriveFit, ExperimentScore, FitSpec, OutputKind, fit_drive, score_all};
 pub use idim::{IdimFit, IdimOptions, idim_ls};
