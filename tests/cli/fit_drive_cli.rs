@@ -53,8 +53,9 @@ fn emps_estimation_run_controller_start_and_fits() {
 }
 
 /// A record of the EMPS loop simulated with known parameters under a reference taken from
-/// the shipped run (its first 8 s), with ±1 V pulses added to the command when `pulses`.
-fn write_validation(path: &std::path::Path, pulses: bool, with_column: bool) {
+/// the shipped run (its first 8 s), with ±1 V pulses added to the command when `pulses`;
+/// the pulses column is written as `column_scale` × the pulses (35.15: in newtons).
+fn write_validation(path: &std::path::Path, pulses: bool, with_column: bool, column_scale: f64) {
     let v =
         hd_io::read_mat_vectors(&repo_path("data/emps/DATA_EMPS.mat"), &["t", "qm", "qg"]).unwrap();
     let n = 8000;
@@ -84,7 +85,7 @@ fn write_validation(path: &std::path::Path, pulses: bool, with_column: bool) {
     let mut cols = vec![t, s.position, qg, s.command];
     if with_column {
         names.push("pulses_N");
-        cols.push(p);
+        cols.push(p.iter().map(|v| v * column_scale).collect());
     }
     hd_io::write_columns(path, &names, &cols).unwrap();
 }
@@ -107,6 +108,7 @@ fn validate_reads_the_mapping_and_the_optional_disturbance() {
         ]);
         assert!(out.join("validation-force.svg").is_file());
         let j = json(&out.join("fit.json"));
+        let scale = j["disturbance"].as_array().and_then(|d| d.first()).map(|d| d["scale"].clone());
         let law = j["laws"]
             .as_array()
             .unwrap()
@@ -114,23 +116,32 @@ fn validate_reads_the_mapping_and_the_optional_disturbance() {
             .find(|l| l["law"] == "coulomb-viscous")
             .unwrap()
             .clone();
-        law["validation"]["force"]["rel_error"].as_f64().unwrap()
+        (law["validation"]["force"]["rel_error"].as_f64().unwrap(), scale)
     };
     // With its pulses column, the record is nearly the fitted model's own loop: measured
     // 0.39 % force error, against 5.0 % when the pulses are left out of the simulation.
     let with = dir.path().join("pulses.csv");
-    write_validation(&with, true, true);
-    let e_with = run(&with, "with");
+    write_validation(&with, true, true, 1.0);
+    let (e_with, scale) = run(&with, "with");
     assert!(e_with < 2.0, "{e_with} %");
+    assert_eq!(scale.and_then(|s| s.as_f64()), Some(1.0));
+    // The same pulses logged in newtons: the recorded command shows it, the column is
+    // divided by the gain, and the record is matched as well.
+    let newtons = dir.path().join("pulses-newtons.csv");
+    write_validation(&newtons, true, true, 35.15);
+    let (e_newtons, scale) = run(&newtons, "newtons");
+    assert!((e_newtons - e_with).abs() < 0.05 * e_with, "{e_newtons} vs {e_with}");
+    let s = scale.and_then(|s| s.as_f64()).unwrap();
+    assert!((s * 35.15 - 1.0).abs() < 1e-3, "{s}");
     // Without the column the disturbance is taken as zero (no error), so a record that had
     // pulses is now mis-simulated, and one without pulses is matched again.
     let missing = dir.path().join("pulses-missing.csv");
-    write_validation(&missing, true, false);
-    let e_missing = run(&missing, "missing");
+    write_validation(&missing, true, false, 1.0);
+    let (e_missing, _) = run(&missing, "missing");
     assert!(e_missing > 2.0 * e_with, "{e_missing} vs {e_with}");
     let none = dir.path().join("none.csv");
-    write_validation(&none, false, false);
-    assert!(run(&none, "none") < 2.0);
+    write_validation(&none, false, false, 1.0);
+    assert!(run(&none, "none").0 < 2.0);
 }
 
 #[test]
