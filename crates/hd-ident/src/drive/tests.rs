@@ -131,37 +131,49 @@ fn sensitivities_match_central_differences() {
             FrictionLaw::CoulombViscous => TRUTH.to_vec(),
             _ => vec![95.0, 170.0, 20.0, 240.0, 21.0, 35.0],
         };
-        let e = record(law, &p, 0, 3000);
-        let c = controller(0);
-        let pd: Vec<Dual<8>> = p.iter().enumerate().map(|(k, &v)| Dual::var(v, k)).collect();
-        let sd = simulate(law, &pd, &c, &e);
-        for k in 0..p.len() {
-            let dp = 1e-6 * p[k].abs();
-            let mut up = p.clone();
-            up[k] += dp;
-            let mut dn = p.clone();
-            dn[k] -= dp;
-            let (su, sn) = (simulate(law, &up, &c, &e), simulate(law, &dn, &c, &e));
-            for (sig, a, b) in [
-                (&sd.position, &su.position, &sn.position),
-                (&sd.command, &su.command, &sn.command),
-            ] {
-                let fd: Vec<f64> = a.iter().zip(b).map(|(u, d)| (u - d) / (2.0 * dp)).collect();
-                let ad: Vec<f64> = sig.iter().map(|x| x.d[k]).collect();
-                let norm = fd.iter().map(|v| v * v).sum::<f64>().sqrt();
-                let diff = fd.iter().zip(&ad).map(|(a, b)| (a - b).powi(2)).sum::<f64>().sqrt();
-                // The differences cannot beat rounding: ε·|position|/dp per sample, amplified
-                // in the command by the law's gain on the newest position, kv·(kp + 1/h).
-                let amp =
-                    if std::ptr::eq(sig, &sd.command) { c.kv * (c.kp + 1.0 / c.h) } else { 1.0 };
-                let scale = sd.position.iter().map(|x| x.v * x.v).sum::<f64>().sqrt();
-                let rounding = 2.0 * f64::EPSILON * scale * amp / dp;
-                assert!(
-                    diff <= 1e-6 * norm + rounding,
-                    "{} parameter {k}: |fd − exact| {diff:e} vs |fd| {norm:e}",
-                    law.name()
-                );
-            }
+        assert_exact_derivatives::<8>(law, &p, 3000, 1e-6);
+    }
+}
+
+/// The derivatives that the simulation on dual numbers (of size N) carries, against
+/// central differences of the simulation in f64 with a relative step of 1e-6, over a
+/// record of `n` samples made with parameters `p`: every parameter, position and command,
+/// within `rel` of the difference quotient's norm plus what rounding allows.
+pub(super) fn assert_exact_derivatives<const N: usize>(
+    law: FrictionLaw,
+    p: &[f64],
+    n: usize,
+    rel: f64,
+) {
+    let e = record(law, p, 0, n);
+    let c = controller(0);
+    let pd: Vec<Dual<N>> = p.iter().enumerate().map(|(k, &v)| Dual::var(v, k)).collect();
+    let sd = simulate(law, &pd, &c, &e);
+    for k in 0..p.len() {
+        let dp = 1e-6 * p[k].abs();
+        let mut up = p.to_vec();
+        up[k] += dp;
+        let mut dn = p.to_vec();
+        dn[k] -= dp;
+        let (su, sn) = (simulate(law, &up, &c, &e), simulate(law, &dn, &c, &e));
+        for (sig, a, b) in
+            [(&sd.position, &su.position, &sn.position), (&sd.command, &su.command, &sn.command)]
+        {
+            let fd: Vec<f64> = a.iter().zip(b).map(|(u, d)| (u - d) / (2.0 * dp)).collect();
+            let ad: Vec<f64> = sig.iter().map(|x| x.d[k]).collect();
+            let norm = fd.iter().map(|v| v * v).sum::<f64>().sqrt();
+            let diff = fd.iter().zip(&ad).map(|(a, b)| (a - b).powi(2)).sum::<f64>().sqrt();
+            // The differences cannot beat rounding: ε·|position|/dp per sample, amplified
+            // in the command by the law's gain on the newest position, kv·(kp + 1/h).
+            let amp = if std::ptr::eq(sig, &sd.command) { c.kv * (c.kp + 1.0 / c.h) } else { 1.0 };
+            let scale = sd.position.iter().map(|x| x.v * x.v).sum::<f64>().sqrt();
+            let rounding = 2.0 * f64::EPSILON * scale * amp / dp;
+            assert!(
+                diff <= rel * norm + rounding,
+                "{} {}: |fd − exact| {diff:e} vs |fd| {norm:e}",
+                law.name(),
+                law.names()[k]
+            );
         }
     }
 }

@@ -8,7 +8,7 @@ use super::lm::LmSettings;
 use super::lugre::LuGreDrive;
 use super::model::{Drive, FrictionLaw, Motion};
 use super::simulate::simulate;
-use super::tests::{controller, record};
+use super::tests::{assert_exact_derivatives, controller, record};
 
 /// EMPS-like directional LuGre values (order of [`FrictionLaw::names`]): M, Fv_pos, Fc_pos,
 /// Fv_neg, Fc_neg, Fs_pos, Fs_neg, vs, sigma0, sigma1, gain.
@@ -99,38 +99,7 @@ fn closed_loop_matches_a_fine_integration() {
 #[test]
 fn sensitivities_match_central_differences() {
     for law in [FrictionLaw::LuGre, FrictionLaw::DirectionalLuGre] {
-        let p = truth(law);
-        let e = record(law, &p, 0, 2000);
-        let c = controller(0);
-        let pd: Vec<Dual<12>> = p.iter().enumerate().map(|(k, &v)| Dual::var(v, k)).collect();
-        let sd = simulate(law, &pd, &c, &e);
-        for k in 0..p.len() {
-            let dp = 1e-6 * p[k].abs();
-            let mut up = p.clone();
-            up[k] += dp;
-            let mut dn = p.clone();
-            dn[k] -= dp;
-            let (su, sn) = (simulate(law, &up, &c, &e), simulate(law, &dn, &c, &e));
-            for (sig, a, b) in [
-                (&sd.position, &su.position, &sn.position),
-                (&sd.command, &su.command, &sn.command),
-            ] {
-                let fd: Vec<f64> = a.iter().zip(b).map(|(u, d)| (u - d) / (2.0 * dp)).collect();
-                let ad: Vec<f64> = sig.iter().map(|x| x.d[k]).collect();
-                let norm = fd.iter().map(|v| v * v).sum::<f64>().sqrt();
-                let diff = fd.iter().zip(&ad).map(|(a, b)| (a - b).powi(2)).sum::<f64>().sqrt();
-                let amp =
-                    if std::ptr::eq(sig, &sd.command) { c.kv * (c.kp + 1.0 / c.h) } else { 1.0 };
-                let scale = sd.position.iter().map(|x| x.v * x.v).sum::<f64>().sqrt();
-                let rounding = 2.0 * f64::EPSILON * scale * amp / dp;
-                assert!(
-                    diff <= 1e-5 * norm + rounding,
-                    "{} {}: |fd − exact| {diff:e} vs |fd| {norm:e}",
-                    law.name(),
-                    law.names()[k]
-                );
-            }
-        }
+        assert_exact_derivatives::<12>(law, &truth(law), 2000, 1e-5);
     }
     let _ = Dual::<4>::cst(1.0).re();
 }
