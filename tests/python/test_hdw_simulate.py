@@ -135,3 +135,16 @@ def test_every_method_matches_the_cli_and_agrees_with_a_tight_solve(tmp_path, me
     ref = hdw.simulate(method="dopri5", rtol=1e-11, atol=1e-14, t_end=0.1, trace=False)
     amp = ref.metrics["thz_amp"]
     assert abs(r.metrics["thz_amp"] - amp) < 2e-8 * amp
+
+
+def test_states_only_are_the_full_traces_columns():
+    """`states=` records only state columns, read without the other signals: the same
+    numbers as the full trace's columns, to the bit, and the same metrics."""
+    full = hdw.simulate(t_end=0.1, dt_out=1e-3)
+    few = hdw.simulate(t_end=0.1, dt_out=1e-3, states=["t", "theta_z", "omega_j"])
+    assert few.trace.columns == ["t", "theta_z", "omega_j"]
+    for name in ["t", "theta_z", "omega_j"]:
+        assert np.array_equal(few.trace[name].to_numpy(), full.trace[name].to_numpy()), name
+    assert few.metrics["thz_amp"] == full.metrics["thz_amp"]
+    with pytest.raises(ValueError, match="Tb"):
+        hdw.simulate(t_end=0.01, states=["t", "Tb"])
