@@ -20,3 +20,4 @@ mod simulate_cli;
 mod stiffness_cli;
 mod study_cli;
 mod sweep_scale;
+mod synth_drive_cli;

@@ -25,3 +25,4 @@ pub mod study;
 pub mod study_json;
 pub mod study_traces;
 pub mod synth;
+pub mod synth_drive;

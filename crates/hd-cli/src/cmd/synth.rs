@@ -1,4 +1,4 @@
-//! `hdw synth hysteresis|friction`: synthetic data from the model, to check what an
+//! `hdw synth hysteresis|friction|drive`: synthetic data from the model, to check what an
 //! experiment can identify before running it.
 
 use super::common::load_params;
@@ -33,6 +33,8 @@ pub enum SynthWhat {
     /// Friction data: a steady-state sweep (omega, torque) or, with --transient, a time
     /// series (t, omega, torque).
     Friction(FrictionSynthArgs),
+    /// The drive under a voltage test, logged as a rig logs it (t, u, i, theta_m, theta_l).
+    Drive(super::synth_drive::DriveSynthArgs),
 }
 
 /// Settings every synthetic data set shares.
@@ -185,6 +187,7 @@ fn write(c: &Common, data: &Synthetic) -> Result<()> {
 /// Run `hdw synth ...`.
 pub fn run(args: SynthArgs) -> Result<()> {
     match args.what {
+        SynthWhat::Drive(a) => super::synth_drive::run(a),
         SynthWhat::Hysteresis(a) => synth_hysteresis_cmd(a),
         SynthWhat::Friction(a) => {
             let p = load_params(a.common.params.as_deref(), &a.common.set)?;
@@ -243,7 +246,7 @@ pub fn run(args: SynthArgs) -> Result<()> {
 pub const MAX_SYNTH_ROWS: f64 = 2e7;
 
 /// Refuse a data set of `rows` rows (what the `flags` multiply to) above [`MAX_SYNTH_ROWS`].
-fn check_rows(rows: f64, flags: &str) -> Result<()> {
+pub(crate) fn check_rows(rows: f64, flags: &str) -> Result<()> {
     if rows.is_nan() || rows > MAX_SYNTH_ROWS {
         bail!(
             "{flags} give {rows:.3e} rows, more than the {MAX_SYNTH_ROWS:e} a synthetic data set may have: ask for fewer samples"

@@ -1,0 +1,64 @@
+//! `hdw synth drive`: the drive under a voltage test, logged with quantised encoders and a
+//! noisy current.
+
+use crate::common::{assert_one_line_error, hdw, hdw_ok, scratch};
+use std::f64::consts::TAU;
+
+fn columns(path: &std::path::Path) -> Vec<Vec<f64>> {
+    let names = ["t", "u", "i", "theta_m", "theta_l", "theta_j_true", "theta_z_true"];
+    hd_io::read_columns(path, &names).unwrap()
+}
+
+#[test]
+fn encoders_are_quantised_and_the_current_carries_the_asked_noise() {
+    let dir = scratch("synth-drive");
+    let (noisy, clean) = (dir.join("noisy.csv"), dir.join("clean.csv"));
+    let base = ["synth", "drive", "--input", "multisine", "--voltage", "10", "--t-end", "0.5"];
+    let run = |out: &std::path::Path, extra: &[&str]| {
+        let mut args = base.to_vec();
+        args.extend_from_slice(extra);
+        args.extend_from_slice(&["--out", out.to_str().unwrap()]);
+        hdw_ok(&args);
+        columns(out)
+    };
+    let c = run(&noisy, &["--current-noise", "0.02"]);
+    let z = run(&clean, &["--current-noise", "0"]);
+    assert_eq!(c[0].len(), 501, "0.5 s logged every 1 ms");
+    // The multisine's peak is the asked voltage; the log, every 1 ms, may step over it.
+    let peak = c[1].iter().fold(0.0f64, |p, v| p.max(v.abs()));
+    assert!(peak <= 10.0 + 1e-9 && peak > 9.5, "{peak}");
+    // Each encoder reads its true angle to within half a count, on whole counts.
+    for (meas, truth, counts) in [(3, 5, 4096.0), (4, 6, 1048576.0)] {
+        let q = TAU / counts;
+        for (m, t) in c[meas].iter().zip(&c[truth]) {
+            assert!((m - t).abs() <= 0.5 * q * (1.0 + 1e-9), "{m} vs {t}");
+            let k = m / q;
+            assert!((k - k.round()).abs() < 1e-6, "{m} is not a whole number of counts");
+        }
+    }
+    // The motor moves by many counts: the test excites it.
+    let span =
+        c[3].iter().fold(f64::MIN, |a, &b| a.max(b)) - c[3].iter().fold(f64::MAX, |a, &b| a.min(b));
+    assert!(span > 50.0 * TAU / 4096.0, "{span}");
+    // The current's noise: its size relative to the clean current's RMS.
+    let n = z[2].len() as f64;
+    let rms = (z[2].iter().map(|v| v * v).sum::<f64>() / n).sqrt();
+    let sd = (c[2].iter().zip(&z[2]).map(|(a, b)| (a - b).powi(2)).sum::<f64>() / n).sqrt();
+    assert!((sd / rms - 0.02).abs() < 0.002, "noise {:.4} of the RMS", sd / rms);
+    // Everything else is the same run.
+    assert_eq!(c[5], z[5]);
+}
+
+#[test]
+fn bad_tests_are_refused_in_one_line() {
+    let dir = scratch("synth-drive-bad");
+    let out = dir.join("x.csv");
+    let o = out.to_str().unwrap();
+    let r = hdw(&["synth", "drive", "--input", "square", "--out", o]);
+    assert_one_line_error(&r, &["--input square", "chirp or multisine"]);
+    let r = hdw(&["synth", "drive", "--sample-period", "0", "--out", o]);
+    assert_one_line_error(&r, &["--sample-period"]);
+    let r = hdw(&["synth", "drive", "--t-end", "1e9", "--out", o]);
+    assert_one_line_error(&r, &["rows"]);
+    assert!(!out.exists());
+}
