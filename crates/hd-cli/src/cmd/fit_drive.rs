@@ -10,7 +10,7 @@ use anyhow::{Context, Result, anyhow};
 use clap::Args;
 use hd_ident::drive::config::{ExperimentConfig, NumberOrVariable};
 use hd_ident::drive::{
-    DisturbanceCheck, DriveConfig, DriveFit, Experiment, FitSpec, FrictionLaw, fit_drive,
+    DisturbanceCheck, DriveConfig, DriveFit, Experiment, FitSpec, FrictionLaw, IdimFit, fit_drive,
     score_all, settle_units, setup,
 };
 use indicatif::{ProgressBar, ProgressStyle};
@@ -164,21 +164,15 @@ pub fn run(args: DriveArgs) -> Result<()> {
             bases.push(law);
         }
     }
+    // One law's fit set-up: its start from the inverse model, or from its base law's fit.
+    let spec = |law: FrictionLaw, idim: Option<&IdimFit>, base: Option<&DriveFit>| {
+        setup::spec(&cfg, &file, law, &controller, gain, &outputs, idim, base, &experiments)
+    };
     let mut idims = Vec::new();
     let mut base_specs = Vec::new();
     for &law in &bases {
         let idim = setup::start(&cfg, law, gain, &experiments)?;
-        base_specs.push(setup::spec(
-            &cfg,
-            &file,
-            law,
-            &controller,
-            gain,
-            &outputs,
-            idim.as_ref(),
-            None,
-            &experiments,
-        )?);
+        base_specs.push(spec(law, idim.as_ref(), None)?);
         idims.push(idim);
     }
     let mut base_fits = Vec::new();
@@ -189,17 +183,7 @@ pub fn run(args: DriveArgs) -> Result<()> {
     let mut lugre_specs = Vec::new();
     for &law in &lugre {
         let b = bases.iter().position(|&l| l == law.base()).unwrap_or(0);
-        lugre_specs.push(setup::spec(
-            &cfg,
-            &file,
-            law,
-            &controller,
-            gain,
-            &outputs,
-            idims[b].as_ref(),
-            Some(&base_fits[b].0),
-            &experiments,
-        )?);
+        lugre_specs.push(spec(law, idims[b].as_ref(), Some(&base_fits[b].0))?);
     }
     // Each LuGre law from its Stribeck starts (setup::stribeck_variants), all in parallel;
     // the lower cost is kept, a start that fails is dropped while another succeeds.

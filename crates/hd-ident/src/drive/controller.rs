@@ -118,15 +118,8 @@ mod tests {
     /// and not at delay 0.
     #[test]
     fn law_and_delay_on_a_ramp() {
-        let h = 1e-3;
-        let c = Controller {
-            kp: 160.0,
-            kv: 240.0,
-            saturation: 10.0,
-            delay: 0,
-            speed_filter: vec![0.5, 0.5],
-            h,
-        };
+        let c = crate::drive::tests::controller(0);
+        let h = c.h;
         let n = 200;
         let q: Vec<f64> = (0..n).map(|k| 0.02 * k as f64 * h).collect();
         let r: Vec<f64> =

@@ -103,15 +103,8 @@ mod tests {
     /// command units, or not at all): the check finds which, and scales the column.
     #[test]
     fn the_recorded_command_tells_the_units() {
-        let h = 1e-3;
-        let c = Controller {
-            kp: 160.0,
-            kv: 240.0,
-            saturation: 10.0,
-            delay: 0,
-            speed_filter: vec![0.5, 0.5],
-            h,
-        };
+        let c = crate::drive::tests::controller(0);
+        let h = c.h;
         let gain = 35.0;
         let n = 2000;
         let t: Vec<f64> = (0..n).map(|k| k as f64 * h).collect();
