@@ -9,6 +9,7 @@
 //! exact Jacobian of the recursion ([`dual`]); it reports standard errors, correlations and
 //! the parameter combinations the record leaves undetermined.
 
+pub mod compliant;
 pub mod config;
 pub mod controller;
 pub mod disturbance;

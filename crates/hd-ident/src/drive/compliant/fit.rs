@@ -1,0 +1,292 @@
+//! The output-error fit of the compliant drive: every record's motor angle, load angle and
+//! current simulated under its voltage and compared, each divided by its noise level;
+//! Levenberg–Marquardt within bounds on the exact Jacobian (the simulation run on dual
+//! numbers, [`crate::drive::dual`]); standard errors, correlations and the combinations the
+//! records leave undetermined ([`crate::drive::identifiability`]).
+
+use super::model::{Compliant, NAMES};
+use super::record::{Between, VoltageRecord};
+use super::simulate::{Outputs, simulate};
+use crate::drive::dual::{Dual, Scalar};
+use crate::drive::identifiability::{Determination, determination};
+use crate::drive::lm::{LmResult, LmSettings, minimise};
+use crate::drive::score::{Score, score};
+use nalgebra::DMatrix;
+use rayon::prelude::*;
+
+/// Largest number of free parameters.
+pub const MAX_FREE: usize = 16;
+
+/// Largest (fastest rate × substep) the substep count allows [–].
+const RATE_STEP: f64 = 0.1;
+
+/// One of the compared outputs.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Signal {
+    /// Motor encoder [rad].
+    Motor,
+    /// Load encoder [rad].
+    Load,
+    /// Armature current [A].
+    Current,
+}
+
+impl Signal {
+    /// Every output, in report order.
+    pub const ALL: [Signal; 3] = [Signal::Motor, Signal::Load, Signal::Current];
+
+    /// Its name in configurations and reports.
+    pub fn name(self) -> &'static str {
+        match self {
+            Signal::Motor => "motor",
+            Signal::Load => "load",
+            Signal::Current => "current",
+        }
+    }
+
+    /// Its unit.
+    pub fn unit(self) -> &'static str {
+        match self {
+            Signal::Current => "A",
+            _ => "rad",
+        }
+    }
+
+    /// Parse a name.
+    pub fn parse(s: &str) -> Option<Signal> {
+        Signal::ALL.into_iter().find(|o| o.name() == s)
+    }
+
+    /// The recorded signal (None: the record has no current).
+    pub fn measured(self, r: &VoltageRecord) -> Option<&[f64]> {
+        match self {
+            Signal::Motor => Some(&r.theta_m),
+            Signal::Load => Some(&r.theta_l),
+            Signal::Current => r.current.as_deref(),
+        }
+    }
+
+    /// The simulated signal.
+    pub fn simulated<T>(self, o: &Outputs<T>) -> &[T] {
+        match self {
+            Signal::Motor => &o.theta_m,
+            Signal::Load => &o.theta_l,
+            Signal::Current => &o.current,
+        }
+    }
+}
+
+/// What to fit.
+#[derive(Clone, Debug, PartialEq)]
+pub struct CompliantSpec {
+    /// Gear ratio N [–].
+    pub n: f64,
+    /// How the voltage runs between samples.
+    pub between: Between,
+    /// Start values, [`NAMES`] order.
+    pub start: [f64; 18],
+    /// Which parameters are free.
+    pub free: [bool; 18],
+    /// Lower bounds.
+    pub lower: [f64; 18],
+    /// Upper bounds.
+    pub upper: [f64; 18],
+    /// The outputs compared, each with its noise level per record [rad or A]
+    /// (`noise[record]`).
+    pub outputs: Vec<(Signal, Vec<f64>)>,
+    /// Runge–Kutta substeps per sample (fixed for the whole fit, so the objective is smooth).
+    pub substeps: usize,
+    /// Optimiser settings.
+    pub settings: LmSettings,
+}
+
+/// Substeps per sample of `h` [s] for the drive at `p`: enough that its fastest non-stiff
+/// rate times the substep stays below [`RATE_STEP`], at least 2, at most 512.
+pub fn substeps_for(p: &[f64; 18], n: f64, h: f64) -> usize {
+    let rate = Compliant::new(*p, n).fastest_rate();
+    ((rate * h / RATE_STEP).ceil() as usize).clamp(2, 512)
+}
+
+/// Scores of one record.
+#[derive(Clone, Debug, PartialEq)]
+pub struct RecordScore {
+    /// The record's name.
+    pub name: String,
+    /// Per output: the output, its score, its noise level and RMS residual / noise [–].
+    pub outputs: Vec<(Signal, Score, f64, f64)>,
+}
+
+/// A fitted compliant drive.
+#[derive(Clone, Debug, PartialEq)]
+pub struct CompliantFit {
+    /// Every parameter's value, [`NAMES`] order.
+    pub values: [f64; 18],
+    /// Which were free.
+    pub free: [bool; 18],
+    /// Standard error of each free parameter (None where undetermined or fixed).
+    pub std_errors: [Option<f64>; 18],
+    /// Σ (residual/noise)².
+    pub cost: f64,
+    /// Number of residuals.
+    pub n: usize,
+    /// Jacobian evaluations.
+    pub iterations: usize,
+    /// Trials that could not be evaluated.
+    pub failed_trials: usize,
+    /// Why the optimiser stopped.
+    pub termination: String,
+    /// Standard errors, correlations and what is undetermined, over the free parameters.
+    pub determination: Determination,
+    /// Scores on the fitted records.
+    pub scores: Vec<RecordScore>,
+}
+
+/// Score every output of every record with parameters `p` ([`NAMES`] order), against the
+/// noise levels of `spec` where the record is one of the fitted ones (`noise_of` gives the
+/// level of output `o` for record `k`).
+pub fn score_records(
+    spec: &CompliantSpec,
+    p: &[f64; 18],
+    records: &[VoltageRecord],
+    noise_of: &(dyn Fn(Signal, usize) -> f64 + Sync),
+) -> Vec<RecordScore> {
+    let d = Compliant::new(*p, spec.n);
+    records
+        .par_iter()
+        .enumerate()
+        .map(|(k, r)| {
+            let sim = simulate(&d, r, spec.between, spec.substeps);
+            let outputs = spec
+                .outputs
+                .iter()
+                .filter_map(|(o, _)| {
+                    let meas = o.measured(r)?;
+                    let s = score(meas, o.simulated(&sim));
+                    let sigma = noise_of(*o, k);
+                    Some((*o, s, sigma, s.rmse / sigma))
+                })
+                .collect();
+            RecordScore { name: r.name.clone(), outputs }
+        })
+        .collect()
+}
+
+/// Residuals (simulated − measured)/noise of every record and output, with parameters of
+/// arithmetic `T`.
+fn residuals_of<T: Scalar + Send + Sync>(
+    spec: &CompliantSpec,
+    p: [T; 18],
+    records: &[VoltageRecord],
+) -> Vec<T> {
+    let d = Compliant::new(p, spec.n);
+    let parts: Vec<Vec<T>> = records
+        .par_iter()
+        .enumerate()
+        .map(|(k, r)| {
+            let sim = simulate(&d, r, spec.between, spec.substeps);
+            let mut out = Vec::new();
+            for (o, noise) in &spec.outputs {
+                let Some(meas) = o.measured(r) else { continue };
+                let inv = 1.0 / noise[k];
+                out.extend(o.simulated(&sim).iter().zip(meas).map(|(&s, &m)| (s - m) * inv));
+            }
+            out
+        })
+        .collect();
+    parts.concat()
+}
+
+/// Residuals and their exact Jacobian with respect to the free parameters `free_idx`.
+fn jacobian<const N: usize>(
+    spec: &CompliantSpec,
+    p: &[f64; 18],
+    free_idx: &[usize],
+    records: &[VoltageRecord],
+) -> (Vec<f64>, DMatrix<f64>) {
+    let mut pd: [Dual<N>; 18] = p.map(Dual::cst);
+    for (slot, &k) in free_idx.iter().enumerate() {
+        pd[k] = Dual::var(p[k], slot);
+    }
+    let rd = residuals_of(spec, pd, records);
+    let r: Vec<f64> = rd.iter().map(|d| d.v).collect();
+    let j = DMatrix::from_fn(r.len(), free_idx.len(), |i, c| rd[i].d[c]);
+    (r, j)
+}
+
+/// Residuals and Jacobian at `p`, with the smallest dual size that holds the free ones.
+pub fn residuals_and_jacobian(
+    spec: &CompliantSpec,
+    p: &[f64; 18],
+    free_idx: &[usize],
+    records: &[VoltageRecord],
+) -> (Vec<f64>, DMatrix<f64>) {
+    match free_idx.len() {
+        k if k <= 4 => jacobian::<4>(spec, p, free_idx, records),
+        k if k <= 8 => jacobian::<8>(spec, p, free_idx, records),
+        k if k <= 12 => jacobian::<12>(spec, p, free_idx, records),
+        _ => jacobian::<MAX_FREE>(spec, p, free_idx, records),
+    }
+}
+
+/// Fit `spec` to `records`; `progress(iteration, cost)` is called as it goes. `None` when
+/// the drive cannot be simulated at the start values.
+pub fn fit_compliant(
+    spec: &CompliantSpec,
+    records: &[VoltageRecord],
+    progress: &dyn Fn(usize, f64),
+) -> Result<CompliantFit, String> {
+    let free_idx: Vec<usize> = (0..NAMES.len()).filter(|&k| spec.free[k]).collect();
+    if free_idx.len() > MAX_FREE {
+        return Err(format!(
+            "{} free parameters; the compliant fit takes at most {MAX_FREE}",
+            free_idx.len()
+        ));
+    }
+    let full = |x: &[f64]| {
+        let mut p = spec.start;
+        for (slot, &k) in free_idx.iter().enumerate() {
+            p[k] = x[slot];
+        }
+        p
+    };
+    let finite = |r: &[f64]| r.iter().all(|v| v.is_finite());
+    let plain = |x: &[f64]| {
+        let r = residuals_of(spec, full(x), records);
+        finite(&r).then_some(r)
+    };
+    let with_jac = |x: &[f64]| {
+        let (r, j) = residuals_and_jacobian(spec, &full(x), &free_idx, records);
+        finite(&r).then_some((r, j))
+    };
+    let x0: Vec<f64> = free_idx.iter().map(|&k| spec.start[k]).collect();
+    let lo: Vec<f64> = free_idx.iter().map(|&k| spec.lower[k]).collect();
+    let hi: Vec<f64> = free_idx.iter().map(|&k| spec.upper[k]).collect();
+    let LmResult { x, cost, iterations, failed_trials, termination } =
+        minimise(&with_jac, &plain, &x0, &lo, &hi, &spec.settings, progress).ok_or(
+            "the drive cannot be simulated at the start values (a residual is not finite)",
+        )?;
+    let values = full(&x);
+    let (r, jac) = with_jac(&x).ok_or("the fitted drive cannot be simulated")?;
+    let free_names: Vec<&str> = free_idx.iter().map(|&k| NAMES[k]).collect();
+    let free_values: Vec<f64> = free_idx.iter().map(|&k| values[k]).collect();
+    let det = determination(&jac, cost, &free_names, &free_values);
+    let mut std_errors = [None; 18];
+    for (slot, &k) in free_idx.iter().enumerate() {
+        std_errors[k] = det.std_errors[slot];
+    }
+    let noise_of = |o: Signal, k: usize| {
+        spec.outputs.iter().find(|(s, _)| *s == o).map_or(f64::NAN, |(_, n)| n[k])
+    };
+    Ok(CompliantFit {
+        values,
+        free: spec.free,
+        std_errors,
+        cost,
+        n: r.len(),
+        iterations,
+        failed_trials,
+        termination,
+        determination: det,
+        scores: score_records(spec, &values, records, &noise_of),
+    })
+}

@@ -1,0 +1,18 @@
+//! The compliant drive fitted to voltage tests (`hdw fit drive` with `transmission =
+//! "compliant"`): the simulator's motor–gear–load system with a hysteretic gear and LuGre
+//! friction ([`model::Compliant`]), re-run under each record's voltage
+//! ([`simulate::simulate`]) and fitted by output error on the motor and load encoders and
+//! the current, with the exact Jacobian of the integration ([`fit::fit_compliant`]).
+
+pub mod fit;
+pub mod model;
+pub mod record;
+pub mod simulate;
+
+#[cfg(test)]
+mod tests;
+
+pub use fit::{CompliantFit, CompliantSpec, RecordScore, Signal, fit_compliant, substeps_for};
+pub use model::{Compliant, NAMES};
+pub use record::{Between, VoltageRecord};
+pub use simulate::{Outputs, simulate};

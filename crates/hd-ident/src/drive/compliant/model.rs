@@ -1,0 +1,243 @@
+//! The compliant drive that `hdw fit drive` identifies from a voltage test: the simulator's
+//! `full` variant (docs/model.md §2): a DC motor (algebraic current), a gear with a cubic
+//! spring and a fading-memory term, LuGre friction on the wave generator's speed, and an
+//! inertial load.
+//!
+//! ```text
+//! i = (u − Ke·ωj)/R
+//! Jj·ω̇j = Km·i − Cj·ωj − (Tb + Tf)/N        Jz·ω̇z = Tb − Cz·ωz
+//! θ̇ = ωj/N − ωz                              Tb = c·θ + b·θ² + a·θ³ + z,  ż = A·θ̇ − B·z
+//! v = ωj/N,  ṡ = v − |v|·w/G(v),  ẇ = σ0·ṡ,  Tf = w + σ1·ṡ + σ2·v
+//! ```
+//!
+//! Every law is hd-model's (the cubic spring, the fading memory, the LuGre level G): each is
+//! evaluated in `f64` by its own code and enters the generic arithmetic through
+//! [`Scalar::lift`] with its partial derivatives, so the same code gives plain runs and
+//! runs carrying the exact sensitivities to the parameters.
+
+use crate::drive::dual::Scalar;
+use hd_model::laws::friction::LuGre;
+use hd_model::laws::stiffness::{CubicSpring, FadingMemory};
+
+/// The parameters of the compliant drive, in the order of a parameter vector (hd-model's
+/// registry names, so a fitted set is a params file `hdw simulate` reads).
+pub const NAMES: [&str; 18] = [
+    "R", "Km", "Ke", "Jj", "Jz", "Cj", "Cz", "c", "a", "b", "mem_A", "mem_B", "sigma0", "sigma1",
+    "sigma2", "Tc", "Ts", "ws",
+];
+
+/// Index of each parameter in [`NAMES`].
+pub mod ix {
+    pub const R: usize = 0;
+    pub const KM: usize = 1;
+    pub const KE: usize = 2;
+    pub const JJ: usize = 3;
+    pub const JZ: usize = 4;
+    pub const CJ: usize = 5;
+    pub const CZ: usize = 6;
+    pub const C: usize = 7;
+    pub const A: usize = 8;
+    pub const B: usize = 9;
+    pub const MEM_A: usize = 10;
+    pub const MEM_B: usize = 11;
+    pub const SIGMA0: usize = 12;
+    pub const SIGMA1: usize = 13;
+    pub const SIGMA2: usize = 14;
+    pub const TC: usize = 15;
+    pub const TS: usize = 16;
+    pub const WS: usize = 17;
+}
+
+/// The state: motor angle θj [rad] and speed ωj [rad/s], gear deflection θ [rad] (θz =
+/// θj/N − θ), load speed ωz [rad/s], memory torque z [N·m] and bristle torque w = σ0·s
+/// [N·m].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct State<T> {
+    /// Motor angle θj [rad].
+    pub theta_j: T,
+    /// Motor speed ωj [rad/s].
+    pub omega_j: T,
+    /// Gear deflection θ [rad].
+    pub theta: T,
+    /// Load speed ωz [rad/s].
+    pub omega_z: T,
+    /// Memory torque z [N·m].
+    pub z: T,
+    /// Bristle torque w [N·m].
+    pub w: T,
+}
+
+impl<T: Scalar> State<T> {
+    /// At rest at motor angle `theta_j` [rad], gear unloaded.
+    pub fn rest(theta_j: f64) -> Self {
+        let o = T::cst(0.0);
+        State { theta_j: T::cst(theta_j), omega_j: o, theta: o, omega_z: o, z: o, w: o }
+    }
+
+    /// `self + k·h`.
+    fn add(&self, k: &State<T>, h: f64) -> State<T> {
+        State {
+            theta_j: self.theta_j + k.theta_j * h,
+            omega_j: self.omega_j + k.omega_j * h,
+            theta: self.theta + k.theta * h,
+            omega_z: self.omega_z + k.omega_z * h,
+            z: self.z + k.z * h,
+            w: self.w + k.w * h,
+        }
+    }
+}
+
+/// The compliant drive at one parameter vector (order of [`NAMES`]) and gear ratio N.
+#[derive(Clone, Debug)]
+pub struct Compliant<T> {
+    /// Every parameter, [`NAMES`] order.
+    pub p: [T; 18],
+    /// Gear ratio N [–] (known from the gear's data, never fitted).
+    pub n: f64,
+    /// The LuGre law at the current values (f64: its level and slope are lifted).
+    law: LuGre,
+}
+
+impl<T: Scalar> Compliant<T> {
+    /// The drive with parameters `p` ([`NAMES`] order) and ratio `n`.
+    pub fn new(p: [T; 18], n: f64) -> Self {
+        use ix::*;
+        let law = LuGre::symmetric(
+            p[SIGMA0].re(),
+            p[SIGMA1].re(),
+            p[SIGMA2].re(),
+            p[TC].re(),
+            p[TS].re(),
+            p[WS].re(),
+        );
+        Compliant { p, n, law }
+    }
+
+    /// Armature current at voltage `u` [V] and motor speed ωj [A].
+    pub fn current(&self, u: f64, omega_j: T) -> T {
+        (T::cst(u) - self.p[ix::KE] * omega_j) / self.p[ix::R]
+    }
+
+    /// The Stribeck level G(v) [N·m] with its derivatives (the law's own).
+    fn level(&self, v: T) -> T {
+        use ix::*;
+        let vr = v.re();
+        let lg = self.law.level_grad(vr);
+        let (_, slope) = self.law.stribeck(vr);
+        // One set of levels for both directions: the negative side's entries are Tc's, Ts's.
+        let g = lg.grad;
+        T::lift(
+            lg.level,
+            &[(slope, v), (g[0] + g[4], self.p[TC]), (g[1] + g[5], self.p[TS]), (g[2], self.p[WS])],
+        )
+    }
+
+    /// The spring torque c·θ + b·θ² + a·θ³ [N·m] (hd-model's cubic spring, lifted).
+    fn spring(&self, theta: T) -> T {
+        use ix::*;
+        let t = theta.re();
+        let law = CubicSpring { a: self.p[A].re(), b: self.p[B].re(), c: self.p[C].re() };
+        T::lift(
+            law.torque(t),
+            &[(law.slope(t), theta), (t, self.p[C]), (t * t, self.p[B]), (t * t * t, self.p[A])],
+        )
+    }
+
+    /// The memory rate ż = A·θ̇ − B·z [N·m/s] (hd-model's fading memory, lifted).
+    fn memory_rate(&self, theta_dot: T, z: T) -> T {
+        use ix::*;
+        let law = FadingMemory { a: self.p[MEM_A].re(), b: self.p[MEM_B].re() };
+        let (td, zr) = (theta_dot.re(), z.re());
+        T::lift(
+            law.rate(td, zr),
+            &[(law.a, theta_dot), (-law.b, z), (td, self.p[MEM_A]), (-zr, self.p[MEM_B])],
+        )
+    }
+
+    /// The bristle's relaxation rate λ = σ0·|v|/G(v) [1/s] at state `y`: the stiff part of
+    /// the bristle equation, ẇ = λ·(sign(v)·G − w).
+    pub fn relaxation(&self, y: &State<T>) -> T {
+        let v = y.omega_j / self.n;
+        self.p[ix::SIGMA0] * v.abs() / self.level(v)
+    }
+
+    /// The state's rates at voltage `u` [V].
+    pub fn rates(&self, y: &State<T>, u: f64) -> State<T> {
+        use ix::*;
+        let p = &self.p;
+        let inv_n = 1.0 / self.n;
+        let v = y.omega_j * inv_n;
+        let theta_dot = v - y.omega_z;
+        let tb = self.spring(y.theta) + y.z;
+        let g = self.level(v);
+        let s_rate = v - v.abs() * y.w / g;
+        let tf = y.w + p[SIGMA1] * s_rate + p[SIGMA2] * v;
+        let i = self.current(u, y.omega_j);
+        State {
+            theta_j: y.omega_j,
+            omega_j: (p[KM] * i - p[CJ] * y.omega_j - (tb + tf) * inv_n) / p[JJ],
+            theta: theta_dot,
+            omega_z: (tb - p[CZ] * y.omega_z) / p[JZ],
+            z: self.memory_rate(theta_dot, y.z),
+            w: p[SIGMA0] * s_rate,
+        }
+    }
+
+    /// One step of `d` [s] from `y` with the voltage `u(τ)` at τ = 0, d/2 and d: classical
+    /// Runge–Kutta for the mechanics, the memory and the motor, with the bristle carried by
+    /// its integrating factor e^{−λ0·τ} (λ0 the relaxation rate at the step's start; the
+    /// Lawson form of the same method), so a bristle that relaxes far faster than the step
+    /// stays stable and exact at a held speed.
+    pub fn step(&self, y: &State<T>, u: [f64; 3], d: f64) -> State<T> {
+        let l0 = self.relaxation(y);
+        let e_half = (-(l0 * (0.5 * d))).exp();
+        let e_full = e_half * e_half;
+        // The bristle's rate less its stiff part, g = ẇ + λ0·w, drives the transformed state.
+        let with_g = |k: State<T>, at: &State<T>| State { w: k.w + l0 * at.w, ..k };
+        let k1 = with_g(self.rates(y, u[0]), y);
+        let mut y2 = y.add(&k1, 0.5 * d);
+        y2.w = e_half * (y.w + k1.w * (0.5 * d));
+        let k2 = with_g(self.rates(&y2, u[1]), &y2);
+        let mut y3 = y.add(&k2, 0.5 * d);
+        y3.w = e_half * y.w + k2.w * (0.5 * d);
+        let k3 = with_g(self.rates(&y3, u[1]), &y3);
+        let mut y4 = y.add(&k3, d);
+        y4.w = e_full * y.w + e_half * k3.w * d;
+        let k4 = with_g(self.rates(&y4, u[2]), &y4);
+        let sixth = d / 6.0;
+        let comb = |a: T, b: T, c: T, e: T| (a + (b + c) * 2.0 + e) * sixth;
+        State {
+            theta_j: y.theta_j + comb(k1.theta_j, k2.theta_j, k3.theta_j, k4.theta_j),
+            omega_j: y.omega_j + comb(k1.omega_j, k2.omega_j, k3.omega_j, k4.omega_j),
+            theta: y.theta + comb(k1.theta, k2.theta, k3.theta, k4.theta),
+            omega_z: y.omega_z + comb(k1.omega_z, k2.omega_z, k3.omega_z, k4.omega_z),
+            z: y.z + comb(k1.z, k2.z, k3.z, k4.z),
+            w: e_full * y.w + (e_full * k1.w + e_half * (k2.w + k3.w) * 2.0 + k4.w) * sixth,
+        }
+    }
+
+    /// The fastest rate of the drive's non-stiff dynamics [1/s]: the gear's resonance seen
+    /// from the load and from the motor (spring plus memory: c + A at high frequency), the
+    /// bristle–motor oscillation, the memory's decay and the damping rates. The bristle's
+    /// relaxation is not among them: the integrating factor carries it.
+    pub fn fastest_rate(&self) -> f64 {
+        use ix::*;
+        let r = |k: usize| self.p[k].re().abs();
+        let n2 = self.n * self.n;
+        let k_gear = r(C) + r(MEM_A);
+        let j_motor = r(JJ) * n2; // the motor inertia seen from the load
+        let j_red = r(JZ) * j_motor / (r(JZ) + j_motor);
+        [
+            (k_gear / j_red).sqrt(),
+            (r(SIGMA0) / j_motor).sqrt(),
+            r(MEM_B),
+            r(CJ) / r(JJ),
+            r(CZ) / r(JZ),
+            (r(SIGMA1) + r(SIGMA2)) / j_motor,
+            r(KE) * r(KM) / (r(R) * r(JJ)),
+        ]
+        .into_iter()
+        .filter(|x| x.is_finite())
+        .fold(0.0, f64::max)
+    }
+}

@@ -1,0 +1,157 @@
+//! A voltage test of a drive, logged as a rig logs it: the applied voltage, the motor and
+//! load encoders and, where measured, the armature current, sampled uniformly.
+
+use crate::drive::error::DriveError;
+
+/// How the voltage runs between two samples.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Between {
+    /// Held from each sample to the next (a digital amplifier's zero-order hold).
+    Hold,
+    /// Straight from each sample to the next.
+    #[default]
+    Linear,
+    /// Cubic through the four nearest samples (Catmull–Rom): a smooth test signal sampled
+    /// well above its highest frequency.
+    Cubic,
+}
+
+impl Between {
+    /// Parse `hold`, `linear` or `cubic`.
+    pub fn parse(s: &str) -> Option<Between> {
+        match s {
+            "hold" => Some(Between::Hold),
+            "linear" => Some(Between::Linear),
+            "cubic" => Some(Between::Cubic),
+            _ => None,
+        }
+    }
+
+    /// The configuration name.
+    pub fn name(self) -> &'static str {
+        match self {
+            Between::Hold => "hold",
+            Between::Linear => "linear",
+            Between::Cubic => "cubic",
+        }
+    }
+}
+
+/// One logged voltage test.
+#[derive(Clone, Debug, PartialEq)]
+pub struct VoltageRecord {
+    /// Name in reports.
+    pub name: String,
+    /// The file it came from, for messages.
+    pub source: String,
+    /// Sample period [s].
+    pub h: f64,
+    /// Sample times [s].
+    pub t: Vec<f64>,
+    /// Applied voltage [V].
+    pub u: Vec<f64>,
+    /// Motor encoder θj [rad].
+    pub theta_m: Vec<f64>,
+    /// Load encoder θz [rad].
+    pub theta_l: Vec<f64>,
+    /// Armature current [A], if logged.
+    pub current: Option<Vec<f64>>,
+}
+
+/// Largest relative deviation of a sample interval from the mean.
+const JITTER: f64 = 1e-3;
+
+impl VoltageRecord {
+    /// Check and assemble a record: equal lengths, at least 10 samples, finite values,
+    /// strictly increasing and uniform time.
+    pub fn new(
+        name: &str,
+        source: &str,
+        t: Vec<f64>,
+        u: Vec<f64>,
+        theta_m: Vec<f64>,
+        theta_l: Vec<f64>,
+        current: Option<Vec<f64>>,
+    ) -> Result<VoltageRecord, DriveError> {
+        let err = |m: String| DriveError::data(source, m);
+        let n = t.len();
+        if n < 10 {
+            return Err(err(format!("{n} samples; a drive record needs at least 10")));
+        }
+        let mut cols = vec![("time", &t), ("voltage", &u), ("motor", &theta_m), ("load", &theta_l)];
+        if let Some(i) = &current {
+            cols.push(("current", i));
+        }
+        for (what, col) in &cols {
+            if col.len() != n {
+                return Err(err(format!(
+                    "the {what} column has {} samples but time has {n}",
+                    col.len()
+                )));
+            }
+            if let Some(k) = col.iter().position(|v| !v.is_finite()) {
+                return Err(err(format!(
+                    "{what}, row {}: {} is not a finite number",
+                    k + 2,
+                    col[k]
+                )));
+            }
+        }
+        if let Some(k) = t.windows(2).position(|w| w[1] <= w[0]) {
+            return Err(err(format!(
+                "time, row {}: {} s does not come after {} s; time must increase strictly",
+                k + 2,
+                t[k + 1],
+                t[k]
+            )));
+        }
+        let h = (t[n - 1] - t[0]) / (n - 1) as f64;
+        if let Some(k) = t.windows(2).position(|w| ((w[1] - w[0]) / h - 1.0).abs() > JITTER) {
+            return Err(err(format!(
+                "time, row {}: interval {} s differs from the mean sample period {h} s; the fit needs uniform sampling",
+                k + 2,
+                t[k + 1] - t[k]
+            )));
+        }
+        Ok(VoltageRecord {
+            name: name.into(),
+            source: source.into(),
+            h,
+            t,
+            u,
+            theta_m,
+            theta_l,
+            current,
+        })
+    }
+
+    /// Number of samples.
+    pub fn len(&self) -> usize {
+        self.t.len()
+    }
+
+    /// Whether it has no samples (never, once built).
+    pub fn is_empty(&self) -> bool {
+        self.t.is_empty()
+    }
+
+    /// The voltage at fraction `tau` ∈ [0, 1] of the interval from sample `k` [V].
+    pub fn voltage(&self, k: usize, tau: f64, between: Between) -> f64 {
+        let n = self.u.len();
+        let at = |j: isize| self.u[j.clamp(0, n as isize - 1) as usize];
+        let k = k as isize;
+        match between {
+            Between::Hold => at(k),
+            Between::Linear => at(k) + (at(k + 1) - at(k)) * tau,
+            Between::Cubic => {
+                let (p0, p1, p2, p3) = (at(k - 1), at(k), at(k + 1), at(k + 2));
+                let t2 = tau * tau;
+                let t3 = t2 * tau;
+                0.5 * (2.0 * p1
+                    + (p2 - p0) * tau
+                    + (2.0 * p0 - 5.0 * p1 + 4.0 * p2 - p3) * t2
+                    + (3.0 * p1 - p0 - 3.0 * p2 + p3) * t3)
+            }
+        }
+    }
+}
