@@ -28,6 +28,9 @@ pub struct Determination {
     pub sentences: Vec<String>,
     /// Whether every free parameter is determined.
     pub all_determined: bool,
+    /// Per free parameter: whether it is determined (neither in an undetermined combination
+    /// nor in a pair that is not separable).
+    pub determined: Vec<bool>,
 }
 
 fn join(names: &[&str]) -> String {
@@ -97,6 +100,7 @@ pub fn determination(
             }
         }
     }
+    let mut determined: Vec<bool> = in_null.iter().map(|n| !n).collect();
     for a in 0..k {
         for b in a + 1..k {
             if in_null[a] && in_null[b] {
@@ -105,6 +109,8 @@ pub fn determination(
             if let Some(r) = cov.correlation[a][b]
                 && r.abs() >= CORRELATION_LIMIT
             {
+                determined[a] = false;
+                determined[b] = false;
                 sentences.push(format!(
                     "{} and {} are not separable on this record (correlation {r:.4}); fix one or add an experiment that moves them differently.",
                     names[a], names[b]
@@ -136,7 +142,17 @@ pub fn determination(
         });
     }
     let std_errors = (0..k).map(|j| if in_null[j] { None } else { cov.std_error[j] }).collect();
-    Determination { std_errors, correlation: cov.correlation, sentences, all_determined }
+    let std_errors: Vec<Option<f64>> = std_errors;
+    for (d, se) in determined.iter_mut().zip(&std_errors) {
+        *d &= se.is_some();
+    }
+    Determination {
+        std_errors,
+        correlation: cov.correlation,
+        sentences,
+        all_determined,
+        determined,
+    }
 }
 
 #[cfg(test)]

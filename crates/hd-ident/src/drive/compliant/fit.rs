@@ -14,6 +14,9 @@ use crate::drive::score::{Score, score};
 use nalgebra::DMatrix;
 use rayon::prelude::*;
 
+/// Called after each iteration with (iteration, cost); fits may run in parallel.
+pub type Progress<'a> = &'a (dyn Fn(usize, f64) + Sync);
+
 /// Largest number of free parameters.
 pub const MAX_FREE: usize = 16;
 
@@ -94,6 +97,9 @@ pub struct CompliantSpec {
     /// The outputs compared, each with its noise level per record [rad or A]
     /// (`noise[record]`).
     pub outputs: Vec<(Signal, Vec<f64>)>,
+    /// Whether the torque constant Km [N·m/A] is the back-EMF constant Ke [V·s/rad] (in SI
+    /// units they are one constant of an ideal DC motor; Km then follows Ke).
+    pub km_is_ke: bool,
     /// Runge–Kutta substeps per sample (fixed for the whole fit, so the objective is smooth).
     pub substeps: usize,
     /// Optimiser settings.
@@ -139,6 +145,19 @@ pub struct CompliantFit {
     pub determination: Determination,
     /// Scores on the fitted records.
     pub scores: Vec<RecordScore>,
+    /// Free parameters the records left undetermined, held at their start values ([`NAMES`]
+    /// indices).
+    pub held: Vec<usize>,
+    /// The Jacobian of the residuals at the optimum, one column per parameter of
+    /// `jacobian_params` (the last fit's free ones) [1 per parameter unit].
+    pub jacobian: DMatrix<f64>,
+    /// The parameters ([`NAMES`] indices) of the Jacobian's columns.
+    pub jacobian_params: Vec<usize>,
+    /// Starts the full fit was run from (the best is reported).
+    pub starts: usize,
+    /// Per parameter: free and determined by the records (a standard error, and in no
+    /// undetermined combination or inseparable pair).
+    pub determined: [bool; 18],
 }
 
 /// Score every output of every record with parameters `p` ([`NAMES`] order), against the
@@ -196,6 +215,22 @@ fn residuals_of<T: Scalar + Send + Sync>(
     parts.concat()
 }
 
+/// The residuals (simulated − measured)/noise at parameters `p`, or None where one is not
+/// finite.
+pub fn residuals_at(
+    spec: &CompliantSpec,
+    p: &[f64; 18],
+    records: &[VoltageRecord],
+) -> Option<Vec<f64>> {
+    let r = residuals_of(spec, *p, records);
+    r.iter().all(|v| v.is_finite()).then_some(r)
+}
+
+/// Σ (residual/noise)² at parameters `p`, or None where a residual is not finite.
+pub fn cost_at(spec: &CompliantSpec, p: &[f64; 18], records: &[VoltageRecord]) -> Option<f64> {
+    residuals_at(spec, p, records).map(|r| r.iter().map(|v| v * v).sum())
+}
+
 /// Residuals and their exact Jacobian with respect to the free parameters `free_idx`.
 fn jacobian<const N: usize>(
     spec: &CompliantSpec,
@@ -206,6 +241,9 @@ fn jacobian<const N: usize>(
     let mut pd: [Dual<N>; 18] = p.map(Dual::cst);
     for (slot, &k) in free_idx.iter().enumerate() {
         pd[k] = Dual::var(p[k], slot);
+    }
+    if spec.km_is_ke {
+        pd[super::model::ix::KM] = pd[super::model::ix::KE];
     }
     let rd = residuals_of(spec, pd, records);
     let r: Vec<f64> = rd.iter().map(|d| d.v).collect();
@@ -228,24 +266,33 @@ pub fn residuals_and_jacobian(
     }
 }
 
-/// Fit `spec` to `records`; `progress(iteration, cost)` is called as it goes. `None` when
-/// the drive cannot be simulated at the start values.
-pub fn fit_compliant(
+/// One Levenberg–Marquardt fit of `spec` from its start.
+pub(super) fn fit_stage(
     spec: &CompliantSpec,
     records: &[VoltageRecord],
-    progress: &dyn Fn(usize, f64),
+    progress: Progress<'_>,
 ) -> Result<CompliantFit, String> {
-    let free_idx: Vec<usize> = (0..NAMES.len()).filter(|&k| spec.free[k]).collect();
+    let free_idx: Vec<usize> = (0..NAMES.len())
+        .filter(|&k| spec.free[k] && !(spec.km_is_ke && k == super::model::ix::KM))
+        .collect();
     if free_idx.len() > MAX_FREE {
         return Err(format!(
             "{} free parameters; the compliant fit takes at most {MAX_FREE}",
             free_idx.len()
         ));
     }
+    // Parameters that are positive at the start and bounded below by zero are fitted by
+    // their logarithm (relative steps: a step cannot reach zero or below, and a parameter
+    // the record barely sees drifts by factors, not into the bound); others as they are.
+    let logged: Vec<bool> =
+        free_idx.iter().map(|&k| spec.start[k] > 0.0 && spec.lower[k] >= 0.0).collect();
     let full = |x: &[f64]| {
         let mut p = spec.start;
         for (slot, &k) in free_idx.iter().enumerate() {
-            p[k] = x[slot];
+            p[k] = if logged[slot] { x[slot].exp() } else { x[slot] };
+        }
+        if spec.km_is_ke {
+            p[super::model::ix::KM] = p[super::model::ix::KE];
         }
         p
     };
@@ -254,26 +301,51 @@ pub fn fit_compliant(
         let r = residuals_of(spec, full(x), records);
         finite(&r).then_some(r)
     };
+    // ∂r/∂ln p = p·∂r/∂p.
     let with_jac = |x: &[f64]| {
-        let (r, j) = residuals_and_jacobian(spec, &full(x), &free_idx, records);
+        let p = full(x);
+        let (r, mut j) = residuals_and_jacobian(spec, &p, &free_idx, records);
+        for (slot, &k) in free_idx.iter().enumerate() {
+            if logged[slot] {
+                j.column_mut(slot).scale_mut(p[k]);
+            }
+        }
         finite(&r).then_some((r, j))
     };
-    let x0: Vec<f64> = free_idx.iter().map(|&k| spec.start[k]).collect();
-    let lo: Vec<f64> = free_idx.iter().map(|&k| spec.lower[k]).collect();
-    let hi: Vec<f64> = free_idx.iter().map(|&k| spec.upper[k]).collect();
+    let to_x = |slot: usize, v: f64| if logged[slot] { v.max(f64::MIN_POSITIVE).ln() } else { v };
+    let x0: Vec<f64> = free_idx.iter().enumerate().map(|(s, &k)| to_x(s, spec.start[k])).collect();
+    let lo: Vec<f64> = free_idx.iter().enumerate().map(|(s, &k)| to_x(s, spec.lower[k])).collect();
+    let hi: Vec<f64> = free_idx.iter().enumerate().map(|(s, &k)| to_x(s, spec.upper[k])).collect();
     let LmResult { x, cost, iterations, failed_trials, termination } =
         minimise(&with_jac, &plain, &x0, &lo, &hi, &spec.settings, progress).ok_or(
             "the drive cannot be simulated at the start values (a residual is not finite)",
         )?;
     let values = full(&x);
-    let (r, jac) = with_jac(&x).ok_or("the fitted drive cannot be simulated")?;
+    let (r, jac) = residuals_and_jacobian(spec, &values, &free_idx, records);
     let free_names: Vec<&str> = free_idx.iter().map(|&k| NAMES[k]).collect();
     let free_values: Vec<f64> = free_idx.iter().map(|&k| values[k]).collect();
     let det = determination(&jac, cost, &free_names, &free_values);
+    let mut det = det;
     let mut std_errors = [None; 18];
+    let mut determined = [false; 18];
     for (slot, &k) in free_idx.iter().enumerate() {
         std_errors[k] = det.std_errors[slot];
+        determined[k] = det.determined[slot];
     }
+    let corr = |a: usize, b: usize| {
+        let (sa, sb) =
+            (free_idx.iter().position(|&k| k == a)?, free_idx.iter().position(|&k| k == b)?);
+        det.correlation[sa][sb]
+    };
+    super::determined::refine(
+        &mut det.sentences,
+        &values,
+        &std_errors,
+        &mut determined,
+        spec.n,
+        &corr,
+    );
+    det.all_determined = free_idx.iter().all(|&k| determined[k]);
     let noise_of = |o: Signal, k: usize| {
         spec.outputs.iter().find(|(s, _)| *s == o).map_or(f64::NAN, |(_, n)| n[k])
     };
@@ -288,5 +360,10 @@ pub fn fit_compliant(
         termination,
         determination: det,
         scores: score_records(spec, &values, records, &noise_of),
+        held: Vec::new(),
+        jacobian: jac,
+        jacobian_params: free_idx.clone(),
+        starts: 1,
+        determined,
     })
 }

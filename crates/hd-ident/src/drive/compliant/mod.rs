@@ -4,15 +4,18 @@
 //! ([`simulate::simulate`]) and fitted by output error on the motor and load encoders and
 //! the current, with the exact Jacobian of the integration ([`fit::fit_compliant`]).
 
+pub mod determined;
 pub mod fit;
 pub mod model;
 pub mod record;
 pub mod simulate;
+pub mod stages;
 
 #[cfg(test)]
 mod tests;
 
-pub use fit::{CompliantFit, CompliantSpec, RecordScore, Signal, fit_compliant, substeps_for};
+pub use fit::{CompliantFit, CompliantSpec, RecordScore, Signal, substeps_for};
 pub use model::{Compliant, NAMES};
 pub use record::{Between, VoltageRecord};
 pub use simulate::{Outputs, simulate};
+pub use stages::fit_compliant;

@@ -1,0 +1,165 @@
+//! How the compliant fit gets to its optimum, and how it checks what that optimum means.
+//!
+//! 1. **Motor pass.** The motor's own parameters (R, Km, Ke, Jj, Cj) fitted to the current and
+//!    the motor encoder. These see the motor without the gear's ringing (the current alone
+//!    would leave the speed's scale free: Ke·s, Jj·s², Cj·s² give the same current).
+//! 2. **Load pass.** The load's and the gear's parameters (Jz, Cz, c, mem_A, mem_B) fitted to
+//!    the load encoder, the motor's held. The load's ringing makes this cost many-valleyed in
+//!    the resonance frequency, so it starts from the spring and memory stiffness scaled by
+//!    [`STIFFNESS_SCALES`] (in parallel).
+//! 3. **Full fits** from the load pass's better starts, each [`settle`]d: a free parameter
+//!    the records leave undetermined (no standard error) is held at its start value and the
+//!    rest fitted again.
+//! 4. **Agreement.** The best full fit is reported. Another full fit whose cost is within the
+//!    95 % profile threshold of the best (Δcost ≤ 3.84·s², s² the best fit's cost per degree
+//!    of freedom) is as good an explanation of the records; a parameter on which the two
+//!    differ by more than twice the best fit's standard error is not determined, whatever its
+//!    linearised standard error says (the cost's valley bends away from the tangent).
+
+use super::determined::not_determined_by_agreement;
+use super::fit::{CompliantFit, CompliantSpec, Progress, Signal, fit_stage};
+use super::model::{NAMES, ix::*};
+use super::record::VoltageRecord;
+use rayon::prelude::*;
+
+/// Stiffness scales of the load pass's starts: the gear's resonance at 0.5, 0.71, 1, 1.41
+/// and 2 times the start's.
+pub const STIFFNESS_SCALES: [f64; 5] = [0.25, 0.5, 1.0, 2.0, 4.0];
+
+/// Load-pass starts go on to a full fit while their load-pass cost is within this factor of
+/// the best one's.
+const LOAD_COST_FACTOR: f64 = 2.0;
+
+/// χ² quantile of one degree of freedom at 95 % [–].
+const PROFILE_95: f64 = 3.84;
+
+/// Fit `spec` to `records` (see the module's steps); `progress(iteration, cost)` is called
+/// as the fits go (several may run at once).
+pub fn fit_compliant(
+    spec: &CompliantSpec,
+    records: &[VoltageRecord],
+    progress: Progress<'_>,
+) -> Result<CompliantFit, String> {
+    let starts = staged_starts(spec, records, progress);
+    let fits: Vec<Result<CompliantFit, String>> =
+        starts.par_iter().map(|s| settle(spec, *s, records, progress)).collect();
+    let spent: usize = fits.iter().flatten().map(|f| f.iterations).sum();
+    let failed: usize = fits.iter().flatten().map(|f| f.failed_trials).sum();
+    let mut ok: Vec<CompliantFit> = Vec::new();
+    let mut last_error = String::from("no start could be fitted");
+    for f in fits {
+        match f {
+            Ok(f) => ok.push(f),
+            Err(e) => last_error = e,
+        }
+    }
+    ok.sort_by(|a, b| a.cost.total_cmp(&b.cost));
+    let mut best = if ok.is_empty() { return Err(last_error) } else { ok.remove(0) };
+    let dof = (best.n as f64 - best.free.iter().filter(|&&f| f).count() as f64).max(1.0);
+    let threshold = PROFILE_95 * best.cost / dof;
+    let rivals: Vec<&CompliantFit> =
+        ok.iter().filter(|f| f.cost - best.cost <= threshold).collect();
+    not_determined_by_agreement(&mut best, &rivals);
+    best.iterations = spent;
+    best.failed_trials = failed;
+    best.starts = starts.len();
+    Ok(best)
+}
+
+/// The starts of the full fits: `spec.start` alone, or, when the records carry the load
+/// encoder beside the current or the motor encoder, the motor and load passes' results.
+fn staged_starts(
+    spec: &CompliantSpec,
+    records: &[VoltageRecord],
+    progress: Progress<'_>,
+) -> Vec<[f64; 18]> {
+    let has = |s: Signal| spec.outputs.iter().any(|(o, _)| *o == s);
+    let first_outputs: Vec<_> =
+        spec.outputs.iter().filter(|(s, _)| *s != Signal::Load).cloned().collect();
+    if !has(Signal::Load) || first_outputs.is_empty() {
+        return vec![spec.start];
+    }
+    let motor = pass(spec, &[R, KM, KE, JJ, CJ], first_outputs, spec.start);
+    let values = fit_stage(&motor, records, progress).map_or(spec.start, |f| f.values);
+    let load_outputs: Vec<_> =
+        spec.outputs.iter().filter(|(s, _)| *s == Signal::Load).cloned().collect();
+    let load = pass(spec, &[JZ, CZ, C, MEM_A, MEM_B], load_outputs, values);
+    if !load.free.iter().any(|&f| f) {
+        return vec![values];
+    }
+    let scales: &[f64] = if load.free[C] || load.free[MEM_A] { &STIFFNESS_SCALES } else { &[1.0] };
+    let quiet = |_: usize, _: f64| {};
+    let mut tried: Vec<(f64, [f64; 18])> = scales
+        .par_iter()
+        .filter_map(|&g| {
+            let mut start = values;
+            for k in [C, MEM_A].into_iter().filter(|&k| load.free[k]) {
+                start[k] *= g;
+            }
+            let s = CompliantSpec { start, ..load.clone() };
+            fit_stage(&s, records, &quiet).ok().map(|f| (f.cost, f.values))
+        })
+        .collect();
+    tried.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let Some(&(lowest, _)) = tried.first() else { return vec![values] };
+    tried.into_iter().filter(|(c, _)| *c <= LOAD_COST_FACTOR * lowest).map(|(_, v)| v).collect()
+}
+
+/// `spec` with only `which` (where `spec` frees them) free, comparing `outputs`, from `start`.
+fn pass(
+    spec: &CompliantSpec,
+    which: &[usize],
+    outputs: Vec<(Signal, Vec<f64>)>,
+    start: [f64; 18],
+) -> CompliantSpec {
+    let mut free = [false; 18];
+    for &k in which {
+        free[k] = spec.free[k];
+    }
+    CompliantSpec { outputs, free, start, ..spec.clone() }
+}
+
+/// Fit `spec` from `start`; then hold every free parameter the records leave undetermined
+/// (no standard error: a near-null direction of the Jacobian) at its value in `spec.start`
+/// (the user's) and fit the rest again, so a parameter the records do not see keeps the
+/// value it was given instead of the one it drifted to; those are listed in `held`.
+pub fn settle(
+    spec: &CompliantSpec,
+    start: [f64; 18],
+    records: &[VoltageRecord],
+    progress: Progress<'_>,
+) -> Result<CompliantFit, String> {
+    let first = fit_stage(&CompliantSpec { start, ..spec.clone() }, records, progress)?;
+    let unseen: Vec<usize> = (0..NAMES.len())
+        .filter(|&k| first.free[k] && first.std_errors[k].is_none())
+        .filter(|&k| !(spec.km_is_ke && k == KM))
+        .collect();
+    if unseen.is_empty() {
+        return Ok(first);
+    }
+    let mut free = spec.free;
+    let mut again = first.values;
+    for &k in &unseen {
+        free[k] = false;
+        again[k] = spec.start[k];
+    }
+    let mut fit =
+        fit_stage(&CompliantSpec { free, start: again, ..spec.clone() }, records, progress)?;
+    fit.iterations += first.iterations;
+    fit.failed_trials += first.failed_trials;
+    fit.free = spec.free;
+    let held: Vec<String> = unseen
+        .iter()
+        .map(|&k| {
+            format!(
+                "{} is not determined by this record (the outputs do not depend on it); held at its start value {:.4e}.",
+                NAMES[k], spec.start[k]
+            )
+        })
+        .collect();
+    fit.held = unseen;
+    fit.determination.sentences.retain(|s| !s.starts_with("Every free parameter is determined"));
+    fit.determination.sentences.splice(0..0, held);
+    fit.determination.all_determined = false;
+    Ok(fit)
+}
