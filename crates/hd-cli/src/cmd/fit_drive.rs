@@ -101,6 +101,10 @@ pub fn run(args: DriveArgs) -> Result<()> {
     let file = args.config.display().to_string();
     let text = std::fs::read_to_string(&args.config)
         .with_context(|| format!("cannot read configuration {file}"))?;
+    // `transmission = "compliant"`: the compliant drive under voltage tests.
+    if hd_ident::drive::config::transmission_of(&text).as_deref() == Some("compliant") {
+        return super::fit_drive_compliant::run(&args, &text);
+    }
     let cfg = DriveConfig::parse(&text, &file)?;
     let base = args.config.parent().unwrap_or(Path::new("."));
     let axis = cfg.axis(&file)?;

@@ -9,6 +9,8 @@ pub mod explore;
 pub mod export;
 pub mod fit;
 pub mod fit_drive;
+pub mod fit_drive_compliant;
+pub mod fit_drive_compliant_out;
 pub mod fit_drive_out;
 pub mod fit_hysteresis;
 pub mod fit_input;

@@ -114,6 +114,9 @@ pub struct FitConfig {
 #[derive(Clone, Debug, PartialEq, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct DriveConfig {
+    /// `rigid` (default; `compliant` configurations have their own format,
+    /// [`super::compliant::CompliantConfig`]).
+    pub transmission: Option<String>,
     /// `linear` (default) or `rotary`.
     pub axis: Option<String>,
     /// `coulomb-viscous` (default), `directional`, `lugre`, `directional-lugre` or `all`.
@@ -138,6 +141,12 @@ pub struct DriveConfig {
     pub bounds: BTreeMap<String, [f64; 2]>,
 }
 
+/// The `transmission` key of a configuration's text, if it parses and has one.
+pub fn transmission_of(text: &str) -> Option<String> {
+    let t: toml::Table = toml::from_str(text).ok()?;
+    t.get("transmission")?.as_str().map(String::from)
+}
+
 /// Parsed and checked pieces of a configuration.
 impl DriveConfig {
     /// Parse `text` of file `file`.
@@ -151,6 +160,14 @@ impl DriveConfig {
 
     fn check(&self, file: &str) -> Result<(), DriveError> {
         let at = |k: &str| format!("{file}, {k}");
+        if let Some(t) = &self.transmission
+            && t != "rigid"
+        {
+            return Err(DriveError::config(
+                at("transmission"),
+                format!("'{t}'; expected \"rigid\" or \"compliant\""),
+            ));
+        }
         self.axis(file)?;
         self.laws(file)?;
         self.outputs(file)?;

@@ -35,7 +35,7 @@ pub fn refine(
         }
     }
     let jz_free = std_errors[ix::JZ].is_some();
-    if jz_free && !determined[ix::JZ] && determined[ix::JJ] {
+    if jz_free && !determined[ix::JZ] && std_errors[ix::JJ].is_some() {
         let n2 = n * n;
         let total = values[ix::JJ] + values[ix::JZ] / n2;
         // Var(Jj + Jz/N²) = Var Jj + Var Jz/N⁴ + 2ρ·σJj·σJz/N².
@@ -46,6 +46,9 @@ pub fn refine(
             var.max(0.0).sqrt()
         ));
         determined[ix::JJ] = false;
+    }
+    if determined[ix::KE] != determined[ix::KM] && std_errors[ix::KM] == std_errors[ix::KE] {
+        determined[ix::KM] = determined[ix::KE];
     }
     stiffness_rule(&mut added, values, std_errors, determined, n, corr);
     if !added.is_empty() {

@@ -337,6 +337,11 @@ pub(super) fn fit_stage(
             (free_idx.iter().position(|&k| k == a)?, free_idx.iter().position(|&k| k == b)?);
         det.correlation[sa][sb]
     };
+    if spec.km_is_ke {
+        use super::model::ix::{KE, KM};
+        std_errors[KM] = std_errors[KE];
+        determined[KM] = determined[KE];
+    }
     super::determined::refine(
         &mut det.sentences,
         &values,

@@ -4,6 +4,7 @@
 //! ([`simulate::simulate`]) and fitted by output error on the motor and load encoders and
 //! the current, with the exact Jacobian of the integration ([`fit::fit_compliant`]).
 
+pub mod config;
 pub mod determined;
 pub mod fit;
 pub mod model;
@@ -14,6 +15,7 @@ pub mod stages;
 #[cfg(test)]
 mod tests;
 
+pub use config::CompliantConfig;
 pub use fit::{CompliantFit, CompliantSpec, RecordScore, Signal, substeps_for};
 pub use model::{Compliant, NAMES};
 pub use record::{Between, VoltageRecord};

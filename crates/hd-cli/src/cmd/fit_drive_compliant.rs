@@ -1,0 +1,168 @@
+//! `hdw fit drive` with `transmission = "compliant"`: the simulator's compliant drive fitted
+//! to voltage tests (motor and load encoders, current) by output error (docs/fit-drive.md,
+//! "The compliant drive"). Everything is computed before anything is written.
+
+use super::common::ensure_dir;
+use super::fit_drive::DriveArgs;
+use super::fit_drive_compliant_out::{Outcome, write_outputs};
+use anyhow::{Context, Result};
+use hd_ident::drive::compliant::config::VoltageExperimentConfig;
+use hd_ident::drive::compliant::fit::{CompliantSpec, score_records};
+use hd_ident::drive::compliant::{
+    CompliantConfig, NAMES, Signal, VoltageRecord, fit_compliant, substeps_for,
+};
+use hd_ident::drive::fit::noise_level;
+use hd_ident::drive::lm::LmSettings;
+use indicatif::{ProgressBar, ProgressStyle};
+use std::path::Path;
+use std::time::Instant;
+
+/// A pass stops when an accepted step lowers the cost by less than this share: a
+/// hundredth of a noise-level residual's share of the cost on a record of 10⁴ residuals.
+const COST_TOLERANCE: f64 = 1e-8;
+
+/// Read one voltage test with `ec`'s mapping from `path`.
+fn load(ec: &VoltageExperimentConfig, name: &str, path: &Path) -> Result<VoltageRecord> {
+    let names = [ec.time.as_str(), &ec.voltage, &ec.motor, &ec.load];
+    let cols = hd_io::read_columns(path, &names)?;
+    let current = match &ec.current {
+        None => None,
+        Some(c) => Some(hd_io::read_columns(path, &[c.as_str()])?.remove(0)),
+    };
+    let scale = |v: &[f64], s: f64| v.iter().map(|x| x * s).collect::<Vec<f64>>();
+    Ok(VoltageRecord::new(
+        name,
+        &path.display().to_string(),
+        cols[0].clone(),
+        scale(&cols[1], ec.voltage_scale),
+        scale(&cols[2], ec.motor_scale),
+        scale(&cols[3], ec.load_scale),
+        current.map(|i| scale(&i, ec.current_scale)),
+    )?)
+}
+
+/// Noise level of a recorded signal [its unit]: from its third differences, and no less
+/// than the quantisation noise q/√12 of its smallest step q (an encoder that moves less
+/// than a count per sample hides its quantisation from the differences).
+pub fn estimated_noise(y: &[f64]) -> f64 {
+    let q = y
+        .windows(2)
+        .map(|w| (w[1] - w[0]).abs())
+        .filter(|d| *d > 0.0)
+        .fold(f64::INFINITY, f64::min);
+    let floor = if q.is_finite() { q / 12f64.sqrt() } else { 0.0 };
+    noise_level(y).max(floor).max(f64::MIN_POSITIVE)
+}
+
+/// The start values of the params file named in the configuration (or the seed's), in
+/// [`NAMES`] order, and the gear ratio N.
+fn base_params(cfg: &CompliantConfig, base: &Path) -> Result<([f64; 18], f64)> {
+    let mut p = hd_model::Params::default();
+    if let Some(f) = &cfg.params_file {
+        let path = base.join(f);
+        let text = std::fs::read_to_string(&path)
+            .with_context(|| format!("cannot read params_file {}", path.display()))?;
+        hd_model::params_file::apply_params_toml(&mut p, &text, &path.display().to_string())?;
+    }
+    let mut out = [0.0; 18];
+    for (k, n) in NAMES.iter().enumerate() {
+        out[k] = p.get(n)?;
+    }
+    Ok((out, p.n))
+}
+
+/// Run `hdw fit drive` on a compliant-drive configuration `text` of `args.config`.
+pub fn run(args: &DriveArgs, text: &str) -> Result<()> {
+    let file = args.config.display().to_string();
+    let cfg = CompliantConfig::parse(text, &file)?;
+    let base = args.config.parent().unwrap_or(Path::new("."));
+    let records: Vec<VoltageRecord> = cfg
+        .experiment
+        .iter()
+        .map(|ec| load(ec, &ec.name, &base.join(&ec.file)))
+        .collect::<Result<_>>()?;
+    let validation = match &args.validate {
+        Some(p) => Some(load(&cfg.experiment[0], "validation", p)?),
+        None => None,
+    };
+    let between = cfg.between(&file)?;
+    let free = cfg.free(&file)?;
+    let (params, n) = base_params(&cfg, base)?;
+    let (start, lower, upper) = cfg.start_and_bounds(&params);
+    let has_current = records.iter().all(|r| r.current.is_some());
+    let wanted = cfg.outputs(&file)?.unwrap_or_else(|| {
+        Signal::ALL.into_iter().filter(|s| *s != Signal::Current || has_current).collect()
+    });
+    let mut outputs = Vec::new();
+    for o in wanted {
+        let mut levels = Vec::new();
+        for r in &records {
+            let meas = o.measured(r).ok_or_else(|| {
+                anyhow::anyhow!(
+                    "{file}, [fit] outputs: '{}' but {} logs no current",
+                    o.name(),
+                    r.source
+                )
+            })?;
+            levels.push(
+                cfg.fit.noise.get(o.name()).copied().unwrap_or_else(|| estimated_noise(meas)),
+            );
+        }
+        outputs.push((o, levels));
+    }
+    let h = records[0].h;
+    let substeps = cfg.substeps.unwrap_or_else(|| substeps_for(&start, n, h));
+    let spec = CompliantSpec {
+        n,
+        between,
+        start,
+        free,
+        lower,
+        upper,
+        outputs,
+        km_is_ke: cfg.km_equals_ke.unwrap_or(true),
+        substeps,
+        settings: LmSettings {
+            max_iterations: cfg.fit.max_iterations.unwrap_or(100),
+            cost_tolerance: COST_TOLERANCE,
+        },
+    };
+    let dir = ensure_dir(&args.out)?;
+    let bar = ProgressBar::new_spinner();
+    bar.set_style(
+        ProgressStyle::with_template("{spinner} {elapsed_precise} {msg}")
+            .unwrap_or_else(|_| ProgressStyle::default_spinner()),
+    );
+    bar.enable_steady_tick(std::time::Duration::from_millis(200));
+    bar.set_message("fitting the compliant drive");
+    let t0 = Instant::now();
+    let progress = |it: usize, cost: f64| {
+        if cost.is_finite() {
+            bar.set_message(format!("compliant drive: iteration {it}, cost {cost:.6e}"));
+        }
+    };
+    let fit = fit_compliant(&spec, &records, &progress)
+        .map_err(|e| anyhow::anyhow!("{file}: the compliant fit failed: {e}"))?;
+    let secs = t0.elapsed().as_secs_f64();
+    bar.finish_and_clear();
+    let start_scores = score_records(&spec, &spec.start, &records, &|o, k| {
+        spec.outputs.iter().find(|x| x.0 == o).map_or(f64::NAN, |x| x.1[k])
+    });
+    let validation_scores = validation.as_ref().map(|v| {
+        score_records(&spec, &fit.values, std::slice::from_ref(v), &|o, _| {
+            o.measured(v).map_or(f64::NAN, estimated_noise)
+        })
+        .remove(0)
+    });
+    let outcome = Outcome {
+        config: file,
+        spec,
+        records,
+        validation,
+        fit,
+        secs,
+        start_scores,
+        validation_scores,
+    };
+    write_outputs(&dir, &outcome)
+}

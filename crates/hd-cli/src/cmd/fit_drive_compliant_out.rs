@@ -1,0 +1,217 @@
+//! The outputs of a compliant-drive fit: fit.json, params.toml (a params file `hdw simulate
+//! --params` runs), report.md with plots, and the summary printed to the terminal. All of
+//! them land together or not at all.
+
+use super::common::{staged_plot, write_json};
+use anyhow::Result;
+use hd_ident::drive::compliant::fit::{CompliantSpec, RecordScore};
+use hd_ident::drive::compliant::{Compliant, CompliantFit, NAMES, VoltageRecord, simulate};
+use hd_plot::{Series, line_plot};
+use serde_json::{Map, Value, json};
+use std::fmt::Write as _;
+use std::path::Path;
+
+/// Everything the compliant fit computed.
+pub struct Outcome {
+    /// The configuration file.
+    pub config: String,
+    /// What was fitted (start, bounds, outputs with their noise levels, substeps).
+    pub spec: CompliantSpec,
+    /// The fitted records.
+    pub records: Vec<VoltageRecord>,
+    /// The validation record.
+    pub validation: Option<VoltageRecord>,
+    /// The fit.
+    pub fit: CompliantFit,
+    /// Wall time of the fit [s].
+    pub secs: f64,
+    /// Scores of the start values on the fitted records.
+    pub start_scores: Vec<RecordScore>,
+    /// Scores of the fitted drive on the validation record.
+    pub validation_scores: Option<RecordScore>,
+}
+
+/// The unit of a parameter, from hd-model's registry.
+fn unit(name: &str) -> &'static str {
+    hd_model::registry::lookup(name).map_or("", |i| i.unit)
+}
+
+fn scores_json(s: &RecordScore) -> Value {
+    let mut m = Map::new();
+    for (o, sc, noise, ratio) in &s.outputs {
+        m.insert(
+            o.name().into(),
+            json!({"rel_error": sc.rel_error, "rmse": sc.rmse, "fit_percent": sc.fit_percent,
+                   "noise": noise, "rmse_over_noise": ratio, "unit": o.unit()}),
+        );
+    }
+    json!({"name": s.name, "outputs": Value::Object(m)})
+}
+
+fn fmt_score(s: &RecordScore) -> String {
+    s.outputs
+        .iter()
+        .map(|(o, sc, noise, ratio)| {
+            format!(
+                "{} rmse {:.3e} {} ({ratio:.2}× the noise {noise:.2e}), fit {:.2} %",
+                o.name(),
+                sc.rmse,
+                o.unit(),
+                sc.fit_percent
+            )
+        })
+        .collect::<Vec<_>>()
+        .join("; ")
+}
+
+/// Measured against simulated, and the residuals, of every compared output of `r`, as
+/// `prefix<output>.svg` and `prefix residuals-<output>.svg`.
+fn plots(dir: &Path, o: &Outcome, r: &VoltageRecord, prefix: &str) -> Result<Vec<String>> {
+    let sim = simulate(&Compliant::new(o.fit.values, o.spec.n), r, o.spec.between, o.spec.substeps);
+    let mut files = Vec::new();
+    for (s, _) in &o.spec.outputs {
+        let Some(meas) = s.measured(r) else { continue };
+        let model = s.simulated(&sim).to_vec();
+        let y_label = format!("{} [{}]", s.name(), s.unit());
+        let name = format!("{prefix}{}.svg", s.name());
+        let title = format!("{}: {} measured and simulated (compliant drive)", r.name, s.name());
+        let curves = [
+            Series::new("measured", r.t.clone(), meas.to_vec()),
+            Series::new("simulated", r.t.clone(), model.clone()),
+        ];
+        staged_plot(&dir.join(&name), |p| line_plot(p, &title, "t [s]", &y_label, &curves, false))?;
+        files.push(name);
+        let name = format!("{prefix}residuals-{}.svg", s.name());
+        let res: Vec<f64> = meas.iter().zip(&model).map(|(a, b)| a - b).collect();
+        let title = format!("{}: {} residual, measured − simulated", r.name, s.name());
+        let curve = [Series::new("residual", r.t.clone(), res)];
+        let y_label = format!("residual [{}]", s.unit());
+        staged_plot(&dir.join(&name), |p| line_plot(p, &title, "t [s]", &y_label, &curve, false))?;
+        files.push(name);
+    }
+    Ok(files)
+}
+
+/// Write fit.json, params.toml, report.md and the plots, renamed into place together at the
+/// end (or none, on an error); print the report.
+pub fn write_outputs(dir: &Path, o: &Outcome) -> Result<()> {
+    hd_io::atomic::group(|| write_all(dir, o))
+}
+
+fn write_all(dir: &Path, o: &Outcome) -> Result<()> {
+    let f = &o.fit;
+    let sp = &o.spec;
+    let parameters: Map<String, Value> = NAMES
+        .iter()
+        .enumerate()
+        .map(|(k, n)| {
+            (
+                n.to_string(),
+                json!({"value": f.values[k], "std_error": f.std_errors[k], "free": f.free[k],
+                       "held": f.held.contains(&k), "determined": f.determined[k],
+                       "start": sp.start[k], "unit": unit(n)}),
+            )
+        })
+        .collect();
+    let doc = json!({
+        "config": o.config,
+        "transmission": "compliant",
+        "N": sp.n,
+        "voltage_between": sp.between.name(),
+        "substeps": sp.substeps,
+        "km_equals_ke": sp.km_is_ke,
+        "wall_time_s": o.secs,
+        "starts": f.starts,
+        "iterations": f.iterations,
+        "failed_trials": f.failed_trials,
+        "termination": f.termination,
+        "cost": f.cost,
+        "residuals": f.n,
+        "parameters": parameters,
+        "determination": f.determination.sentences,
+        "experiments": f.scores.iter().map(scores_json).collect::<Vec<_>>(),
+        "start_scores": o.start_scores.iter().map(scores_json).collect::<Vec<_>>(),
+        "validation": o.validation_scores.as_ref().map(scores_json),
+    });
+
+    // params.toml: a params file of `hdw simulate` (variant full, stiffness law memory).
+    let mut params = format!(
+        "# Compliant drive fitted by `hdw fit drive --config {}`.\n# A params file for `hdw simulate --params` (variant full, stiffness law memory).\n# Parameters the records do not determine are listed in fit.json and report.md.\n\nN = {:e}\n",
+        o.config, sp.n
+    );
+    for (k, n) in NAMES.iter().enumerate() {
+        let _ = writeln!(params, "{n} = {:e}", f.values[k]);
+    }
+
+    let mut figs = plots(dir, o, &o.records[0], "")?;
+    if let Some(v) = &o.validation {
+        figs.extend(plots(dir, o, v, "validation-")?);
+    }
+
+    let mut r = String::new();
+    let _ = writeln!(r, "# Compliant drive fit: {}\n", o.config);
+    let _ = writeln!(
+        r,
+        "{} record(s), {} residuals; voltage read `{}` between samples, {} Runge–Kutta substeps per sample; {} start(s) of the full fit, {} iterations in {:.2} s; {}.\n",
+        o.records.len(),
+        f.n,
+        sp.between.name(),
+        sp.substeps,
+        f.starts,
+        f.iterations,
+        o.secs,
+        f.termination
+    );
+    let _ = writeln!(r, "| parameter | start | value | std. error | determined | unit |");
+    let _ = writeln!(r, "|---|---:|---:|---:|---|---|");
+    for (k, n) in NAMES.iter().enumerate() {
+        let se = match (f.free[k], f.held.contains(&k), f.std_errors[k]) {
+            (false, _, _) => "fixed".to_string(),
+            (true, true, _) => "held".to_string(),
+            (true, false, Some(s)) => format!("{s:.3e}"),
+            (true, false, None) => "—".to_string(),
+        };
+        let det = if !f.free[k] {
+            ""
+        } else if f.determined[k] {
+            "yes"
+        } else {
+            "no"
+        };
+        let _ = writeln!(
+            r,
+            "| {n} | {:.4e} | {:.4e} | {se} | {det} | {} |",
+            sp.start[k],
+            f.values[k],
+            unit(n)
+        );
+    }
+    let _ = writeln!(r, "\n## What the records determine\n");
+    for s in &f.determination.sentences {
+        let _ = writeln!(r, "- {s}");
+    }
+    let _ = writeln!(r, "\n## Scores\n");
+    for (s, s0) in f.scores.iter().zip(&o.start_scores) {
+        let _ = writeln!(r, "- {} (fitted): {}", s.name, fmt_score(s));
+        let _ = writeln!(r, "- {} (start): {}", s0.name, fmt_score(s0));
+    }
+    if let Some(v) = &o.validation_scores {
+        let _ = writeln!(r, "- validation: {}", fmt_score(v));
+    }
+    let _ = writeln!(r, "\n## Plots\n");
+    for fig in &figs {
+        let _ = writeln!(r, "![{fig}]({fig})");
+    }
+
+    write_json(&dir.join("fit.json"), &doc)?;
+    for (name, text) in [("params.toml", &params), ("report.md", &r)] {
+        let path = dir.join(name);
+        hd_io::atomic::write_atomically(&path, |file| {
+            use std::io::Write;
+            file.write_all(text.as_bytes()).map_err(|e| hd_io::IoError::fs(&path, e))
+        })?;
+    }
+    use std::io::Write;
+    let _ = writeln!(std::io::stdout().lock(), "{r}");
+    Ok(())
+}

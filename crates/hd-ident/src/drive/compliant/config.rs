@@ -1,0 +1,242 @@
+//! The configuration of a compliant-drive fit (`transmission = "compliant"` in the fit
+//! configuration of `hdw fit drive`; docs/fit-drive.md). Unknown keys are errors; every
+//! check names the file and the key.
+
+use super::fit::Signal;
+use super::model::{NAMES, ix};
+use super::record::Between;
+use crate::drive::error::DriveError;
+use serde::Deserialize;
+use std::collections::BTreeMap;
+
+/// One voltage test: its file and the column of each signal.
+#[derive(Clone, Debug, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct VoltageExperimentConfig {
+    /// Name in reports.
+    pub name: String,
+    /// CSV, Parquet or MAT v5 file, relative to the configuration file.
+    pub file: String,
+    /// Time column [s].
+    pub time: String,
+    /// Applied voltage column [V].
+    pub voltage: String,
+    /// Motor encoder column (motor angle θj).
+    pub motor: String,
+    /// Load encoder column (load angle θz).
+    pub load: String,
+    /// Armature current column, if logged.
+    pub current: Option<String>,
+    /// Factor to rad of the motor encoder column (e.g. 2π/4096 for counts); default 1.
+    #[serde(default = "one")]
+    pub motor_scale: f64,
+    /// Factor to rad of the load encoder column; default 1.
+    #[serde(default = "one")]
+    pub load_scale: f64,
+    /// Factor to A of the current column; default 1.
+    #[serde(default = "one")]
+    pub current_scale: f64,
+    /// Factor to V of the voltage column; default 1.
+    #[serde(default = "one")]
+    pub voltage_scale: f64,
+}
+
+fn one() -> f64 {
+    1.0
+}
+
+/// `[fit]` of a compliant fit.
+#[derive(Clone, Debug, PartialEq, Deserialize, Default)]
+#[serde(deny_unknown_fields)]
+pub struct CompliantFitConfig {
+    /// Outputs compared: `motor`, `load`, `current`; default all the records carry.
+    pub outputs: Option<Vec<String>>,
+    /// Noise level per output [rad or A]; estimated from each record where absent.
+    #[serde(default)]
+    pub noise: BTreeMap<String, f64>,
+    /// The free parameters; default all but a, b and sigma2 (Km follows Ke unless
+    /// `km_equals_ke = false`).
+    pub free: Option<Vec<String>>,
+    /// Parameters removed from the free ones.
+    pub fix: Option<Vec<String>>,
+    /// Iteration budget of each Levenberg–Marquardt pass; default 100.
+    pub max_iterations: Option<usize>,
+}
+
+/// The whole configuration of a compliant fit.
+#[derive(Clone, Debug, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct CompliantConfig {
+    /// `"compliant"`.
+    pub transmission: String,
+    /// A params file of `hdw simulate` (relative to the configuration) holding the start
+    /// values and the gear ratio N; default the seed's parameters.
+    pub params_file: Option<String>,
+    /// How the voltage runs between samples: `hold`, `linear` (default) or `cubic`.
+    pub voltage_between: Option<String>,
+    /// Whether Km equals Ke (SI units); default true.
+    pub km_equals_ke: Option<bool>,
+    /// Runge–Kutta substeps per sample; default from the start's fastest rate.
+    pub substeps: Option<usize>,
+    /// The voltage tests fitted jointly.
+    pub experiment: Vec<VoltageExperimentConfig>,
+    /// The fit.
+    #[serde(default)]
+    pub fit: CompliantFitConfig,
+    /// Start values by parameter name (override the params file).
+    #[serde(default)]
+    pub params: BTreeMap<String, f64>,
+    /// Bounds `[lower, upper]` by parameter name; default start/1000 to start·1000 for a
+    /// positive start.
+    #[serde(default)]
+    pub bounds: BTreeMap<String, [f64; 2]>,
+}
+
+/// Index of parameter `name` in [`NAMES`].
+fn index(name: &str, file: &str, key: &str) -> Result<usize, DriveError> {
+    NAMES.iter().position(|n| *n == name).ok_or_else(|| {
+        DriveError::config(
+            format!("{file}, {key} '{name}'"),
+            format!("unknown parameter; expected one of {}", NAMES.join(", ")),
+        )
+    })
+}
+
+impl CompliantConfig {
+    /// Parse and check `text` of file `file`.
+    pub fn parse(text: &str, file: &str) -> Result<CompliantConfig, DriveError> {
+        let c: CompliantConfig = toml::from_str(text).map_err(|e| {
+            DriveError::config(file, e.to_string().replace('\n', " ").trim().to_string())
+        })?;
+        if c.transmission != "compliant" {
+            return Err(DriveError::config(
+                format!("{file}, transmission"),
+                format!("'{}'; expected \"compliant\" or \"rigid\"", c.transmission),
+            ));
+        }
+        if c.experiment.is_empty() {
+            return Err(DriveError::config(file, "no [[experiment]]; expected at least one"));
+        }
+        c.between(file)?;
+        c.outputs(file)?;
+        c.free(file)?;
+        for k in c.params.keys() {
+            index(k, file, "[params]")?;
+        }
+        for (k, [lo, hi]) in &c.bounds {
+            index(k, file, "[bounds]")?;
+            if lo.partial_cmp(hi) != Some(std::cmp::Ordering::Less) {
+                return Err(DriveError::config(
+                    format!("{file}, [bounds] {k}"),
+                    format!("[{lo}, {hi}]; expected lower < upper"),
+                ));
+            }
+        }
+        for (k, v) in &c.fit.noise {
+            if Signal::parse(k).is_none() || !(*v > 0.0 && v.is_finite()) {
+                return Err(DriveError::config(
+                    format!("{file}, [fit] noise.{k}"),
+                    "expected a positive noise level for `motor`, `load` or `current`",
+                ));
+            }
+        }
+        if c.substeps == Some(0) {
+            return Err(DriveError::config(format!("{file}, substeps"), "0; expected at least 1"));
+        }
+        Ok(c)
+    }
+
+    /// How the voltage runs between samples.
+    pub fn between(&self, file: &str) -> Result<Between, DriveError> {
+        match &self.voltage_between {
+            None => Ok(Between::Linear),
+            Some(s) => Between::parse(s).ok_or_else(|| {
+                DriveError::config(
+                    format!("{file}, voltage_between"),
+                    format!("'{s}'; expected \"hold\", \"linear\" or \"cubic\""),
+                )
+            }),
+        }
+    }
+
+    /// The outputs asked for (None: all the records carry).
+    pub fn outputs(&self, file: &str) -> Result<Option<Vec<Signal>>, DriveError> {
+        let Some(list) = &self.fit.outputs else { return Ok(None) };
+        let mut out = Vec::new();
+        for s in list {
+            let o = Signal::parse(s).ok_or_else(|| {
+                DriveError::config(
+                    format!("{file}, [fit] outputs"),
+                    format!("'{s}'; expected motor, load or current"),
+                )
+            })?;
+            if !out.contains(&o) {
+                out.push(o);
+            }
+        }
+        if out.is_empty() {
+            return Err(DriveError::config(format!("{file}, [fit] outputs"), "empty list"));
+        }
+        Ok(Some(out))
+    }
+
+    /// Which parameters are free ([`NAMES`] order).
+    pub fn free(&self, file: &str) -> Result<[bool; 18], DriveError> {
+        let mut free = [false; 18];
+        match &self.fit.free {
+            Some(list) => {
+                for n in list {
+                    free[index(n, file, "[fit] free")?] = true;
+                }
+            }
+            None => {
+                free = [true; 18];
+                for k in [ix::A, ix::B, ix::SIGMA2] {
+                    free[k] = false;
+                }
+            }
+        }
+        for n in self.fit.fix.iter().flatten() {
+            free[index(n, file, "[fit] fix")?] = false;
+        }
+        if self.km_equals_ke.unwrap_or(true) {
+            free[ix::KM] = free[ix::KE];
+        }
+        let count = free.iter().filter(|&&f| f).count()
+            - usize::from(self.km_equals_ke.unwrap_or(true) && free[ix::KM]);
+        if count > super::fit::MAX_FREE {
+            return Err(DriveError::config(
+                format!("{file}, [fit] free"),
+                format!("{count} free parameters; expected at most {}", super::fit::MAX_FREE),
+            ));
+        }
+        Ok(free)
+    }
+
+    /// Start values ([`NAMES`] order) from the params file's values `base` and `[params]`,
+    /// and the bounds.
+    pub fn start_and_bounds(&self, base: &[f64; 18]) -> ([f64; 18], [f64; 18], [f64; 18]) {
+        let mut start = *base;
+        for (k, v) in &self.params {
+            if let Some(i) = NAMES.iter().position(|n| n == k) {
+                start[i] = *v;
+            }
+        }
+        if self.km_equals_ke.unwrap_or(true) {
+            start[ix::KM] = start[ix::KE];
+        }
+        let mut lower = [f64::NEG_INFINITY; 18];
+        let mut upper = [f64::INFINITY; 18];
+        for k in 0..NAMES.len() {
+            if start[k] > 0.0 {
+                lower[k] = start[k] * 1e-3;
+                upper[k] = start[k] * 1e3;
+            }
+            if let Some([lo, hi]) = self.bounds.get(NAMES[k]) {
+                lower[k] = *lo;
+                upper[k] = *hi;
+            }
+        }
+        (start, lower, upper)
+    }
+}
