@@ -28,7 +28,10 @@ law(s), the outputs compared and the fixed parameters (docs/fit-drive.md). Outpu
                correlations, BIC, per experiment and output rel_error, rmse, fit_percent, what the\n\
                record does not determine; the validation scores with --validate\n\
   params.toml  the best law's parameters, as a [params] table a configuration can start from\n\
-  report.md    the same in words, with force.svg, position.svg, residuals.svg (and validation-*.svg)\n\n\
+  report.md    the same in words, with force.svg, position.svg, residuals.svg (and validation-*.svg)\n\
+With transmission = \"compliant\" the configuration fits the simulator's compliant drive to voltage tests\n\
+(motor and load encoders, current); params.toml is then a params file hdw simulate runs, and the plots are\n\
+motor.svg, load.svg, current.svg with their residuals.\n\n\
 Example:\n  hdw fit drive --config data/emps/fit.toml --out out/emps"
 )]
 pub struct DriveArgs {

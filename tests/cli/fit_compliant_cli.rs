@@ -1,0 +1,120 @@
+//! `hdw fit drive` with `transmission = "compliant"`: a voltage test of the simulator's drive
+//! fitted back (motor parameters free, the rest at the truth), its outputs, the params file
+//! `hdw simulate` runs, and the one-line errors of bad configurations.
+
+use crate::common::{assert_one_line_error, hdw, hdw_ok, scratch};
+
+/// The configuration of the tests, with `extra` appended to its top level and `fit` as its
+/// `[fit]` table.
+fn config(dir: &std::path::Path, extra: &str, fit: &str) -> std::path::PathBuf {
+    let text = format!(
+        "transmission = \"compliant\"\nparams_file = \"start.toml\"\nvoltage_between = \"cubic\"\n{extra}\n\
+         [[experiment]]\nname = \"chirp\"\nfile = \"chirp.csv\"\ntime = \"t\"\nvoltage = \"u\"\n\
+         motor = \"theta_m\"\nload = \"theta_l\"\ncurrent = \"i\"\n\n[fit]\n{fit}\n"
+    );
+    let path = dir.join("fit.toml");
+    std::fs::write(&path, text).unwrap();
+    path
+}
+
+/// Motor parameters 20–30 % off, everything else the seed's (the truth of `synth drive`).
+fn start(dir: &std::path::Path) {
+    std::fs::write(
+        dir.join("start.toml"),
+        "R = 7.5\nKe = 0.4\nKm = 0.4\nJj = 8.5e-4\nCj = 0.0022\n",
+    )
+    .unwrap();
+}
+
+#[test]
+fn the_motor_is_fitted_back_from_a_voltage_test() {
+    let dir = scratch("fit-compliant");
+    let rec = dir.join("chirp.csv");
+    hdw_ok(&["synth", "drive", "--freq", "5", "--t-end", "2", "--out", rec.to_str().unwrap()]);
+    start(&dir);
+    let cfg = config(
+        &dir,
+        "",
+        "free = [\"R\", \"Ke\", \"Jj\", \"Cj\"]\nnoise = { motor = 4.43e-4, load = 1.73e-6 }",
+    );
+    let out = dir.join("out");
+    hdw_ok(&["fit", "drive", "--config", cfg.to_str().unwrap(), "--out", out.to_str().unwrap()]);
+    let doc: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("fit.json")).unwrap()).unwrap();
+    assert_eq!(doc["transmission"], "compliant");
+    // The truth is the seed drive: the motor's parameters come back within 3 standard
+    // errors; R and Jj are determined, Ke and Cj only together on this chirp (back-EMF and
+    // viscous damping both brake the speed), which the fit says; Km follows Ke.
+    for (name, truth, determined) in
+        [("R", 6.0, true), ("Jj", 6.8e-4, true), ("Ke", 0.52, false), ("Cj", 0.003, false)]
+    {
+        let p = &doc["parameters"][name];
+        let (v, se) = (p["value"].as_f64().unwrap(), p["std_error"].as_f64().unwrap());
+        assert_eq!(p["determined"].as_bool().unwrap(), determined, "{name}: {p}");
+        assert!((v - truth).abs() < 3.0 * se, "{name} = {v} ± {se}, truth {truth}");
+    }
+    let said = doc["determination"].to_string();
+    assert!(said.contains("Ke and Cj are not separable"), "{said}");
+    assert_eq!(doc["parameters"]["Km"]["value"], doc["parameters"]["Ke"]["value"]);
+    // At the noise: each output's RMS residual within 1.2 times its noise level.
+    for o in ["motor", "load", "current"] {
+        let r = doc["experiments"][0]["outputs"][o]["rmse_over_noise"].as_f64().unwrap();
+        assert!(r < 1.2, "{o}: {r}");
+    }
+    for f in ["params.toml", "report.md", "motor.svg", "residuals-load.svg", "current.svg"] {
+        assert!(out.join(f).exists(), "{f}");
+    }
+    // params.toml is a params file the simulator runs.
+    let sim = dir.join("sim");
+    hdw_ok(&[
+        "simulate",
+        "--params",
+        out.join("params.toml").to_str().unwrap(),
+        "--t-end",
+        "0.05",
+        "--out",
+        sim.to_str().unwrap(),
+    ]);
+}
+
+#[test]
+fn bad_compliant_configurations_get_one_line_errors() {
+    let dir = scratch("fit-compliant-bad");
+    let rec = dir.join("chirp.csv");
+    hdw_ok(&["synth", "drive", "--freq", "5", "--t-end", "0.1", "--out", rec.to_str().unwrap()]);
+    start(&dir);
+    let run = |extra: &str, fit: &str| {
+        let cfg = config(&dir, extra, fit);
+        let out = dir.join("out");
+        let o = hdw(&[
+            "fit",
+            "drive",
+            "--config",
+            cfg.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+        ]);
+        assert!(!out.exists(), "a failed fit leaves no output folder");
+        o
+    };
+    let cases = [
+        ("[params]\nJx = 1.0\n", "", "[params] 'Jx'"),
+        ("", "free = [\"R\", \"gain\"]", "[fit] free 'gain'"),
+        ("voltage_between = \"spline\"\n", "", "voltage_between"),
+        ("", "noise = { torque = 1.0 }", "noise.torque"),
+        ("[bounds]\nR = [5.0, 1.0]\n", "", "[bounds] R"),
+    ];
+    for (extra, fit, expect) in cases {
+        // `[params]` and `[bounds]` tables must come after the top-level keys but before
+        // [[experiment]]: the helper puts `extra` there.
+        let o = run(extra, fit);
+        assert_one_line_error(&o, &[expect, "fit.toml"]);
+    }
+    // A missing column names the file and the column.
+    let cfg = config(&dir, "", "").to_str().unwrap().to_string();
+    let text =
+        std::fs::read_to_string(&cfg).unwrap().replace("current = \"i\"", "current = \"amps\"");
+    std::fs::write(&cfg, text).unwrap();
+    let o = hdw(&["fit", "drive", "--config", &cfg, "--out", dir.join("out").to_str().unwrap()]);
+    assert_one_line_error(&o, &["amps", "chirp.csv"]);
+}
