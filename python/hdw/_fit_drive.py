@@ -23,7 +23,10 @@ class DriveFitResult:
             lowest BIC), its ``parameters``, ``experiments`` and ``validation`` scores,
             ``start`` (the inverse-model start per law) and ``laws`` (every fitted law,
             best first, each with parameters, correlation, BIC, scores, the sentences on
-            what the record determines, iterations and seconds).
+            what the record determines, iterations and seconds). A compliant-drive fit
+            (``transmission = "compliant"``) has ``best`` = ``"compliant"``, its
+            ``parameters`` (each with ``determined`` and ``held``), ``determination`` and
+            ``experiments``, and no ``laws``.
         best: the name of the best law.
         values: ``{name: fitted value}`` of the best law, in the axis's units.
         laws: ``{law: {name: fitted value}}`` for every fitted law.
@@ -38,17 +41,21 @@ class DriveFitResult:
         self.values: Dict[str, float] = {
             k: v["value"] for k, v in report["parameters"].items()
         }
+        # A compliant-drive fit (``transmission = "compliant"``) has one model, no laws.
         self.laws: Dict[str, Dict[str, float]] = {
             law["law"]: {k: v["value"] for k, v in law["parameters"].items()}
-            for law in report["laws"]
-        }
+            for law in report.get("laws", [])
+        } or {self.best: dict(self.values)}
         self.out = out
         self.summary = summary
 
     def scores(self, law: Optional[str] = None) -> Dict[str, Any]:
         """Per experiment and output: ``rel_error`` [%], ``rmse`` and ``fit_percent`` of
         `law` (default the best), plus ``validation`` when a validation record was given."""
-        entry = next(e for e in self.report["laws"] if e["law"] == (law or self.best))
+        if "laws" not in self.report:  # a compliant-drive fit: one model
+            entry = self.report
+        else:
+            entry = next(e for e in self.report["laws"] if e["law"] == (law or self.best))
         out = dict(entry["experiments"])
         if entry.get("validation") is not None:
             out["validation"] = entry["validation"]

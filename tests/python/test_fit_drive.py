@@ -51,3 +51,25 @@ def test_bad_configuration_is_a_value_error(tmp_path):
     cfg.write_text(cfg.read_text().replace('position = "qm"', 'position = "qx"'))
     with pytest.raises(ValueError, match="missing variable 'qx'"):
         hdw.fit_drive(cfg, hdw=HDW)
+
+
+def test_fit_drive_takes_a_compliant_configuration(tmp_path):
+    """A voltage test of the simulator's drive fitted back through hdw.fit_drive: the same
+    fit.json as the command, the values and scores of the one model."""
+    rec = tmp_path / "chirp.csv"
+    run_cli("synth", "drive", "--freq", "5", "--t-end", "1", "--out", rec)
+    cfg = tmp_path / "fit.toml"
+    cfg.write_text(
+        'transmission = "compliant"\nvoltage_between = "cubic"\n'
+        '[params]\nR = 7.0\nKe = 0.45\n'
+        '[[experiment]]\nname = "chirp"\nfile = "chirp.csv"\ntime = "t"\nvoltage = "u"\n'
+        'motor = "theta_m"\nload = "theta_l"\ncurrent = "i"\n'
+        '[fit]\nfree = ["R", "Ke", "Jj", "Cj"]\n'
+    )
+    run_cli("fit", "drive", "--config", cfg, "--out", tmp_path / "cli")
+    fit = hdw.fit_drive(cfg, hdw=HDW)
+    expected = read_json(tmp_path / "cli" / "fit.json")
+    assert without(fit.report, VARYING | {"wall_time_s"}) == without(expected, VARYING | {"wall_time_s"})
+    assert fit.best == "compliant" and fit.laws["compliant"] == fit.values
+    assert abs(fit.values["R"] - 6.0) < 0.05 and fit.values["Km"] == fit.values["Ke"]
+    assert fit.scores()["chirp"]["current"]["rmse_over_noise"] < 1.2

@@ -45,7 +45,12 @@ fn scores_json(s: &RecordScore) -> Value {
                    "noise": noise, "rmse_over_noise": ratio, "unit": o.unit()}),
         );
     }
-    json!({"name": s.name, "outputs": Value::Object(m)})
+    Value::Object(m)
+}
+
+/// `{record name: {output: scores}}`, as the rigid fit's fit.json has them.
+fn records_json(v: &[RecordScore]) -> Value {
+    Value::Object(v.iter().map(|s| (s.name.clone(), scores_json(s))).collect())
 }
 
 fn fmt_score(s: &RecordScore) -> String {
@@ -129,8 +134,9 @@ fn write_all(dir: &Path, o: &Outcome) -> Result<()> {
         "residuals": f.n,
         "parameters": parameters,
         "determination": f.determination.sentences,
-        "experiments": f.scores.iter().map(scores_json).collect::<Vec<_>>(),
-        "start_scores": o.start_scores.iter().map(scores_json).collect::<Vec<_>>(),
+        "best": "compliant",
+        "experiments": records_json(&f.scores),
+        "start_scores": records_json(&o.start_scores),
         "validation": o.validation_scores.as_ref().map(scores_json),
     });
 
