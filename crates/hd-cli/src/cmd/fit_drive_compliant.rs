@@ -17,8 +17,10 @@ use indicatif::{ProgressBar, ProgressStyle};
 use std::path::Path;
 use std::time::Instant;
 
-/// A pass stops when an accepted step lowers the cost by less than this share: a
-/// hundredth of a noise-level residual's share of the cost on a record of 10⁴ residuals.
+/// A pass stops when an accepted step lowers the cost by less than this share. On the
+/// worked example of docs/fit-drive.md, 1e-6 stopped the passes at 185 iterations instead
+/// of 500 (5.5 s instead of 7.5 s) but left the validation record's load residual at 2.3
+/// times its noise instead of 1.4: the last iterations settle the gear's valley.
 const COST_TOLERANCE: f64 = 1e-8;
 
 /// Read one voltage test with `ec`'s mapping from `path`.
