@@ -58,7 +58,7 @@ fn the_motor_is_fitted_back_from_a_voltage_test() {
     assert_eq!(doc["parameters"]["Km"]["value"], doc["parameters"]["Ke"]["value"]);
     // At the noise: each output's RMS residual within 1.2 times its noise level.
     for o in ["motor", "load", "current"] {
-        let r = doc["experiments"][0]["outputs"][o]["rmse_over_noise"].as_f64().unwrap();
+        let r = doc["experiments"]["chirp"][o]["rmse_over_noise"].as_f64().unwrap();
         assert!(r < 1.2, "{o}: {r}");
     }
     for f in ["params.toml", "report.md", "motor.svg", "residuals-load.svg", "current.svg"] {

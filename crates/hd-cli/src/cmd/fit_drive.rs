@@ -99,6 +99,18 @@ fn resolve(v: &NumberOrVariable, key: &str, file: &Path) -> Result<f64> {
     }
 }
 
+/// A spinner with the elapsed time and `message`, ticking on its own.
+pub fn spinner(message: String) -> ProgressBar {
+    let bar = ProgressBar::new_spinner();
+    bar.set_style(
+        ProgressStyle::with_template("{spinner} {elapsed_precise} {msg}")
+            .unwrap_or_else(|_| ProgressStyle::default_spinner()),
+    );
+    bar.enable_steady_tick(std::time::Duration::from_millis(200));
+    bar.set_message(message);
+    bar
+}
+
 /// Run `hdw fit drive`.
 pub fn run(args: DriveArgs) -> Result<()> {
     let file = args.config.display().to_string();
@@ -140,13 +152,7 @@ pub fn run(args: DriveArgs) -> Result<()> {
 
     let dir = ensure_dir(&args.out)?;
 
-    let bar = ProgressBar::new_spinner();
-    bar.set_style(
-        ProgressStyle::with_template("{spinner} {elapsed_precise} {msg}")
-            .unwrap_or_else(|_| ProgressStyle::default_spinner()),
-    );
-    bar.enable_steady_tick(std::time::Duration::from_millis(200));
-    bar.set_message(format!("fitting {} law(s)", laws.len()));
+    let bar = spinner(format!("fitting {} law(s)", laws.len()));
     let fit_all = |specs: &[FitSpec]| -> Vec<(Result<DriveFit, _>, f64)> {
         specs
             .par_iter()

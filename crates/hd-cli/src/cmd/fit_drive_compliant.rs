@@ -13,7 +13,6 @@ use hd_ident::drive::compliant::{
 };
 use hd_ident::drive::fit::noise_level;
 use hd_ident::drive::lm::LmSettings;
-use indicatif::{ProgressBar, ProgressStyle};
 use std::path::Path;
 use std::time::Instant;
 
@@ -130,13 +129,7 @@ pub fn run(args: &DriveArgs, text: &str) -> Result<()> {
         },
     };
     let dir = ensure_dir(&args.out)?;
-    let bar = ProgressBar::new_spinner();
-    bar.set_style(
-        ProgressStyle::with_template("{spinner} {elapsed_precise} {msg}")
-            .unwrap_or_else(|_| ProgressStyle::default_spinner()),
-    );
-    bar.enable_steady_tick(std::time::Duration::from_millis(200));
-    bar.set_message("fitting the compliant drive");
+    let bar = super::fit_drive::spinner("fitting the compliant drive".into());
     let t0 = Instant::now();
     let progress = |it: usize, cost: f64| {
         if cost.is_finite() {

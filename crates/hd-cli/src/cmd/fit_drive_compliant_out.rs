@@ -2,7 +2,7 @@
 //! --params` runs), report.md with plots, and the summary printed to the terminal. All of
 //! them land together or not at all.
 
-use super::common::{staged_plot, write_json};
+use super::common::staged_plot;
 use anyhow::Result;
 use hd_ident::drive::compliant::fit::{CompliantSpec, RecordScore};
 use hd_ident::drive::compliant::{Compliant, CompliantFit, NAMES, VoltageRecord, simulate};
@@ -209,15 +209,5 @@ fn write_all(dir: &Path, o: &Outcome) -> Result<()> {
         let _ = writeln!(r, "![{fig}]({fig})");
     }
 
-    write_json(&dir.join("fit.json"), &doc)?;
-    for (name, text) in [("params.toml", &params), ("report.md", &r)] {
-        let path = dir.join(name);
-        hd_io::atomic::write_atomically(&path, |file| {
-            use std::io::Write;
-            file.write_all(text.as_bytes()).map_err(|e| hd_io::IoError::fs(&path, e))
-        })?;
-    }
-    use std::io::Write;
-    let _ = writeln!(std::io::stdout().lock(), "{r}");
-    Ok(())
+    super::fit_drive_out::finish(dir, &doc, &params, &r)
 }

@@ -349,8 +349,14 @@ fn write_all(dir: &Path, o: &Outcome) -> Result<()> {
         let _ = writeln!(r, "![{f}]({f})");
     }
 
-    write_json(&dir.join("fit.json"), &doc)?;
-    for (name, text) in [("params.toml", &params), ("report.md", &r)] {
+    finish(dir, &doc, &params, &r)
+}
+
+/// Write fit.json, params.toml and report.md into `dir` (atomically, with the rest of the
+/// command's group) and print the report.
+pub fn finish(dir: &Path, doc: &Value, params: &str, report: &str) -> Result<()> {
+    write_json(&dir.join("fit.json"), doc)?;
+    for (name, text) in [("params.toml", params), ("report.md", report)] {
         let path = dir.join(name);
         hd_io::atomic::write_atomically(&path, |f| {
             use std::io::Write;
@@ -358,6 +364,6 @@ fn write_all(dir: &Path, o: &Outcome) -> Result<()> {
         })?;
     }
     use std::io::Write;
-    let _ = writeln!(std::io::stdout().lock(), "{r}");
+    let _ = writeln!(std::io::stdout().lock(), "{report}");
     Ok(())
 }

@@ -30,6 +30,30 @@ pub struct Experiment {
 /// as not uniformly sampled.
 const JITTER: f64 = 1e-3;
 
+/// The sample period [s] of a time column that increases strictly and uniformly (within
+/// [`JITTER`]); the error names `source`, the row and what `needs` uniform sampling.
+pub fn uniform_period(t: &[f64], source: &str, needs: &str) -> Result<f64, DriveError> {
+    let err = |m: String| DriveError::data(source, m);
+    let n = t.len();
+    if let Some(k) = t.windows(2).position(|w| w[1] <= w[0]) {
+        return Err(err(format!(
+            "time, row {}: {} s does not come after {} s; time must increase strictly",
+            k + 2,
+            t[k + 1],
+            t[k]
+        )));
+    }
+    let h = (t[n - 1] - t[0]) / (n.max(2) - 1) as f64;
+    if let Some(k) = t.windows(2).position(|w| ((w[1] - w[0]) / h - 1.0).abs() > JITTER) {
+        return Err(err(format!(
+            "time, row {}: interval {} s differs from the mean sample period {h} s; {needs} needs uniform sampling",
+            k + 2,
+            t[k + 1] - t[k]
+        )));
+    }
+    Ok(h)
+}
+
 impl Experiment {
     /// Check and assemble a record: equal lengths, at least 10 samples, strictly increasing
     /// and uniform time (the controller is discrete). `disturbance` may be empty (zeros).
@@ -58,22 +82,7 @@ impl Experiment {
                 return Err(err(format!("the {what} column has {len} samples but time has {n}")));
             }
         }
-        if let Some(k) = t.windows(2).position(|w| w[1] <= w[0]) {
-            return Err(err(format!(
-                "time, row {}: {} s does not come after {} s; time must increase strictly",
-                k + 2,
-                t[k + 1],
-                t[k]
-            )));
-        }
-        let h = (t[n - 1] - t[0]) / (n - 1) as f64;
-        if let Some(k) = t.windows(2).position(|w| ((w[1] - w[0]) / h - 1.0).abs() > JITTER) {
-            return Err(err(format!(
-                "time, row {}: interval {} s differs from the mean sample period {h} s; a discrete controller needs uniform sampling",
-                k + 2,
-                t[k + 1] - t[k]
-            )));
-        }
+        let h = uniform_period(&t, source, "a discrete controller")?;
         Ok(Experiment {
             name: name.to_string(),
             source: source.to_string(),

@@ -58,9 +58,6 @@ pub struct VoltageRecord {
     pub current: Option<Vec<f64>>,
 }
 
-/// Largest relative deviation of a sample interval from the mean.
-const JITTER: f64 = 1e-3;
-
 impl VoltageRecord {
     /// Check and assemble a record: equal lengths, at least 10 samples, finite values,
     /// strictly increasing and uniform time.
@@ -97,22 +94,7 @@ impl VoltageRecord {
                 )));
             }
         }
-        if let Some(k) = t.windows(2).position(|w| w[1] <= w[0]) {
-            return Err(err(format!(
-                "time, row {}: {} s does not come after {} s; time must increase strictly",
-                k + 2,
-                t[k + 1],
-                t[k]
-            )));
-        }
-        let h = (t[n - 1] - t[0]) / (n - 1) as f64;
-        if let Some(k) = t.windows(2).position(|w| ((w[1] - w[0]) / h - 1.0).abs() > JITTER) {
-            return Err(err(format!(
-                "time, row {}: interval {} s differs from the mean sample period {h} s; the fit needs uniform sampling",
-                k + 2,
-                t[k + 1] - t[k]
-            )));
-        }
+        let h = crate::drive::record::uniform_period(&t, source, "the fit")?;
         Ok(VoltageRecord {
             name: name.into(),
             source: source.into(),
