@@ -60,7 +60,7 @@ def test_fit_drive_takes_a_compliant_configuration(tmp_path):
     run_cli("synth", "drive", "--freq", "5", "--t-end", "1", "--out", rec)
     cfg = tmp_path / "fit.toml"
     cfg.write_text(
-        'transmission = "compliant"\nvoltage_between = "cubic"\n'
+        'transmission = "compliant"\nvoltage_between = "hold"\n'
         '[params]\nR = 7.0\nKe = 0.45\n'
         '[[experiment]]\nname = "chirp"\nfile = "chirp.csv"\ntime = "t"\nvoltage = "u"\n'
         'motor = "theta_m"\nload = "theta_l"\ncurrent = "i"\n'

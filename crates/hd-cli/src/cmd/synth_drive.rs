@@ -27,7 +27,9 @@ loop, driven from rest by the test voltage. It is logged every --sample-period:\
                              2π/--load-counts\n\
   theta_j_true, theta_z_true the same angles before quantisation, to judge a fit against\n\
 Tests: chirp (--freq/10 to 10·--freq, linear over the record) or multisine (12 tones log-spaced\n\
-over the same band, Schroeder phases, peak --voltage).\n\n\
+over the same band, Schroeder phases, peak --voltage). The motor gets each logged voltage held until the\n\
+next sample (--applied held, a digital amplifier; fit it with voltage_between = \"hold\"), or the test\n\
+signal itself (--applied continuous).\n\n\
 Example:\n  hdw synth drive --input multisine --freq 20 --t-end 1 --out out/drive.csv"
 )]
 pub struct DriveSynthArgs {
@@ -61,9 +63,33 @@ pub struct DriveSynthArgs {
     /// Seed of the noise generator.
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
+    /// How the test voltage reaches the motor: `held` (default), each logged sample held
+    /// until the next, as a rig's digital amplifier applies it; or `continuous`, the test
+    /// signal itself between the samples.
+    #[arg(long, default_value = "held")]
+    pub applied: String,
     /// Output file (.csv or .parquet).
     #[arg(long, value_name = "FILE")]
     pub out: PathBuf,
+}
+
+/// The test voltage sampled every `h` [s] up to `t_end` and held from each sample to the
+/// next: a staircase whose risers last a millionth of a sample (every profile point is a
+/// breakpoint of the solver, so each tread is integrated as a constant voltage).
+fn held(input: &Input, h: f64, t_end: f64) -> Result<Input> {
+    let n = (t_end / h).round() as usize + 1;
+    let rise = 1e-6 * h;
+    let mut t = Vec::with_capacity(2 * n);
+    let mut u = Vec::with_capacity(2 * n);
+    for k in 0..n {
+        let tk = k as f64 * h;
+        let uk = input.value(tk);
+        t.push(tk);
+        u.push(uk);
+        t.push(tk + h - rise);
+        u.push(uk);
+    }
+    Ok(Input::Recorded(Profile::new(t, u, "held test voltage")?))
 }
 
 /// The test voltage.
@@ -136,7 +162,11 @@ pub fn run(a: DriveSynthArgs) -> Result<()> {
         out: PathBuf::new(),
     };
     let mut cfg = super::simulate::config(&sim)?;
-    cfg.input = test_input(&a)?;
+    cfg.input = match a.applied.as_str() {
+        "held" => held(&test_input(&a)?, a.sample_period, a.t_end)?,
+        "continuous" => test_input(&a)?,
+        other => bail!("--applied {other}: expected held or continuous"),
+    };
     cfg.validate()?;
     let mut cols: [Vec<f64>; 5] = Default::default();
     simulate_streaming(

@@ -59,7 +59,7 @@ pub struct CompliantFitConfig {
     pub free: Option<Vec<String>>,
     /// Parameters removed from the free ones.
     pub fix: Option<Vec<String>>,
-    /// Iteration budget of each Levenberg–Marquardt pass; default 100.
+    /// Iteration budget of each Levenberg–Marquardt pass; default 300.
     pub max_iterations: Option<usize>,
 }
 

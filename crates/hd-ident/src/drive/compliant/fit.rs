@@ -97,6 +97,9 @@ pub struct CompliantSpec {
     /// The outputs compared, each with its noise level per record [rad or A]
     /// (`noise[record]`).
     pub outputs: Vec<(Signal, Vec<f64>)>,
+    /// Per output (the order of `outputs`): whether its noise levels were estimated from the
+    /// records, to be replaced by the residuals' RMS of the best fit ([`super::stages`]).
+    pub noise_estimated: Vec<bool>,
     /// Whether the torque constant Km [N·m/A] is the back-EMF constant Ke [V·s/rad] (in SI
     /// units they are one constant of an ideal DC motor; Km then follows Ke).
     pub km_is_ke: bool,
@@ -153,6 +156,8 @@ pub struct CompliantFit {
     pub jacobian: DMatrix<f64>,
     /// The parameters ([`NAMES`] indices) of the Jacobian's columns.
     pub jacobian_params: Vec<usize>,
+    /// The outputs with the noise levels the reported fit weighed them by [rad or A].
+    pub noise: Vec<(Signal, Vec<f64>)>,
     /// Starts the full fit was run from (the best is reported).
     pub starts: usize,
     /// Per parameter: free and determined by the records (a standard error, and in no
@@ -368,6 +373,7 @@ pub(super) fn fit_stage(
         held: Vec::new(),
         jacobian: jac,
         jacobian_params: free_idx.clone(),
+        noise: spec.outputs.clone(),
         starts: 1,
         determined,
     })

@@ -41,8 +41,17 @@ pub fn fit_compliant(
     progress: Progress<'_>,
 ) -> Result<CompliantFit, String> {
     let starts = staged_starts(spec, records, progress);
-    let fits: Vec<Result<CompliantFit, String>> =
+    let mut fits: Vec<Result<CompliantFit, String>> =
         starts.par_iter().map(|s| settle(spec, *s, records, progress)).collect();
+    // Noise levels estimated from the records (third differences) overstate a signal whose
+    // own content reaches the Nyquist band. Where they were estimated, the best fit's
+    // residual RMS replaces them (the maximum-likelihood level of each output), and every
+    // full fit is settled again from where it ended, with those weights.
+    let reweighed = reweigh(spec, &fits);
+    if let Some(spec) = &reweighed {
+        let ends: Vec<[f64; 18]> = fits.iter().flatten().map(|f| f.values).collect();
+        fits = ends.par_iter().map(|s| settle(spec, *s, records, progress)).collect();
+    }
     let spent: usize = fits.iter().flatten().map(|f| f.iterations).sum();
     let failed: usize = fits.iter().flatten().map(|f| f.failed_trials).sum();
     let mut ok: Vec<CompliantFit> = Vec::new();
@@ -64,6 +73,30 @@ pub fn fit_compliant(
     best.failed_trials = failed;
     best.starts = starts.len();
     Ok(best)
+}
+
+/// `spec` with every estimated noise level replaced by the best fit's residual RMS of that
+/// output and record, or None when no level was estimated or none moves by 10 %.
+fn reweigh(spec: &CompliantSpec, fits: &[Result<CompliantFit, String>]) -> Option<CompliantSpec> {
+    let best = fits.iter().flatten().min_by(|a, b| a.cost.total_cmp(&b.cost))?;
+    let mut out = spec.clone();
+    let mut moved = false;
+    for (j, (signal, levels)) in out.outputs.iter_mut().enumerate() {
+        if !spec.noise_estimated.get(j).copied().unwrap_or(false) {
+            continue;
+        }
+        for (k, level) in levels.iter_mut().enumerate() {
+            let Some(score) = best.scores.get(k) else { continue };
+            let Some(&(_, s, _, _)) = score.outputs.iter().find(|o| o.0 == *signal) else {
+                continue;
+            };
+            if s.rmse > 0.0 && s.rmse.is_finite() {
+                moved |= (s.rmse / *level - 1.0).abs() > 0.1;
+                *level = s.rmse;
+            }
+        }
+    }
+    moved.then_some(out)
 }
 
 /// The starts of the full fits: `spec.start` alone, or, when the records carry the load
