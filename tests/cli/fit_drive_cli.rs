@@ -79,6 +79,7 @@ fn write_validation(path: &std::path::Path, pulses: bool, with_column: bool, col
         delay: 0,
         speed_filter: vec![0.5, 0.5],
         h: 1e-3,
+        open_loop: None,
     };
     let s = simulate(FrictionLaw::CoulombViscous, &[95.1, 203.5, 20.4, -3.16, 35.15], &c, &seed);
     let mut names = vec!["t", "qm", "qg", "vir"];
@@ -257,4 +258,36 @@ fn fit_on_the_first_sixty_percent_scores_the_rest() {
     // Direction-dependent LuGre predicts the unseen 40 % better than the Coulomb laws.
     assert!(dl.0 < dir_cv.0 && dir_cv.0 < cv.0, "{all:?}");
     assert!(dl.1 < dir_cv.1, "{all:?}");
+}
+
+/// The EMPS estimation run as an open-loop record: no [controller], no reference, the
+/// recorded command driving the model, fitted by multiple shooting. The mass and the
+/// friction come out near the closed-loop fit's (docs/fit-drive.md: M 94.2 kg, Fc 21.3 N).
+#[test]
+fn emps_command_alone_fits_by_multiple_shooting() {
+    let dir = scratch("fit-drive-open");
+    let data = repo_path("data/emps/DATA_EMPS.mat");
+    let cfg = dir.join("open.toml");
+    std::fs::write(
+        &cfg,
+        format!(
+            "friction = \"coulomb-viscous\"\ngain = \"gtau\"\n[[experiment]]\nname = \"estimation\"\nfile = \"{}\"\ntime = \"t\"\nposition = \"qm\"\ncommand = \"vir\"\n[fit]\nsegment = 0.2\n",
+            data.display()
+        ),
+    )
+    .unwrap();
+    let out = dir.join("out");
+    hdw_ok(&["fit", "drive", "--config", cfg.to_str().unwrap(), "--out", out.to_str().unwrap()]);
+    let doc = json(&out.join("fit.json"));
+    assert_eq!(doc["controller"]["open_loop_segment"], 200);
+    let m = doc["parameters"]["M"]["value"].as_f64().unwrap();
+    let fc = doc["parameters"]["Fc"]["value"].as_f64().unwrap();
+    assert!((m - 94.2).abs() < 1.0 && (fc - 21.3).abs() < 1.0, "M {m}, Fc {fc}");
+    // Force is the recorded command in an open-loop record: refused as an output.
+    let text =
+        std::fs::read_to_string(&cfg).unwrap().replace("segment = 0.2", "outputs = [\"force\"]");
+    std::fs::write(&cfg, text).unwrap();
+    let o =
+        hdw(&["fit", "drive", "--config", cfg.to_str().unwrap(), "--out", out.to_str().unwrap()]);
+    assert_one_line_error(&o, &["[fit] outputs", "open-loop"]);
 }

@@ -49,8 +49,17 @@ pub struct DriveArgs {
 
 /// Read one experiment with `ec`'s mapping from `path`.
 fn load(ec: &ExperimentConfig, name: &str, path: &Path) -> Result<Experiment> {
-    let names = [ec.time.as_str(), &ec.position, &ec.reference, &ec.command];
+    let mut names = vec![ec.time.as_str(), &ec.position, &ec.command];
+    if let Some(r) = &ec.reference {
+        names.push(r);
+    }
     let mut cols = hd_io::read_columns(path, &names)?;
+    // An open-loop record has no reference: the position stands in (no law reads it).
+    let reference: Vec<f64> = if ec.reference.is_some() {
+        cols.pop().unwrap_or_default().iter().map(|x| x * ec.position_scale).collect()
+    } else {
+        cols[1].iter().map(|x| x * ec.position_scale).collect()
+    };
     let disturbance = match &ec.disturbance {
         None => Vec::new(),
         Some(col) => match hd_io::read_columns(path, &[col.as_str()]) {
@@ -63,8 +72,6 @@ fn load(ec: &ExperimentConfig, name: &str, path: &Path) -> Result<Experiment> {
     };
     let command: Vec<f64> =
         cols.pop().unwrap_or_default().iter().map(|u| u * ec.command_scale).collect();
-    let reference: Vec<f64> =
-        cols.pop().unwrap_or_default().iter().map(|x| x * ec.position_scale).collect();
     let position: Vec<f64> =
         cols.pop().unwrap_or_default().iter().map(|x| x * ec.position_scale).collect();
     let t = cols.pop().unwrap_or_default();
@@ -130,17 +137,29 @@ pub fn run(args: DriveArgs) -> Result<()> {
         .collect::<Result<_>>()?;
     let first = base.join(&cfg.experiment[0].file);
     let gain = resolve(&cfg.gain, "gain", &first)?;
-    let kp = resolve(&cfg.controller.kp, "[controller] kp", &first)?;
-    let kv = resolve(&cfg.controller.kv, "[controller] kv", &first)?;
+    let (kp, kv) = match &cfg.controller {
+        Some(c) => {
+            (resolve(&c.kp, "[controller] kp", &first)?, resolve(&c.kv, "[controller] kv", &first)?)
+        }
+        None => (0.0, 0.0),
+    };
     let mut validation = match &args.validate {
         Some(p) => Some(load(&cfg.experiment[0], "validation", p)?),
         None => None,
     };
     let (controller, checks) = setup::controller(&cfg, &file, kp, kv, &experiments)?;
+    if controller.open_loop.is_some() {
+        // Where an open-loop fit restarts its segments: the start's own filter.
+        let o = cfg.idim();
+        for e in experiments.iter_mut().chain(validation.as_mut()) {
+            e.estimate_speed(o.order, o.cutoff_hz);
+        }
+    }
     // A disturbance column's units, as each record's own command shows them.
     let disturbance: Vec<DisturbanceCheck> = experiments
         .iter_mut()
         .chain(validation.as_mut())
+        .filter(|_| controller.open_loop.is_none())
         .filter_map(|e| settle_units(&controller, e, gain))
         .collect();
     for d in &disturbance {

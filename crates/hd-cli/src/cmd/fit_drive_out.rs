@@ -205,6 +205,7 @@ fn write_all(dir: &Path, o: &Outcome) -> Result<()> {
             "kp": o.controller.kp, "kv": o.controller.kv, "saturation": o.controller.saturation,
             "speed_filter": o.controller.speed_filter, "sample_period": o.controller.h,
             "delay": o.controller.delay,
+            "open_loop_segment": o.controller.open_loop,
             "check": o.checks.iter().map(|c| json!({"delay": c.delay, "rms": c.rms, "percent": c.percent})).collect::<Vec<_>>(),
         },
         "disturbance": o.disturbance.iter().map(|d| json!({
@@ -247,20 +248,29 @@ fn write_all(dir: &Path, o: &Outcome) -> Result<()> {
     // report.md and the terminal summary
     let mut r = String::new();
     let _ = writeln!(r, "# Drive fit: {}\n", o.config);
-    let _ = writeln!(r, "## Controller check\n");
-    let _ = writeln!(
-        r,
-        "The controller (kp {} 1/s, kv {}, saturation ±{}, speed filter {:?}) applied to the recorded position reproduces the recorded command with:\n",
-        o.controller.kp, o.controller.kv, o.controller.saturation, o.controller.speed_filter
-    );
-    let _ = writeln!(
-        r,
-        "| delay [samples] | residual RMS [command unit] | residual [% of command RMS] |\n|---|---|---|"
-    );
-    for c in &o.checks {
-        let _ = writeln!(r, "| {} | {:.5} | {:.3} |", c.delay, c.rms, c.percent);
+    if let Some(segment) = o.controller.open_loop {
+        let _ = writeln!(r, "## Open loop\n");
+        let _ = writeln!(
+            r,
+            "No controller: the recorded command drives the model. Multiple shooting: the simulation restarts at the measured position and its low-passed speed every {segment} samples ({:.4} s).\n",
+            segment as f64 * o.controller.h
+        );
+    } else {
+        let _ = writeln!(r, "## Controller check\n");
+        let _ = writeln!(
+            r,
+            "The controller (kp {} 1/s, kv {}, saturation ±{}, speed filter {:?}) applied to the recorded position reproduces the recorded command with:\n",
+            o.controller.kp, o.controller.kv, o.controller.saturation, o.controller.speed_filter
+        );
+        let _ = writeln!(
+            r,
+            "| delay [samples] | residual RMS [command unit] | residual [% of command RMS] |\n|---|---|---|"
+        );
+        for c in &o.checks {
+            let _ = writeln!(r, "| {} | {:.5} | {:.3} |", c.delay, c.rms, c.percent);
+        }
+        let _ = writeln!(r, "\nDelay used: {} sample(s).\n", o.controller.delay);
     }
-    let _ = writeln!(r, "\nDelay used: {} sample(s).\n", o.controller.delay);
     for d in &o.disturbance {
         let _ = writeln!(r, "Disturbance column, {}.\n", d.sentence);
     }

@@ -43,8 +43,8 @@ pub struct ExperimentConfig {
     pub time: String,
     /// Measured position column.
     pub position: String,
-    /// Controller reference column.
-    pub reference: String,
+    /// Controller reference column (closed loop only).
+    pub reference: Option<String>,
     /// Recorded command (controller output) column.
     pub command: String,
     /// Optional column added to the controller's output (zeros where the file lacks it).
@@ -108,6 +108,8 @@ pub struct FitConfig {
     pub fix: Option<Vec<String>>,
     /// Iteration budget; default 100.
     pub max_iterations: Option<usize>,
+    /// Open loop only: length of the multiple-shooting segments [s]; default 0.2.
+    pub segment: Option<f64>,
 }
 
 /// The whole configuration.
@@ -125,8 +127,9 @@ pub struct DriveConfig {
     pub gain: NumberOrVariable,
     /// The experiments fitted jointly.
     pub experiment: Vec<ExperimentConfig>,
-    /// The controller.
-    pub controller: ControllerConfig,
+    /// The controller; absent for an open-loop record (the recorded command drives the
+    /// model, fitted by multiple shooting).
+    pub controller: Option<ControllerConfig>,
     /// The start.
     #[serde(default)]
     pub start: StartConfig,
@@ -146,6 +149,9 @@ pub fn transmission_of(text: &str) -> Option<String> {
     let t: toml::Table = toml::from_str(text).ok()?;
     t.get("transmission")?.as_str().map(String::from)
 }
+
+/// Default length of an open-loop record's multiple-shooting segments [s].
+pub const DEFAULT_SEGMENT: f64 = 0.2;
 
 /// Parsed and checked pieces of a configuration.
 impl DriveConfig {
@@ -203,7 +209,39 @@ impl DriveConfig {
                 ));
             }
         }
-        if let Some(DelayChoice::Auto(s)) = &self.controller.delay
+        match &self.controller {
+            Some(_) => {
+                if let Some(e) = self.experiment.iter().find(|e| e.reference.is_none()) {
+                    return Err(DriveError::config(
+                        at(&format!("[[experiment]] '{}' reference", e.name)),
+                        "missing; a closed-loop record needs the controller's reference column",
+                    ));
+                }
+                if self.fit.segment.is_some() {
+                    return Err(DriveError::config(
+                        at("[fit] segment"),
+                        "multiple shooting is for open-loop records; this one has a [controller]",
+                    ));
+                }
+            }
+            None => {
+                if self.outputs(file)?.contains(&OutputKind::Force) {
+                    return Err(DriveError::config(
+                        at("[fit] outputs"),
+                        "'force' in an open-loop record (no [controller]): the force is the recorded command itself; compare `position`",
+                    ));
+                }
+                if let Some(seg) = self.fit.segment
+                    && !(seg.is_finite() && seg > 0.0)
+                {
+                    return Err(DriveError::config(
+                        at("[fit] segment"),
+                        format!("{seg}; expected a segment length > 0 [s]"),
+                    ));
+                }
+            }
+        }
+        if let Some(DelayChoice::Auto(s)) = self.controller.as_ref().and_then(|c| c.delay.as_ref())
             && s != "auto"
         {
             return Err(DriveError::config(
@@ -252,8 +290,12 @@ impl DriveConfig {
 
     /// The outputs compared.
     pub fn outputs(&self, file: &str) -> Result<Vec<OutputKind>, DriveError> {
-        let names =
-            self.fit.outputs.clone().unwrap_or_else(|| vec!["force".into(), "position".into()]);
+        let default: Vec<String> = if self.controller.is_some() {
+            vec!["force".into(), "position".into()]
+        } else {
+            vec!["position".into()]
+        };
+        let names = self.fit.outputs.clone().unwrap_or(default);
         if names.is_empty() {
             return Err(DriveError::config(
                 format!("{file}, [fit] outputs"),
@@ -271,6 +313,15 @@ impl DriveConfig {
                 })
             })
             .collect()
+    }
+
+    /// Open loop: samples per multiple-shooting segment at sample period `h` [s] (at least
+    /// 2); None in closed loop.
+    pub fn segment_samples(&self, h: f64) -> Option<usize> {
+        if self.controller.is_some() {
+            return None;
+        }
+        Some(((self.fit.segment.unwrap_or(DEFAULT_SEGMENT) / h).round() as usize).max(2))
     }
 
     /// Names of the fixed parameters.

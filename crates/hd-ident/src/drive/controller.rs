@@ -25,6 +25,10 @@ pub struct Controller {
     pub speed_filter: Vec<f64>,
     /// Sample period [s].
     pub h: f64,
+    /// An open-loop record: no controller acts, the recorded command drives the model, and
+    /// the simulation restarts from the record (position and filtered speed) every this
+    /// many samples (multiple shooting). None in closed loop.
+    pub open_loop: Option<usize>,
 }
 
 impl Controller {
@@ -37,7 +41,14 @@ impl Controller {
             delay: 0,
             speed_filter: vec![1.0],
             h,
+            open_loop: None,
         }
+    }
+
+    /// No controller: the recorded command drives the model, restarted from the record every
+    /// `segment` samples.
+    pub fn open(segment: usize, h: f64) -> Controller {
+        Controller { open_loop: Some(segment), ..Controller::pd(0.0, 1.0, h) }
     }
 
     /// The law's output at sample k from the reference `r` and the positions `q` up to k

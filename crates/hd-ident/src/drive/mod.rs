@@ -43,3 +43,5 @@ pub use simulate::{Simulated, simulate};
 mod tests;
 #[cfg(test)]
 mod tests_lugre;
+#[cfg(test)]
+mod tests_open_loop;

@@ -24,6 +24,9 @@ pub struct Experiment {
     /// Disturbance added to the controller's output [command unit]; zeros when the record
     /// has none.
     pub disturbance: Vec<f64>,
+    /// The measured position's speed, low-passed without lag [m/s or rad/s]: where an
+    /// open-loop fit restarts its segments (empty until [`Experiment::estimate_speed`]).
+    pub speed: Vec<f64>,
 }
 
 /// Largest relative deviation of a sample interval from the mean before the record counts
@@ -92,7 +95,16 @@ impl Experiment {
             reference,
             command,
             disturbance,
+            speed: Vec::new(),
         })
+    }
+
+    /// Fill [`Experiment::speed`]: the position low-passed forwards and backwards by a
+    /// Butterworth filter of `order` at `cutoff_hz`, differenced centrally.
+    pub fn estimate_speed(&mut self, order: usize, cutoff_hz: f64) {
+        let sections = super::filter::butterworth(order, cutoff_hz, 1.0 / self.h);
+        let smooth = super::filter::filtfilt(&sections, &self.position);
+        self.speed = super::filter::central_difference(&smooth, self.h);
     }
 
     /// Number of samples.

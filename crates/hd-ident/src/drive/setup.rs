@@ -24,7 +24,6 @@ pub fn controller(
     kv: f64,
     experiments: &[Experiment],
 ) -> Result<(Controller, Vec<Reproduction>), DriveError> {
-    let c = &cfg.controller;
     let h = experiments[0].h;
     if let Some(e) = experiments.iter().find(|e| ((e.h - h) / h).abs() > 1e-3) {
         return Err(DriveError::data(
@@ -35,6 +34,11 @@ pub fn controller(
             ),
         ));
     }
+    let Some(c) = &cfg.controller else {
+        // Open loop: nothing to check against the recorded command.
+        let segment = cfg.segment_samples(h).unwrap_or(2);
+        return Ok((Controller::open(segment, h), Vec::new()));
+    };
     let speed_filter = c.speed_filter.clone().unwrap_or_else(|| vec![1.0]);
     let sum: f64 = speed_filter.iter().sum();
     if speed_filter.is_empty() || (sum - 1.0).abs() > 1e-9 {
@@ -50,7 +54,7 @@ pub fn controller(
             "expected a positive limit",
         ));
     }
-    let mut ctl = Controller { kp, kv, saturation, delay: 0, speed_filter, h };
+    let mut ctl = Controller { kp, kv, saturation, delay: 0, speed_filter, h, open_loop: None };
     let delays = c.delays.clone().unwrap_or_else(|| vec![0, 1]);
     let mut checks: Vec<Reproduction> =
         delays.iter().map(|&d| Reproduction { delay: d, rms: 0.0, percent: 0.0 }).collect();

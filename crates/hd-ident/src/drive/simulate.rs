@@ -29,6 +29,9 @@ pub fn simulate<T: Scalar>(
     e: &Experiment,
 ) -> Simulated<T> {
     let drive = law.drive(p);
+    if let Some(segment) = c.open_loop {
+        return open_loop(&drive, segment, e);
+    }
     let n = e.len();
     let mut q: Vec<T> = Vec::with_capacity(n);
     let mut computed: Vec<T> = Vec::with_capacity(n);
@@ -43,6 +46,34 @@ pub fn simulate<T: Scalar>(
             s = drive.step(s, drive.gain() * u, e.h);
             q.push(s.x);
         }
+    }
+    Simulated { command: applied, position: q }
+}
+
+/// An open-loop record by multiple shooting: the recorded command (plus any disturbance)
+/// drives the model, which restarts every `segment` samples at the measured position and
+/// its low-passed speed ([`Experiment::speed`]; at rest where that is empty), with the
+/// bristle unloaded. Each segment's first position is the record's own.
+fn open_loop<T: Scalar>(
+    drive: &super::model::Drive<T>,
+    segment: usize,
+    e: &Experiment,
+) -> Simulated<T> {
+    let n = e.len();
+    let mut q: Vec<T> = Vec::with_capacity(n);
+    let mut applied: Vec<T> = Vec::with_capacity(n);
+    let mut s = Motion::rest(T::cst(e.position[0]));
+    for k in 0..n {
+        if k % segment.max(1) == 0 {
+            s = Motion {
+                v: T::cst(e.speed.get(k).copied().unwrap_or(0.0)),
+                ..Motion::rest(T::cst(e.position[k]))
+            };
+        }
+        q.push(s.x);
+        let u = T::cst(e.command[k] + e.disturbance[k]);
+        applied.push(u);
+        s = drive.step(s, drive.gain() * u, e.h);
     }
     Simulated { command: applied, position: q }
 }

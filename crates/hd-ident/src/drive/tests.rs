@@ -13,7 +13,7 @@ use super::record::Experiment;
 use super::simulate::simulate;
 
 /// The Coulomb–viscous laws (LuGre has its own tests, tests_lugre.rs).
-const RIGID: [FrictionLaw; 2] = [FrictionLaw::CoulombViscous, FrictionLaw::Directional];
+pub(super) const RIGID: [FrictionLaw; 2] = [FrictionLaw::CoulombViscous, FrictionLaw::Directional];
 
 /// The rigid drive of `law` with parameters `p`.
 fn rigid(law: FrictionLaw, p: &[f64]) -> Rigid<f64> {
@@ -24,7 +24,7 @@ fn rigid(law: FrictionLaw, p: &[f64]) -> Rigid<f64> {
 }
 
 /// EMPS-like values: M, Fv, Fc, offset, gain.
-const TRUTH: [f64; 5] = [95.0, 200.0, 20.0, -3.0, 35.0];
+pub(super) const TRUTH: [f64; 5] = [95.0, 200.0, 20.0, -3.0, 35.0];
 
 pub(super) fn controller(delay: usize) -> Controller {
     Controller {
@@ -34,6 +34,7 @@ pub(super) fn controller(delay: usize) -> Controller {
         delay,
         speed_filter: vec![0.5, 0.5],
         h: 1e-3,
+        open_loop: None,
     }
 }
 
