@@ -262,7 +262,8 @@ fn fit_on_the_first_sixty_percent_scores_the_rest() {
 
 /// The EMPS estimation run as an open-loop record: no [controller], no reference, the
 /// recorded command driving the model, fitted by multiple shooting. The mass and the
-/// friction come out near the closed-loop fit's (docs/fit-drive.md: M 94.2 kg, Fc 21.3 N).
+/// friction come out as docs/fit-drive.md gives them (M 94.2 kg, Fc 21.3 N), near the
+/// closed-loop fits.
 #[test]
 fn emps_command_alone_fits_by_multiple_shooting() {
     let dir = scratch("fit-drive-open");
