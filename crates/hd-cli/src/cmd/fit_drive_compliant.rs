@@ -61,6 +61,28 @@ pub fn estimated_noise(y: &[f64]) -> f64 {
     noise_level(y).max(floor).max(f64::MIN_POSITIVE)
 }
 
+/// Samples at the start of a record over which the drive should still be at rest.
+const REST_SAMPLES: usize = 3;
+
+/// A sentence when the motor encoder of `r` already moves over its first samples by more
+/// than two of its smallest steps: the fit starts each record at rest, so a record that
+/// begins in motion starts with a model error.
+fn moving_at_start(r: &VoltageRecord) -> Option<String> {
+    let m = &r.theta_m;
+    let step = m
+        .windows(2)
+        .map(|w| (w[1] - w[0]).abs())
+        .filter(|d| *d > 0.0)
+        .fold(f64::INFINITY, f64::min);
+    let moved = (m[REST_SAMPLES.min(m.len() - 1)] - m[0]).abs();
+    (step.is_finite() && moved > 2.0 * step).then(|| {
+        format!(
+            "{}: the motor encoder moves {moved:.3e} rad over the first {REST_SAMPLES} samples; the fit starts each record at rest, so trim it to begin at rest",
+            r.source
+        )
+    })
+}
+
 /// The start values of the params file named in the configuration (or the seed's), in
 /// [`NAMES`] order, and the gear ratio N.
 fn base_params(cfg: &CompliantConfig, base: &Path) -> Result<([f64; 18], f64)> {
@@ -88,6 +110,11 @@ pub fn run(args: &DriveArgs, text: &str) -> Result<()> {
         .iter()
         .map(|ec| load(ec, &ec.name, &base.join(&ec.file)))
         .collect::<Result<_>>()?;
+    for r in &records {
+        if let Some(note) = moving_at_start(r) {
+            eprintln!("note: {note}");
+        }
+    }
     let validation = match &args.validate {
         Some(p) => Some(load(&cfg.experiment[0], "validation", p)?),
         None => None,
