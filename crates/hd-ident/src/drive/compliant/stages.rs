@@ -30,6 +30,9 @@ pub const STIFFNESS_SCALES: [f64; 5] = [0.25, 0.5, 1.0, 2.0, 4.0];
 /// the best one's.
 const LOAD_COST_FACTOR: f64 = 2.0;
 
+/// Relative distance below which two load-pass results count as one start [–].
+const SAME_START: f64 = 1e-3;
+
 /// χ² quantile of one degree of freedom at 95 % [–].
 const PROFILE_95: f64 = 3.84;
 
@@ -135,7 +138,22 @@ fn staged_starts(
         .collect();
     tried.sort_by(|a, b| a.0.total_cmp(&b.0));
     let Some(&(lowest, _)) = tried.first() else { return vec![values] };
-    tried.into_iter().filter(|(c, _)| *c <= LOAD_COST_FACTOR * lowest).map(|(_, v)| v).collect()
+    // Starts that ended in the same place (every free load parameter within
+    // SAME_START of a better one's) would give the same full fit: one of them is kept.
+    let load_free: Vec<usize> =
+        [JZ, CZ, C, MEM_A, MEM_B].into_iter().filter(|&k| load.free[k]).collect();
+    let mut kept: Vec<[f64; 18]> = Vec::new();
+    for (cost, v) in tried {
+        let same = |w: &[f64; 18]| {
+            load_free
+                .iter()
+                .all(|&k| (v[k] - w[k]).abs() <= SAME_START * w[k].abs().max(f64::MIN_POSITIVE))
+        };
+        if cost <= LOAD_COST_FACTOR * lowest && !kept.iter().any(same) {
+            kept.push(v);
+        }
+    }
+    kept
 }
 
 /// `spec` with only `which` (where `spec` frees them) free, comparing `outputs`, from `start`.
