@@ -2,11 +2,10 @@
 //! --params` runs), report.md with plots, and the summary printed to the terminal. All of
 //! them land together or not at all.
 
-use super::common::staged_plot;
+use super::fit_drive_out::pair_plots;
 use anyhow::Result;
 use hd_ident::drive::compliant::fit::{CompliantSpec, RecordScore};
 use hd_ident::drive::compliant::{Compliant, CompliantFit, NAMES, VoltageRecord, simulate};
-use hd_plot::{Series, line_plot};
 use serde_json::{Map, Value, json};
 use std::fmt::Write as _;
 use std::path::Path;
@@ -76,23 +75,8 @@ fn plots(dir: &Path, o: &Outcome, r: &VoltageRecord, prefix: &str) -> Result<Vec
     let mut files = Vec::new();
     for (s, _) in &o.spec.outputs {
         let Some(meas) = s.measured(r) else { continue };
-        let model = s.simulated(&sim).to_vec();
-        let y_label = format!("{} [{}]", s.name(), s.unit());
-        let name = format!("{prefix}{}.svg", s.name());
-        let title = format!("{}: {} measured and simulated (compliant drive)", r.name, s.name());
-        let curves = [
-            Series::new("measured", r.t.clone(), meas.to_vec()),
-            Series::new("simulated", r.t.clone(), model.clone()),
-        ];
-        staged_plot(&dir.join(&name), |p| line_plot(p, &title, "t [s]", &y_label, &curves, false))?;
-        files.push(name);
-        let name = format!("{prefix}residuals-{}.svg", s.name());
-        let res: Vec<f64> = meas.iter().zip(&model).map(|(a, b)| a - b).collect();
-        let title = format!("{}: {} residual, measured − simulated", r.name, s.name());
-        let curve = [Series::new("residual", r.t.clone(), res)];
-        let y_label = format!("residual [{}]", s.unit());
-        staged_plot(&dir.join(&name), |p| line_plot(p, &title, "t [s]", &y_label, &curve, false))?;
-        files.push(name);
+        let what = (r.name.as_str(), s.name(), s.unit(), "compliant drive");
+        files.extend(pair_plots(dir, prefix, what, &r.t, meas, s.simulated(&sim))?);
     }
     Ok(files)
 }

@@ -127,26 +127,41 @@ fn plots(
             OutputKind::Force => s.command.iter().map(|u| o.gain * u).collect(),
             OutputKind::Position => s.position.clone(),
         };
-        let unit = unit_of(o.axis, kind);
-        let name = format!("{prefix}{}.svg", kind.name());
-        let title =
-            format!("{}: {} measured and simulated ({})", e.name, kind.name(), fit.law.name());
-        let curves = [
-            Series::new("measured", e.t.clone(), meas.clone()),
-            Series::new("simulated", e.t.clone(), sim.clone()),
-        ];
-        let y_label = format!("{} [{unit}]", kind.name());
-        staged_plot(&dir.join(&name), |p| line_plot(p, &title, "t [s]", &y_label, &curves, false))?;
-        files.push(name);
-        let name = format!("{prefix}residuals-{}.svg", kind.name());
-        let res: Vec<f64> = meas.iter().zip(&sim).map(|(a, b)| a - b).collect();
-        let title = format!("{}: {} residual, measured − simulated", e.name, kind.name());
-        let curve = [Series::new("residual", e.t.clone(), res)];
-        let y_label = format!("residual [{unit}]");
-        staged_plot(&dir.join(&name), |p| line_plot(p, &title, "t [s]", &y_label, &curve, false))?;
-        files.push(name);
+        let what = (e.name.as_str(), kind.name(), unit_of(o.axis, kind), fit.law.name());
+        files.extend(pair_plots(dir, prefix, what, &e.t, &meas, &sim)?);
     }
     Ok(files)
+}
+
+/// Measured against simulated (`prefix<output>.svg`) and the residual
+/// (`prefix residuals-<output>.svg`) of one output; `what` is (record, output, unit, model).
+/// Returns the two file names.
+pub fn pair_plots(
+    dir: &Path,
+    prefix: &str,
+    what: (&str, &str, &str, &str),
+    t: &[f64],
+    meas: &[f64],
+    sim: &[f64],
+) -> Result<Vec<String>> {
+    let (record, output, unit, model) = what;
+    let name = format!("{prefix}{output}.svg");
+    let title = format!("{record}: {output} measured and simulated ({model})");
+    let curves = [
+        Series::new("measured", t.to_vec(), meas.to_vec()),
+        Series::new("simulated", t.to_vec(), sim.to_vec()),
+    ];
+    let y_label = format!("{output} [{unit}]");
+    staged_plot(&dir.join(&name), |p| line_plot(p, &title, "t [s]", &y_label, &curves, false))?;
+    let residual_name = format!("{prefix}residuals-{output}.svg");
+    let res: Vec<f64> = meas.iter().zip(sim).map(|(a, b)| a - b).collect();
+    let title = format!("{record}: {output} residual, measured − simulated");
+    let curve = [Series::new("residual", t.to_vec(), res)];
+    let y_label = format!("residual [{unit}]");
+    staged_plot(&dir.join(&residual_name), |p| {
+        line_plot(p, &title, "t [s]", &y_label, &curve, false)
+    })?;
+    Ok(vec![name, residual_name])
 }
 
 /// Write fit.json, params.toml, report.md and the plots, all renamed into place together
