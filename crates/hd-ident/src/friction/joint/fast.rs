@@ -142,6 +142,56 @@ impl JointProblem<'_> {
         Ok(Solved { beta, active })
     }
 
+    /// Index of linear parameter `j`'s column in the σ0 search's Gram matrix
+    /// (ṡ, ω, 1, then the target).
+    pub(super) fn kind(&self, j: usize) -> usize {
+        match self.linear[j].0 {
+            "sigma1" => 0,
+            "sigma2" => 1,
+            _ => 2,
+        }
+    }
+
+    /// The projected residual sum of squares from Gram entries: `cc(a, b)` = A_aᵀA_b and
+    /// `ct(a)` = A_aᵀt over the linear parameters' columns, `tt` = tᵀt, t the measured
+    /// torque less the bristle torque. Fixed linear parameters move to the target. `None`
+    /// where the matrix is not usable or the sum cancels to under 1e-9 of tᵀt (too few
+    /// digits left): the caller then evaluates the trial by the general path.
+    pub(super) fn rss_from_gram(
+        &self,
+        cc: impl Fn(usize, usize) -> f64,
+        tt: f64,
+        ct: impl Fn(usize) -> f64,
+    ) -> Option<f64> {
+        let fixed: Vec<(usize, f64)> =
+            self.linear.iter().enumerate().filter_map(|(j, (_, f))| f.map(|v| (j, v))).collect();
+        let free: Vec<usize> =
+            (0..self.linear.len()).filter(|&j| self.linear[j].1.is_none()).collect();
+        let mut tt = tt;
+        for &(f, vf) in &fixed {
+            tt -= 2.0 * vf * ct(f);
+            for &(g, vg) in &fixed {
+                tt += vf * vg * cc(f, g);
+            }
+        }
+        let aty: Vec<f64> = free
+            .iter()
+            .map(|&a| ct(a) - fixed.iter().map(|&(f, vf)| vf * cc(a, f)).sum::<f64>())
+            .collect();
+        let gram = DMatrix::from_fn(free.len(), free.len(), |a, b| cc(free[a], free[b]));
+        let lo: Vec<f64> = free.iter().map(|&j| self.linear_bounds(j).0).collect();
+        let hi: Vec<f64> = free.iter().map(|&j| self.linear_bounds(j).1).collect();
+        let (coef, _) = gram_solve(&gram, &aty, &lo, &hi)?;
+        let mut rss = tt;
+        for a in 0..free.len() {
+            rss -= 2.0 * coef[a] * aty[a];
+            for b in 0..free.len() {
+                rss += coef[a] * coef[b] * gram[(a, b)];
+            }
+        }
+        (rss.is_finite() && rss >= 1e-9 * tt).then_some(rss)
+    }
+
     /// RSS at nonlinear values `v` (the search's cost), in a pooled workspace.
     pub(super) fn rss_fast(&self, v: &[f64; 6]) -> Result<f64, FitError> {
         self.pool.with(|ws| {
@@ -268,12 +318,25 @@ fn gram_bounded(
     hi: &[f64],
 ) -> Option<(Vec<f64>, Vec<bool>)> {
     let k = cols.len();
-    let norms: Vec<f64> = cols.iter().map(|c| dot(c, c).sqrt()).collect();
+    let gram = DMatrix::from_fn(k, k, |a, b| dot(cols[a], cols[b]));
+    let aty: Vec<f64> = (0..k).map(|a| dot(cols[a], y)).collect();
+    gram_solve(&gram, &aty, lo, hi)
+}
+
+/// [`gram_bounded`] from the Gram matrix `gram` = AᵀA of the columns and `aty` = Aᵀy.
+pub(super) fn gram_solve(
+    gram: &DMatrix<f64>,
+    aty: &[f64],
+    lo: &[f64],
+    hi: &[f64],
+) -> Option<(Vec<f64>, Vec<bool>)> {
+    let k = aty.len();
+    let norms: Vec<f64> = (0..k).map(|a| gram[(a, a)].sqrt()).collect();
     if norms.iter().any(|n| !(*n > 0.0 && n.is_finite())) {
         return None;
     }
-    let scaled = DMatrix::from_fn(k, k, |a, b| dot(cols[a], cols[b]) / (norms[a] * norms[b]));
-    let aty: Vec<f64> = (0..k).map(|a| dot(cols[a], y) / norms[a]).collect();
+    let scaled = DMatrix::from_fn(k, k, |a, b| gram[(a, b)] / (norms[a] * norms[b]));
+    let aty: Vec<f64> = (0..k).map(|a| aty[a] / norms[a]).collect();
     let mut held: Vec<Option<f64>> = vec![None; k];
     loop {
         let free: Vec<usize> = (0..k).filter(|&j| held[j].is_none()).collect();

@@ -22,6 +22,7 @@
 mod exact;
 mod fast;
 mod finish;
+mod sigma0_pass;
 mod start;
 
 use super::bristle::{BristleRun, bristle_run};
@@ -368,10 +369,16 @@ pub fn fit_joint(
         let (mut lo, mut hi) = problem.sigma0_range(level);
         lo = lo.max(f64::MIN_POSITIVE);
         hi = hi.min(f64::MAX);
-        let cost = |s0: f64| {
-            let mut v = base;
-            v[3] = s0;
-            problem.rss_at(&v)
+        // One pass per trial with the levels' quantities worked out once; the general
+        // path where that pass cannot be used.
+        let pass = sigma0_pass::Sigma0Pass::new(&problem, problem.law(&base));
+        let cost = |s0: f64| match pass.rss(&problem, s0) {
+            Some(c) => Ok(c),
+            None => {
+                let mut v = base;
+                v[3] = s0;
+                problem.rss_at(&v)
+            }
         };
         let out = search_log(&cost, lo, hi)?;
         base[3] = out.value;
