@@ -10,11 +10,10 @@
 //! the workspace, and reduced at once to JᵀJ and Jᵀr.
 
 use super::super::bristle::{BristleRun, bristle_run_into};
-use super::{JointProblem, NONLINEAR_ALL};
+use super::JointProblem;
 use crate::error::FitError;
 use crate::fix::OFFSET;
 use crate::linear::bounded_least_squares;
-use crate::lm::Normal;
 use hd_model::registry::lookup;
 use nalgebra::{DMatrix, DVector};
 use std::sync::Mutex;
@@ -27,11 +26,16 @@ pub const MIN_PIVOT: f64 = 1e-10;
 /// Buffers of one evaluation.
 #[derive(Default)]
 pub(super) struct Workspace {
-    run: BristleRun,
+    pub(super) run: BristleRun,
     /// Measured torque less the bristle torque and fixed linear terms, then the residual.
-    resid: Vec<f64>,
-    /// ∂(w + σ1·ṡ)/∂p for the free nonlinear parameters, row-major (n × their count).
-    d: Vec<f64>,
+    pub(super) resid: Vec<f64>,
+    /// The gradient evaluation's bristle torque and slip rate ([`super::normal`]).
+    pub(super) w: Vec<f64>,
+    pub(super) slip: Vec<f64>,
+    /// Its ∂w/∂p, then ∂(w + σ1·ṡ)/∂p, then J, one column per free nonlinear parameter.
+    pub(super) dw: Vec<Vec<f64>>,
+    /// Its ∂ṡ/∂p, one column per free nonlinear parameter.
+    pub(super) ds: Vec<Vec<f64>>,
 }
 
 /// Workspaces handed out to concurrent evaluations (the search's grid runs in parallel).
@@ -52,15 +56,15 @@ impl Pool {
 
 /// The projection at one point: the linear parameters (every model linear parameter, the
 /// fixed ones at their values) and the free ones not held at a bound.
-struct Solved {
-    beta: Vec<f64>,
+pub(super) struct Solved {
+    pub(super) beta: Vec<f64>,
     /// Indices (into `JointProblem::linear`) of the free columns not at a bound.
-    active: Vec<usize>,
+    pub(super) active: Vec<usize>,
 }
 
 /// Σ aᵢ·bᵢ, summed in four interleaved partial sums (independent chains the CPU overlaps,
 /// where one running sum waits on every addition).
-fn dot(a: &[f64], b: &[f64]) -> f64 {
+pub(super) fn dot(a: &[f64], b: &[f64]) -> f64 {
     let n = a.len().min(b.len());
     let (mut s, split) = ([0.0f64; 4], n - n % 4);
     for (x, y) in a[..split].chunks_exact(4).zip(b[..split].chunks_exact(4)) {
@@ -74,7 +78,10 @@ fn dot(a: &[f64], b: &[f64]) -> f64 {
 
 /// Cholesky factor of the scaled Gram matrix restricted to `set`, when every squared pivot
 /// is at least [`MIN_PIVOT`].
-fn factor(scaled: &DMatrix<f64>, set: &[usize]) -> Option<nalgebra::Cholesky<f64, nalgebra::Dyn>> {
+pub(super) fn factor(
+    scaled: &DMatrix<f64>,
+    set: &[usize],
+) -> Option<nalgebra::Cholesky<f64, nalgebra::Dyn>> {
     let m = DMatrix::from_fn(set.len(), set.len(), |a, b| scaled[(set[a], set[b])]);
     let chol = m.cholesky()?;
     let l = chol.l_dirty();
@@ -83,9 +90,9 @@ fn factor(scaled: &DMatrix<f64>, set: &[usize]) -> Option<nalgebra::Cholesky<f64
 
 impl JointProblem<'_> {
     /// The column of linear parameter `j` (σ1: ṡ from `run`; σ2: ω; offset: 1).
-    fn linear_column<'b>(&'b self, j: usize, run: &'b BristleRun) -> &'b [f64] {
+    pub(super) fn linear_column<'b>(&'b self, j: usize, slip: &'b [f64]) -> &'b [f64] {
         match self.linear[j].0 {
-            "sigma1" => &run.slip,
+            "sigma1" => slip,
             "sigma2" => self.data.omega(),
             _ => &self.ones,
         }
@@ -99,7 +106,7 @@ impl JointProblem<'_> {
     }
 
     /// Run the state at `v` and project: afterwards `ws.resid` holds the residuals.
-    fn project_into(
+    pub(super) fn project_into(
         &self,
         v: &[f64; 6],
         grad: bool,
@@ -109,13 +116,20 @@ impl JointProblem<'_> {
         let (t, omega, y) = (self.data.t(), self.data.omega(), self.data.torque());
         bristle_run_into(&mut ws.run, t, omega, &law, y[0] - self.first_bias, grad)?;
         let Workspace { run, resid, .. } = ws;
+        Ok(self.project_run(&run.w, &run.slip, resid))
+    }
+
+    /// Project the measured torque less the bristle torque `w` onto the linear
+    /// parameters' columns (`slip` is ṡ): `resid` is refilled with the residuals.
+    pub(super) fn project_run(&self, w: &[f64], slip: &[f64], resid: &mut Vec<f64>) -> Solved {
+        let y = self.data.torque();
         resid.clear();
-        resid.extend(y.iter().zip(&run.w).map(|(a, b)| a - b));
+        resid.extend(y.iter().zip(w).map(|(a, b)| a - b));
         let mut free = Vec::with_capacity(self.linear.len());
         for (j, (_, fixed)) in self.linear.iter().enumerate() {
             match fixed {
                 Some(val) => {
-                    let col = self.linear_column(j, run);
+                    let col = self.linear_column(j, slip);
                     resid.iter_mut().zip(col).for_each(|(r, c)| *r -= val * c);
                 }
                 None => free.push(j),
@@ -123,7 +137,7 @@ impl JointProblem<'_> {
         }
         let mut beta: Vec<f64> = self.linear.iter().map(|(_, f)| f.unwrap_or(0.0)).collect();
         let mut at_bound = vec![false; beta.len()];
-        let cols: Vec<&[f64]> = free.iter().map(|&j| self.linear_column(j, run)).collect();
+        let cols: Vec<&[f64]> = free.iter().map(|&j| self.linear_column(j, slip)).collect();
         let lo: Vec<f64> = free.iter().map(|&j| self.linear_bounds(j).0).collect();
         let hi: Vec<f64> = free.iter().map(|&j| self.linear_bounds(j).1).collect();
         let (coef, held) = match gram_bounded(&cols, resid, &lo, &hi) {
@@ -139,7 +153,7 @@ impl JointProblem<'_> {
             resid.iter_mut().zip(cols[k]).for_each(|(r, c)| *r -= coef[k] * c);
         }
         let active = free.iter().copied().filter(|&j| !at_bound[j]).collect();
-        Ok(Solved { beta, active })
+        Solved { beta, active }
     }
 
     /// Index of linear parameter `j`'s column in the σ0 search's Gram matrix
@@ -198,113 +212,6 @@ impl JointProblem<'_> {
             self.project_into(v, false, ws)?;
             Ok(dot(&ws.resid, &ws.resid))
         })
-    }
-
-    /// The cost ‖r‖² and the normal equations of the projected residual at x (logarithms
-    /// of the free nonlinear parameters), in `ws`. Two passes after the state's: the
-    /// first forms d_i = ∂(w + σ1·ṡ)/∂p_i (row by row, all parameters at once) with Aᵀd_i
-    /// and (∂ṡ/∂p_i)ᵀr; the second adds the projection's correction
-    /// J_i = d_i + A·(AᵀA)⁻¹(∂Aᵀ/∂p_i·r − Aᵀd_i) and accumulates JᵀJ and Jᵀr, so no
-    /// column of J is stored.
-    pub(super) fn normal_at(
-        &self,
-        x: &[f64],
-        ws: &mut Workspace,
-    ) -> Result<(f64, Normal), FitError> {
-        let v = self.values(x);
-        let solved = self.project_into(&v, true, ws)?;
-        let q = self.nonlinear.len();
-        let Workspace { run, resid, d } = ws;
-        let n = resid.len();
-        let s1 =
-            self.linear.iter().position(|(nm, _)| *nm == "sigma1").map_or(0.0, |j| solved.beta[j]);
-        let active: Vec<&[f64]> =
-            solved.active.iter().map(|&j| self.linear_column(j, run)).collect();
-        let slip_slot = solved.active.iter().position(|&j| self.linear[j].0 == "sigma1");
-        let m = active.len();
-        // Which gradient slots each parameter sums, and its value (∂/∂ln p = p·∂/∂p).
-        let mut slots = [[usize::MAX; 2]; 6];
-        let mut scale = [0.0; 6];
-        for (i, name) in self.nonlinear.iter().enumerate() {
-            for (slot, k) in slots[i].iter_mut().zip(self.grad_slots(name)) {
-                *slot = k;
-            }
-            scale[i] = v[NONLINEAR_ALL.iter().position(|nm| nm == name).expect("a name")];
-        }
-        // Pass 1.
-        d.clear();
-        d.resize(n * q, 0.0);
-        let mut atd = [[0.0f64; 6]; 3];
-        let mut dsr = [0.0f64; 6];
-        for k in 0..n {
-            let (dw, ds, r) = (&run.d_w[k], &run.d_slip[k], resid[k]);
-            let row = &mut d[k * q..(k + 1) * q];
-            for i in 0..q {
-                let [a, b] = slots[i];
-                let (mut dwi, mut dsi) = (dw[a], ds[a]);
-                if b != usize::MAX {
-                    dwi += dw[b];
-                    dsi += ds[b];
-                }
-                dsr[i] += dsi * r;
-                row[i] = dwi + s1 * dsi;
-            }
-            for (a, col) in active.iter().enumerate() {
-                let c = col[k];
-                for i in 0..q {
-                    atd[a][i] += c * row[i];
-                }
-            }
-        }
-        // The correction's coefficients: J_i = d_i + Σ_a coef[a][i]·A_a.
-        let mut coef = [[0.0f64; 6]; 3];
-        if m > 0 {
-            let norms: Vec<f64> =
-                active.iter().map(|c| dot(c, c).sqrt().max(f64::MIN_POSITIVE)).collect();
-            let scaled =
-                DMatrix::from_fn(m, m, |a, b| dot(active[a], active[b]) / (norms[a] * norms[b]));
-            let all: Vec<usize> = (0..m).collect();
-            let inv = factor(&scaled, &all).map(|c| c.inverse()).or_else(|| scaled.try_inverse());
-            if let Some(inv) = inv {
-                for i in 0..q {
-                    let mut rhs = DVector::from_fn(m, |a, _| -atd[a][i] / norms[a]);
-                    if let Some(slot) = slip_slot {
-                        rhs[slot] += dsr[i] / norms[slot];
-                    }
-                    let u = &inv * rhs;
-                    for a in 0..m {
-                        coef[a][i] = u[a] / norms[a];
-                    }
-                }
-            }
-        }
-        // Pass 2.
-        let mut jtj = [[0.0f64; 6]; 6];
-        let mut jtr = [0.0f64; 6];
-        let mut j = [0.0f64; 6];
-        for k in 0..n {
-            let row = &d[k * q..(k + 1) * q];
-            for i in 0..q {
-                let mut x = row[i];
-                for a in 0..m {
-                    x += coef[a][i] * active[a][k];
-                }
-                j[i] = x * scale[i];
-            }
-            let r = resid[k];
-            for a in 0..q {
-                jtr[a] += j[a] * r;
-                for b in 0..=a {
-                    jtj[a][b] += j[a] * j[b];
-                }
-            }
-        }
-        let cost = dot(resid, resid);
-        let normal = Normal {
-            jtj: DMatrix::from_fn(q, q, |a, b| if b <= a { jtj[a][b] } else { jtj[b][a] }),
-            jtr: DVector::from_fn(q, |a, _| jtr[a]),
-        };
-        Ok((cost, normal))
     }
 }
 

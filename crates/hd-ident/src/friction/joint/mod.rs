@@ -22,8 +22,11 @@
 mod exact;
 mod fast;
 mod finish;
+mod kernel;
+mod normal;
 mod sigma0_pass;
 mod start;
+mod vexp;
 
 use super::bristle::{BristleRun, bristle_run};
 use crate::data::{TransientData, require_samples};
