@@ -3,7 +3,8 @@
 //! During the search the levels (Tc, Ts, ωs and the negative-side ones) are held, so the
 //! Stribeck level at every interval's mean speed and at every sample is the same in each
 //! trial: they are worked out once ([`Sigma0Pass::new`]). A trial then steps the bristle
-//! torque with one exponential per interval part, w₁ = w_ss + (w₀ − w_ss)·e^{−σ0·c}
+//! torque with one exponential per interval part (a chunk of them at once, vectorised:
+//! [`super::vexp`]), w₁ = w_ss + (w₀ − w_ss)·e^{−σ0·c}
 //! (c = |v̄|·h/G(v̄) [rad/(N·m)]), forms ṡ = v − (|v|/G(v))·w, and adds each sample's
 //! products to the Gram matrix of (ṡ, ω, 1, y − w): the bounded projection onto σ1, σ2
 //! and the offset and the residual sum of squares follow from that 4 × 4 matrix
@@ -11,6 +12,7 @@
 //! the trial (or one whose state is not finite) is evaluated by the general path instead.
 
 use super::JointProblem;
+use super::vexp::exp_neg;
 use hd_model::laws::friction::LuGre;
 
 /// Above this decay exponent e^{−x} is 0 to the last bit: no exponential is evaluated
@@ -26,10 +28,15 @@ struct Part {
     w_ss: f64,
 }
 
+/// Intervals whose decays are worked out together, in a loop that vectorises.
+const CHUNK: usize = 256;
+
 /// The search's fixed per-sample quantities for one set of held levels.
 pub(super) struct Sigma0Pass {
-    /// The (first) part of each interval k − 1 → k, index k − 1.
-    parts: Vec<Part>,
+    /// The (first) part of each interval k − 1 → k, index k − 1: its c …
+    part_c: Vec<f64>,
+    /// … and its w_ss.
+    part_w_ss: Vec<f64>,
     /// Intervals across which the speed changes sign: (index k, the second part).
     splits: Vec<(usize, Part)>,
     /// |v_k|/G(v_k) [1/(N·m·s)·rad]: ṡ = v − this·w.
@@ -64,7 +71,9 @@ impl Sigma0Pass {
             }
         }
         let slip_gain = omega.iter().map(|&v| v.abs() / law.stribeck(v).0).collect();
-        Self { parts, splits, slip_gain, law }
+        let part_c = parts.iter().map(|p| p.c).collect();
+        let part_w_ss = parts.iter().map(|p| p.w_ss).collect();
+        Self { part_c, part_w_ss, splits, slip_gain, law }
     }
 
     /// The residual sum of squares [N²·m²] of the projected model at bristle stiffness
@@ -81,17 +90,7 @@ impl Sigma0Pass {
         };
         // Gram of (ṡ, ω, 1, y − w), upper triangle.
         let mut g = [0.0f64; 10];
-        let mut next = self.splits.iter().peekable();
-        for k in 0..omega.len() {
-            if k > 0 {
-                w = relax(w, &self.parts[k - 1]);
-                if let Some(&&(ks, ref second)) = next.peek()
-                    && ks == k
-                {
-                    w = relax(w, second);
-                    next.next();
-                }
-            }
+        let mut add = |k: usize, w: f64| {
             let v = omega[k];
             let z = [v - self.slip_gain[k] * w, v, 1.0, y[k] - w];
             let mut i = 0;
@@ -101,6 +100,31 @@ impl Sigma0Pass {
                     i += 1;
                 }
             }
+        };
+        add(0, w);
+        let mut next = self.splits.iter().peekable();
+        let mut decay = [0.0f64; CHUNK];
+        let n = omega.len();
+        let mut k0 = 1;
+        while k0 < n {
+            let len = CHUNK.min(n - k0);
+            let c = &self.part_c[k0 - 1..k0 - 1 + len];
+            for (d, &c) in decay[..len].iter_mut().zip(c) {
+                *d = exp_neg(-(sigma0 * c));
+            }
+            for (j, &dj) in decay[..len].iter().enumerate() {
+                let k = k0 + j;
+                let w_ss = self.part_w_ss[k - 1];
+                w = w_ss + (w - w_ss) * dj;
+                if let Some(&&(ks, ref second)) = next.peek()
+                    && ks == k
+                {
+                    w = relax(w, second);
+                    next.next();
+                }
+                add(k, w);
+            }
+            k0 += len;
         }
         if !g.iter().all(|x| x.is_finite()) {
             return None; // the general path names the failure
