@@ -68,9 +68,9 @@ pub const START_FACTOR: f64 = 5.0;
 /// Iterations every start runs before the starts are compared ([`DROP_FACTOR`]).
 pub const RACE_ITERATIONS: usize = 10;
 /// A start whose cost after [`RACE_ITERATIONS`] exceeds this multiple of the lowest cost
-/// any start has reached by then is stopped there (on the records measured, a start that
-/// went on to the best optimum was within 1.3× of the lowest cost at that point; the
-/// stopped ones were 13–30× above it and ended far above the best).
+/// any start has reached by then is stopped there. On the records measured (docs/model.md
+/// §5) every start that went on to the best optimum was within 0.2 % of the lowest cost at
+/// that point; the stopped ones were 8–30× above it and ended far above the best.
 pub const DROP_FACTOR: f64 = 5.0;
 
 const NONLINEAR_ALL: [&str; 6] = ["Tc", "Ts", "ws", "sigma0", "Tc_neg", "Ts_neg"];
