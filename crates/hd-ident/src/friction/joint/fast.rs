@@ -1,13 +1,12 @@
 //! The joint fit's inner evaluations without per-trial allocation: the bristle run, the
-//! projection onto the linear parameters and the Levenberg–Marquardt normal equations,
-//! all in buffers that one start (or one search thread) keeps for its whole run.
+//! projection onto the linear parameters and the buffers of the Levenberg–Marquardt
+//! normal equations ([`super::normal`]), all kept by one start (or one search thread) for
+//! its whole run.
 //!
 //! The linear parameters (σ1, σ2, offset: at most three columns) are solved from the
 //! column-scaled Gram matrix of their columns (one pass of dot products, no n × k copy).
 //! Where that matrix is too ill-conditioned for normal equations (a Cholesky pivot below
-//! [`MIN_PIVOT`]) the solve falls back to the QR/SVD path of [`crate::linear`]. The
-//! Jacobian of the projected residual is [`crate::varpro`]'s, formed column by column in
-//! the workspace, and reduced at once to JᵀJ and Jᵀr.
+//! [`MIN_PIVOT`]) the solve falls back to the QR/SVD path of [`crate::linear`].
 
 use super::super::bristle::{BristleRun, bristle_run_into};
 use super::JointProblem;
