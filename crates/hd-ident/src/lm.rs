@@ -172,6 +172,104 @@ where
     lm_core::<_, fn(&[f64]) -> Result<Vec<f64>, FitError>>(&trial, None, x0, opts)
 }
 
+/// A refinement stopped after a given number of iterations, to be resumed exactly where
+/// it stood ([`lm_normal_resume`]).
+pub struct LmPaused {
+    x: Vec<f64>,
+    current: Trial,
+    lambda: f64,
+    radius: f64,
+    secant: Option<Secant>,
+    iterations: usize,
+    evaluations: usize,
+    failed: usize,
+}
+
+impl LmPaused {
+    /// The cost ‖r‖² at the point reached.
+    pub fn cost(&self) -> f64 {
+        self.current.cost
+    }
+    /// Iterations done so far.
+    pub fn iterations(&self) -> usize {
+        self.iterations
+    }
+    /// Evaluations so far.
+    pub fn evaluations(&self) -> usize {
+        self.evaluations
+    }
+    /// Trials that failed so far.
+    pub fn failed_trials(&self) -> usize {
+        self.failed
+    }
+    /// The point reached.
+    pub fn x(&self) -> &[f64] {
+        &self.x
+    }
+}
+
+/// A refinement that ended, or one paused before its end.
+pub enum LmStep {
+    /// It ended (converged, stuck or out of budget).
+    Done(LmOutcome),
+    /// It was paused after the asked number of iterations.
+    Paused(LmPaused),
+}
+
+/// [`levenberg_marquardt_normal`] from `x0`, paused after `pause_after` iterations unless
+/// it ends before; the pause changes nothing of the run resumed by [`lm_normal_resume`].
+pub fn lm_normal_paused<F>(
+    model: &F,
+    x0: &[f64],
+    opts: &LmOptions,
+    pause_after: usize,
+) -> Result<LmStep, FitError>
+where
+    F: Fn(&[f64]) -> Result<(f64, Normal), FitError> + Sync,
+{
+    let trial = |x: &[f64]| {
+        model(x).map(|(cost, normal)| Trial { cost, normal: Some(normal), residuals: None })
+    };
+    lm_core_step::<_, fn(&[f64]) -> Result<Vec<f64>, FitError>>(
+        &trial,
+        None,
+        Start::At(x0),
+        opts,
+        Some(pause_after),
+    )
+}
+
+/// Resume a paused [`lm_normal_paused`] run to its end, with the same `model` and `opts`.
+pub fn lm_normal_resume<F>(
+    model: &F,
+    paused: LmPaused,
+    opts: &LmOptions,
+) -> Result<LmOutcome, FitError>
+where
+    F: Fn(&[f64]) -> Result<(f64, Normal), FitError> + Sync,
+{
+    let trial = |x: &[f64]| {
+        model(x).map(|(cost, normal)| Trial { cost, normal: Some(normal), residuals: None })
+    };
+    match lm_core_step::<_, fn(&[f64]) -> Result<Vec<f64>, FitError>>(
+        &trial,
+        None,
+        Start::Resume(Box::new(paused)),
+        opts,
+        None,
+    )? {
+        LmStep::Done(out) => Ok(out),
+        LmStep::Paused(_) => unreachable!("no pause was asked"),
+    }
+}
+
+/// Where [`lm_core`] begins.
+enum Start<'a> {
+    At(&'a [f64]),
+    Resume(Box<LmPaused>),
+}
+
+/// [`lm_core_step`] run to its end.
 fn lm_core<T, F>(
     model: &T,
     residuals: Option<&F>,
@@ -182,8 +280,29 @@ where
     T: Fn(&[f64]) -> Result<Trial, FitError> + Sync,
     F: Fn(&[f64]) -> Result<Vec<f64>, FitError> + Sync,
 {
-    let evaluations = AtomicUsize::new(0);
-    let failed = AtomicUsize::new(0);
+    match lm_core_step(model, residuals, Start::At(x0), opts, None)? {
+        LmStep::Done(out) => Ok(out),
+        LmStep::Paused(_) => unreachable!("no pause was asked"),
+    }
+}
+
+fn lm_core_step<T, F>(
+    model: &T,
+    residuals: Option<&F>,
+    start: Start,
+    opts: &LmOptions,
+    pause_after: Option<usize>,
+) -> Result<LmStep, FitError>
+where
+    T: Fn(&[f64]) -> Result<Trial, FitError> + Sync,
+    F: Fn(&[f64]) -> Result<Vec<f64>, FitError> + Sync,
+{
+    let (done_evals, done_failed) = match &start {
+        Start::At(_) => (0, 0),
+        Start::Resume(p) => (p.evaluations, p.failed),
+    };
+    let evaluations = AtomicUsize::new(done_evals);
+    let failed = AtomicUsize::new(done_failed);
     let eval = |x: &[f64]| -> Option<Trial> {
         evaluations.fetch_add(1, Ordering::Relaxed);
         match model(x) {
@@ -204,33 +323,54 @@ where
             }
         }
     };
-    let p = x0.len();
-    let mut x = x0.to_vec();
-    let mut current = match model(x0) {
-        Ok(t) if t.finite() => t,
-        Ok(_) => {
-            return Err(FitError::Optimiser(
-                "the starting point gives non-finite residuals".into(),
-            ));
+    let (mut x, mut current, mut lambda, mut radius, mut secant, mut iterations) = match start {
+        Start::At(x0) => {
+            let current = match model(x0) {
+                Ok(t) if t.finite() => t,
+                Ok(_) => {
+                    return Err(FitError::Optimiser(
+                        "the starting point gives non-finite residuals".into(),
+                    ));
+                }
+                Err(e) => {
+                    return Err(FitError::Optimiser(format!(
+                        "the starting point fails: {}",
+                        chain(&e)
+                    )));
+                }
+            };
+            evaluations.fetch_add(1, Ordering::Relaxed);
+            // Trust radius: the largest move of any parameter; halved with every rejected
+            // trial, so a failing region is backed away from even where the gradient says
+            // nothing.
+            let secant = opts.secant.then(|| Secant::new(x0.len()));
+            (x0.to_vec(), current, 1e-3, opts.max_step, secant, 0)
         }
-        Err(e) => {
-            return Err(FitError::Optimiser(format!("the starting point fails: {}", chain(&e))));
+        Start::Resume(s) => {
+            let s = *s;
+            (s.x, s.current, s.lambda, s.radius, s.secant, s.iterations)
         }
     };
-    evaluations.fetch_add(1, Ordering::Relaxed);
+    let p = x.len();
     let mut cost = current.cost;
-    let mut lambda = 1e-3;
-    let mut iterations = 0;
     let mut termination = format!("iteration budget of {} reached", opts.max_iterations);
     if p == 0 {
         termination = "no free parameter".into();
     }
     let mut converged = false;
-    // Trust radius: the largest move of any parameter; halved with every rejected trial,
-    // so a failing region is backed away from even where the gradient says nothing.
-    let mut radius = opts.max_step;
-    let mut secant = opts.secant.then(|| Secant::new(p));
     while p > 0 && !converged && iterations < opts.max_iterations {
+        if pause_after == Some(iterations) {
+            return Ok(LmStep::Paused(LmPaused {
+                x,
+                current,
+                lambda,
+                radius,
+                secant,
+                iterations,
+                evaluations: evaluations.into_inner(),
+                failed: failed.into_inner(),
+            }));
+        }
         iterations += 1;
         let Normal { jtj: a, jtr: g } = match (current.normal.take(), &current.residuals) {
             (Some(normal), _) => normal,
@@ -320,14 +460,14 @@ where
             break;
         }
     }
-    Ok(LmOutcome {
+    Ok(LmStep::Done(LmOutcome {
         x,
         cost,
         iterations,
         evaluations: evaluations.into_inner(),
         failed_trials: failed.into_inner(),
         termination,
-    })
+    }))
 }
 
 /// Whether an outcome's termination says the iteration budget ran out.
@@ -367,5 +507,32 @@ mod tests {
         let out = levenberg_marquardt(&res, &[-6.0], &opts).unwrap();
         assert!((out.x[0] - 2.0).abs() < 1e-6, "{out:?}");
         assert!(out.failed_trials > 0, "{out:?}");
+    }
+
+    #[test]
+    fn a_paused_run_resumes_exactly() {
+        // y = 3·e^{−0.7 t} + 0.5·e^{−4 t} with the secant model on: paused after 3
+        // iterations and resumed, the run ends bit for bit where the uninterrupted one does.
+        let t: Vec<f64> = (0..80).map(|k| 0.05 * k as f64).collect();
+        let y: Vec<f64> =
+            t.iter().map(|&t| 3.0 * (-0.7 * t).exp() + 0.5 * (-4.0 * t).exp()).collect();
+        let model = |x: &[f64]| -> Result<(f64, Normal), FitError> {
+            let (a, k) = (x[0].exp(), x[1].exp());
+            let r: Vec<f64> = t.iter().zip(&y).map(|(&t, &y)| y - a * (-k * t).exp()).collect();
+            let j0: Vec<f64> = t.iter().map(|&t| a * (-k * t).exp()).collect();
+            let j1: Vec<f64> = t.iter().map(|&t| -a * k * t * (-k * t).exp()).collect();
+            Ok((cost_of(&r), Normal::from_columns(&[j0, j1], &r)))
+        };
+        let opts = LmOptions { secant: true, ..Default::default() };
+        let whole = levenberg_marquardt_normal(&model, &[0.0, 1.0], &opts).unwrap();
+        let LmStep::Paused(paused) = lm_normal_paused(&model, &[0.0, 1.0], &opts, 3).unwrap()
+        else {
+            panic!("ended before 3 iterations");
+        };
+        assert_eq!(paused.iterations(), 3);
+        assert!(paused.cost() > whole.cost);
+        let resumed = lm_normal_resume(&model, paused, &opts).unwrap();
+        assert_eq!(resumed, whole);
+        assert!(whole.iterations > 3, "{whole:?}");
     }
 }

@@ -328,6 +328,7 @@ pub fn fit_separable<P: Separable>(problem: &P, fixed: &Fixed) -> Result<Separab
         wall_time_s: start.elapsed().as_secs_f64(),
         loop_energy: Vec::new(),
         refinement_starts: Vec::new(),
+        refinement_ends: Vec::new(),
     };
     Ok(SeparableFit {
         report,

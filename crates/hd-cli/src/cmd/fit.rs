@@ -11,6 +11,7 @@ use clap::{Args, Subcommand};
 use hd_ident::{
     FitReport, Fixed, FrictionOptions, SeparableFit, SteadyData, TransientData, fit_friction_with,
 };
+use hd_io::atomic::Staged;
 use hd_model::laws::friction::{FrictionLaw, LuGre};
 use hd_plot::{Series, fit_plot, residual_plot};
 use std::path::{Path, PathBuf};
@@ -200,39 +201,68 @@ fn run_friction(args: FrictionArgs) -> Result<()> {
             steady_outputs(&dir, d, s, &fit.law)?;
         }
         if let (Some(d), Some(s)) = (&transient, &fit.transient) {
-            let [m, f, r] = fitted_columns(s, d.torque());
-            hd_io::write_columns(
-                &dir.join("transient-fitted.parquet"),
-                &["t", "omega", "torque", "fitted", "residual"],
-                &[d.t().to_vec(), d.omega().to_vec(), m, f.clone(), r.clone()],
-            )?;
-            let measured = Series::new("measured", d.t().to_vec(), d.torque().to_vec());
-            let fitted = Series::new("fitted (LuGre)", d.t().to_vec(), f);
-            let title = "Friction fit: torque under the imposed speed";
-            staged_plot(&dir.join("transient.svg"), |p| {
-                fit_plot(p, title, "t [s]", "Tf [N·m]", &measured, &fitted)
-            })?;
-            let measured = Series::new("measured", d.omega().to_vec(), d.torque().to_vec());
-            let fitted = Series::new("fitted (LuGre)", d.omega().to_vec(), fitted.y.clone());
-            let title = "Friction fit: torque against speed";
-            fit_plot(
-                &dir.join("friction-speed.svg"),
-                title,
-                "ω [rad/s]",
-                "Tf [N·m]",
-                &measured,
-                &fitted,
-            )?;
-            let res = Series::new("residual", d.t().to_vec(), r);
-            let title = "Friction fit residuals (time series)";
-            staged_plot(&dir.join("residuals-transient.svg"), |p| {
-                residual_plot(p, title, "t [s]", "Tf [N·m]", &res)
-            })?;
+            transient_outputs(&dir, d, s)?;
         }
         Ok(())
     })?;
     eprintln!("friction fit in {:.3} s; wrote {}", fit.report.wall_time_s, dir.display());
     Ok(())
+}
+
+/// The time series' outputs: fitted table and three plots. The plots are drawn on their
+/// own threads while this one writes the table (the fit has left both cores idle), and
+/// join the caller's output group when done.
+fn transient_outputs(dir: &Path, d: &TransientData, s: &SeparableFit) -> Result<()> {
+    let [m, f, r] = fitted_columns(s, d.torque());
+    let (t, w, y) = (d.t(), d.omega(), d.torque());
+    let staged = std::thread::scope(|scope| -> Result<Vec<Staged>> {
+        let transient = scope.spawn(|| {
+            let measured = Series::new("measured", t.to_vec(), y.to_vec());
+            let fitted = Series::new("fitted (LuGre)", t.to_vec(), f.clone());
+            let title = "Friction fit: torque under the imposed speed";
+            draw_staged(&dir.join("transient.svg"), |p| {
+                fit_plot(p, title, "t [s]", "Tf [N·m]", &measured, &fitted)
+            })
+        });
+        let speed = scope.spawn(|| {
+            let measured = Series::new("measured", w.to_vec(), y.to_vec());
+            let fitted = Series::new("fitted (LuGre)", w.to_vec(), f.clone());
+            let title = "Friction fit: torque against speed";
+            draw_staged(&dir.join("friction-speed.svg"), |p| {
+                fit_plot(p, title, "ω [rad/s]", "Tf [N·m]", &measured, &fitted)
+            })
+        });
+        let residuals = scope.spawn(|| {
+            let res = Series::new("residual", t.to_vec(), r.clone());
+            let title = "Friction fit residuals (time series)";
+            draw_staged(&dir.join("residuals-transient.svg"), |p| {
+                residual_plot(p, title, "t [s]", "Tf [N·m]", &res)
+            })
+        });
+        hd_io::write_columns(
+            &dir.join("transient-fitted.parquet"),
+            &["t", "omega", "torque", "fitted", "residual"],
+            &[t.to_vec(), w.to_vec(), m.clone(), f.clone(), r.clone()],
+        )?;
+        [transient, speed, residuals]
+            .into_iter()
+            .map(|h| h.join().unwrap_or_else(|_| bail!("a plot thread panicked")))
+            .collect()
+    })?;
+    for st in staged {
+        hd_io::atomic::finish(st)?;
+    }
+    Ok(())
+}
+
+/// A plot drawn to the temporary of `dest`, not yet in place.
+fn draw_staged(
+    dest: &Path,
+    draw: impl FnOnce(&Path) -> std::result::Result<(), hd_plot::PlotError>,
+) -> Result<Staged> {
+    let staged = Staged::new(dest)?;
+    draw(staged.path()).with_context(|| format!("drawing {}", dest.display()))?;
+    Ok(staged)
 }
 
 /// The steady-state outputs: fitted table, Stribeck curve and residuals.

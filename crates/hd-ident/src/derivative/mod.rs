@@ -186,6 +186,50 @@ fn check(t: &[f64], x: &[f64], half_window: usize, order: usize) -> Result<(), D
 /// survive) and are solved by Cholesky in a fixed 5×5 matrix (unused degrees padded with an
 /// identity block), without allocating.
 /// Returns `None` when the matrix is singular.
+/// Solve the m × m normal equations G·c = b with G[r][c] = sums[r + c] (a Hankel matrix
+/// of power sums) by Cholesky's method on the stack; `None` where a pivot is not positive
+/// (the window's times cannot carry a polynomial of that degree).
+#[inline]
+fn solve_normal(
+    sums: &[f64; 2 * MAX_ORDER + 1],
+    b: &[f64; MAX_ORDER + 1],
+    m: usize,
+) -> Option<[f64; MAX_ORDER + 1]> {
+    let mut l = [[0.0f64; MAX_ORDER + 1]; MAX_ORDER + 1];
+    for r in 0..m {
+        for c in 0..=r {
+            let mut v = sums[r + c];
+            for (a, b) in l[r][..c].iter().zip(&l[c][..c]) {
+                v -= a * b;
+            }
+            if r == c {
+                if v.is_nan() || v <= 0.0 {
+                    return None;
+                }
+                l[r][r] = v.sqrt();
+            } else {
+                l[r][c] = v / l[c][c];
+            }
+        }
+    }
+    let mut z = [0.0f64; MAX_ORDER + 1];
+    for r in 0..m {
+        let mut v = b[r];
+        for (a, zk) in l[r][..r].iter().zip(&z[..r]) {
+            v -= a * zk;
+        }
+        z[r] = v / l[r][r];
+    }
+    for r in (0..m).rev() {
+        let mut v = z[r];
+        for (row, zk) in l[r + 1..m].iter().zip(&z[r + 1..m]) {
+            v -= row[r] * zk;
+        }
+        z[r] = v / l[r][r];
+    }
+    Some(z)
+}
+
 fn local_slope(t: &[f64], x: &[f64], lo: usize, hi: usize, i: usize, order: usize) -> Option<f64> {
     let (tc, xc) = (t[i], x[i]);
     let scale = (t[hi] - tc).max(tc - t[lo]);
@@ -205,17 +249,7 @@ fn local_slope(t: &[f64], x: &[f64], lo: usize, hi: usize, i: usize, order: usiz
             p *= u;
         }
     }
-    let g = Matrix5::from_fn(|r, c| {
-        if r <= order && c <= order {
-            sums[r + c]
-        } else if r == c {
-            1.0
-        } else {
-            0.0
-        }
-    });
-    let b = Vector5::from_fn(|r, _| if r <= order { moments[r] } else { 0.0 });
-    let coef = g.cholesky()?.solve(&b);
+    let coef = solve_normal(&sums, &moments, order + 1)?;
     let slope = coef[1] * inv;
     slope.is_finite().then_some(slope)
 }

@@ -26,7 +26,7 @@ pub struct BristleRun {
 /// starts exactly at rest or in steady sliding: a speed derived from an encoder is never
 /// exactly zero, and a start in steady state at a tiny negative speed would put w at −Ts
 /// where the torque says 0).
-fn start(law: &LuGre, v0: f64, first_torque: f64) -> (f64, ShapeGrad) {
+pub(super) fn start(law: &LuGre, v0: f64, first_torque: f64) -> (f64, ShapeGrad) {
     let v0 = v0.abs();
     let hi = law.level_grad(v0);
     let lo = law.level_grad(-v0.max(f64::MIN_POSITIVE));

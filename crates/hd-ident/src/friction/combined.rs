@@ -270,5 +270,6 @@ fn combine(
         wall_time_s: start.elapsed().as_secs_f64(),
         loop_energy: Vec::new(),
         refinement_starts: Vec::new(),
+        refinement_ends: Vec::new(),
     }
 }

@@ -159,6 +159,10 @@ pub struct FitReport {
     /// the Levenberg–Marquardt refinement, so the fit can be reproduced elsewhere.
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub refinement_starts: Vec<std::collections::BTreeMap<String, f64>>,
+    /// Joint friction fits: how the refinement from each start ended (its residual sum of
+    /// squares and iterations, or why it was stopped early), in `refinement_starts` order.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub refinement_ends: Vec<String>,
 }
 
 impl FitReport {

@@ -106,6 +106,7 @@ pub(crate) fn build(entries: Vec<Entry>, y: &[f64], fitted: &[f64], work: Work) 
         wall_time_s: work.started.elapsed().as_secs_f64(),
         loop_energy: Vec::new(),
         refinement_starts: Vec::new(),
+        refinement_ends: Vec::new(),
     }
 }
 

@@ -20,6 +20,7 @@ pub(super) fn finish(
     evaluations: usize,
     termination: &str,
     starts: &[[f64; 6]],
+    ends: Vec<String>,
 ) -> Result<SeparableFit, FitError> {
     let proj = problem.project_with(v, true)?;
     let y = problem.data.torque();
@@ -138,6 +139,7 @@ pub(super) fn finish(
                     .collect()
             })
             .collect(),
+        refinement_ends: ends,
     };
     Ok(SeparableFit {
         report,
