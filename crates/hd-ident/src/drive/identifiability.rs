@@ -31,6 +31,9 @@ pub struct Determination {
     /// Per free parameter: whether it is determined (neither in an undetermined combination
     /// nor in a pair that is not separable).
     pub determined: Vec<bool>,
+    /// Each undetermined combination: its members (free-parameter slots) with their relative
+    /// weights, the largest ±1.
+    pub null_directions: Vec<Vec<(usize, f64)>>,
 }
 
 fn join(names: &[&str]) -> String {
@@ -54,6 +57,7 @@ pub fn determination(
     let cov = covariance(&cols, rss);
     let mut sentences = Vec::new();
     let mut in_null = vec![false; k];
+    let mut null_directions = Vec::new();
     if k > 0 && jac.nrows() >= k {
         // Relative sensitivities, unit-norm columns.
         let scale: Vec<f64> =
@@ -85,6 +89,7 @@ pub fn determination(
                 for &j in &members {
                     in_null[j] = true;
                 }
+                null_directions.push(members.iter().map(|&j| (j, rel[j] / big)).collect());
                 let who: Vec<&str> = members.iter().map(|&j| names[j]).collect();
                 let weights: Vec<String> =
                     members.iter().map(|&j| format!("{:+.2}", rel[j] / big)).collect();
@@ -152,6 +157,7 @@ pub fn determination(
         sentences,
         all_determined,
         determined,
+        null_directions,
     }
 }
 

@@ -170,10 +170,12 @@ fn pass(
     CompliantSpec { outputs, free, start, ..spec.clone() }
 }
 
-/// Fit `spec` from `start`; then hold every free parameter the records leave undetermined
-/// (no standard error: a near-null direction of the Jacobian) at its value in `spec.start`
-/// (the user's) and fit the rest again, so a parameter the records do not see keeps the
-/// value it was given instead of the one it drifted to; those are listed in `held`.
+/// Fit `spec` from `start`; then, for each combination of parameters the records leave
+/// undetermined (a near-null direction of the Jacobian), hold one of its members, the one
+/// with the largest weight, at its value in `spec.start` (the user's), and fit the rest
+/// again. A direction the records do not see would otherwise let its parameters drift
+/// without bound; holding one member per direction removes the drift and leaves the
+/// combinations the records do see free. The held ones are listed in `held`.
 pub fn settle(
     spec: &CompliantSpec,
     start: [f64; 18],
@@ -181,10 +183,21 @@ pub fn settle(
     progress: Progress<'_>,
 ) -> Result<CompliantFit, String> {
     let first = fit_stage(&CompliantSpec { start, ..spec.clone() }, records, progress)?;
-    let unseen: Vec<usize> = (0..NAMES.len())
-        .filter(|&k| first.free[k] && first.std_errors[k].is_none())
-        .filter(|&k| !(spec.km_is_ke && k == KM))
-        .collect();
+    let mut unseen: Vec<usize> = Vec::new();
+    for direction in &first.determination.null_directions {
+        let mut members: Vec<(usize, f64)> = direction
+            .iter()
+            .map(|&(slot, w)| (first.jacobian_params[slot], w))
+            .filter(|(k, _)| !(spec.km_is_ke && *k == KM))
+            .collect();
+        members.sort_by(|a, b| b.1.abs().total_cmp(&a.1.abs()));
+        if members.iter().any(|(k, _)| unseen.contains(k)) {
+            continue; // a member is held already: this direction is pinned too
+        }
+        if let Some(&(k, _)) = members.first() {
+            unseen.push(k);
+        }
+    }
     if unseen.is_empty() {
         return Ok(first);
     }
@@ -203,7 +216,7 @@ pub fn settle(
         .iter()
         .map(|&k| {
             format!(
-                "{} is not determined by this record (the outputs do not depend on it); held at its start value {:.4e}.",
+                "{} is held at its start value {:.4e}: the record leaves a combination of it with other parameters undetermined (below).",
                 NAMES[k], spec.start[k]
             )
         })
