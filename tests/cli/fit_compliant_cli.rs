@@ -2,7 +2,7 @@
 //! fitted back (motor parameters free, the rest at the truth), its outputs, the params file
 //! `hdw simulate` runs, and the one-line errors of bad configurations.
 
-use crate::common::{assert_one_line_error, hdw, hdw_ok, scratch};
+use crate::common::{assert_one_line_error, hdw, hdw_ok, json, scratch};
 
 /// The configuration of the tests, with `extra` appended to its top level and `fit` as its
 /// `[fit]` table.
@@ -64,6 +64,20 @@ fn the_motor_is_fitted_back_from_a_voltage_test() {
     for f in ["params.toml", "report.md", "motor.svg", "residuals-load.svg", "current.svg"] {
         assert!(out.join(f).exists(), "{f}");
     }
+    // Without the current the motor encoder sees only two combinations of R, Ke, Jj and
+    // Cj: one member is held, and the encoders are still fitted to their noise.
+    let text = std::fs::read_to_string(&cfg).unwrap().replace("current = \"i\"\n", "");
+    std::fs::write(&cfg, text).unwrap();
+    let bare = dir.join("bare");
+    hdw_ok(&["fit", "drive", "--config", cfg.to_str().unwrap(), "--out", bare.to_str().unwrap()]);
+    let doc2 = json(&bare.join("fit.json"));
+    for o in ["motor", "load"] {
+        let r = doc2["experiments"]["chirp"][o]["rmse_over_noise"].as_f64().unwrap();
+        assert!(r < 1.2, "without the current, {o}: {r}");
+    }
+    let held =
+        ["R", "Ke", "Jj", "Cj"].iter().filter(|n| doc2["parameters"][**n]["held"] == true).count();
+    assert_eq!(held, 1, "{}", doc2["determination"]);
     // params.toml is a params file the simulator runs.
     let sim = dir.join("sim");
     hdw_ok(&[
