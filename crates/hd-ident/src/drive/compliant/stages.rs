@@ -17,7 +17,7 @@
 //!    linearised standard error says (the cost's valley bends away from the tangent).
 
 use super::determined::not_determined_by_agreement;
-use super::fit::{CompliantFit, CompliantSpec, Progress, Signal, fit_stage};
+use super::fit::{CompliantFit, CompliantSpec, Progress, Signal, cost_at, fit_stage};
 use super::model::{NAMES, ix::*};
 use super::record::VoltageRecord;
 use rayon::prelude::*;
@@ -46,17 +46,33 @@ pub fn fit_compliant(
     let starts = staged_starts(spec, records, progress);
     let mut fits: Vec<Result<CompliantFit, String>> =
         starts.par_iter().map(|s| settle(spec, *s, records, progress)).collect();
+    let mut spent: usize = fits.iter().flatten().map(|f| f.iterations).sum();
+    let mut failed: usize = fits.iter().flatten().map(|f| f.failed_trials).sum();
     // Noise levels estimated from the records (third differences) overstate a signal whose
     // own content reaches the Nyquist band. Where they were estimated, the best fit's
-    // residual RMS replaces them (the maximum-likelihood level of each output), and every
-    // full fit is settled again from where it ended, with those weights.
-    let reweighed = reweigh(spec, &fits);
-    if let Some(spec) = &reweighed {
-        let ends: Vec<[f64; 18]> = fits.iter().flatten().map(|f| f.values).collect();
-        fits = ends.par_iter().map(|s| settle(spec, *s, records, progress)).collect();
+    // residual RMS replaces them (the maximum-likelihood level of each output), and the best
+    // fit is settled again from where it ended, with those weights. The other fits keep
+    // their ends, costed with the new weights: a rival's cost can only fall further if it
+    // were refitted, so the agreement check below stays on the safe side.
+    if let Some(new) = reweigh(spec, &fits) {
+        fits.sort_by(|a, b| match (a, b) {
+            (Ok(a), Ok(b)) => a.cost.total_cmp(&b.cost),
+            (Ok(_), Err(_)) => std::cmp::Ordering::Less,
+            (Err(_), Ok(_)) => std::cmp::Ordering::Greater,
+            _ => std::cmp::Ordering::Equal,
+        });
+        if let Some(Ok(best)) = fits.first() {
+            let again = settle(&new, best.values, records, progress);
+            if let Ok(f) = &again {
+                spent += f.iterations;
+                failed += f.failed_trials;
+            }
+            fits[0] = again;
+        }
+        for f in fits.iter_mut().skip(1).flatten() {
+            f.cost = cost_at(&new, &f.values, records).unwrap_or(f64::INFINITY);
+        }
     }
-    let spent: usize = fits.iter().flatten().map(|f| f.iterations).sum();
-    let failed: usize = fits.iter().flatten().map(|f| f.failed_trials).sum();
     let mut ok: Vec<CompliantFit> = Vec::new();
     let mut last_error = String::from("no start could be fitted");
     for f in fits {
