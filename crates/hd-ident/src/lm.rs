@@ -155,6 +155,14 @@ where
     lm_core::<_, fn(&[f64]) -> Result<Vec<f64>, FitError>>(&trial, None, x0, opts)
 }
 
+/// A model giving its cost and normal equations, as the trials the LM core evaluates.
+fn normal_trial<F>(model: &F) -> impl Fn(&[f64]) -> Result<Trial, FitError> + Sync + '_
+where
+    F: Fn(&[f64]) -> Result<(f64, Normal), FitError> + Sync,
+{
+    |x: &[f64]| model(x).map(|(cost, normal)| Trial { cost, normal: Some(normal), residuals: None })
+}
+
 /// [`levenberg_marquardt_exact`] for a model that forms its own normal equations:
 /// `model(x)` gives the cost ‖r‖² and [`Normal`] at x (no n-long vector crosses the
 /// interface, so a model can keep its buffers).
@@ -166,9 +174,7 @@ pub fn levenberg_marquardt_normal<F>(
 where
     F: Fn(&[f64]) -> Result<(f64, Normal), FitError> + Sync,
 {
-    let trial = |x: &[f64]| {
-        model(x).map(|(cost, normal)| Trial { cost, normal: Some(normal), residuals: None })
-    };
+    let trial = normal_trial(model);
     lm_core::<_, fn(&[f64]) -> Result<Vec<f64>, FitError>>(&trial, None, x0, opts)
 }
 
@@ -227,9 +233,7 @@ pub fn lm_normal_paused<F>(
 where
     F: Fn(&[f64]) -> Result<(f64, Normal), FitError> + Sync,
 {
-    let trial = |x: &[f64]| {
-        model(x).map(|(cost, normal)| Trial { cost, normal: Some(normal), residuals: None })
-    };
+    let trial = normal_trial(model);
     lm_core_step::<_, fn(&[f64]) -> Result<Vec<f64>, FitError>>(
         &trial,
         None,
@@ -248,9 +252,7 @@ pub fn lm_normal_resume<F>(
 where
     F: Fn(&[f64]) -> Result<(f64, Normal), FitError> + Sync,
 {
-    let trial = |x: &[f64]| {
-        model(x).map(|(cost, normal)| Trial { cost, normal: Some(normal), residuals: None })
-    };
+    let trial = normal_trial(model);
     match lm_core_step::<_, fn(&[f64]) -> Result<Vec<f64>, FitError>>(
         &trial,
         None,

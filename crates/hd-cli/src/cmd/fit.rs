@@ -215,22 +215,22 @@ fn run_friction(args: FrictionArgs) -> Result<()> {
 fn transient_outputs(dir: &Path, d: &TransientData, s: &SeparableFit) -> Result<()> {
     let [m, f, r] = fitted_columns(s, d.torque());
     let (t, w, y) = (d.t(), d.omega(), d.torque());
+    // Measured and fitted torque against `x`, drawn to `file`.
+    let against = |x: &'_ [f64], file: &'static str, title: &'static str, x_label: &'static str| {
+        let measured = Series::new("measured", x.to_vec(), y.to_vec());
+        let fitted = Series::new("fitted (LuGre)", x.to_vec(), f.clone());
+        draw_staged(&dir.join(file), |p| {
+            fit_plot(p, title, x_label, "Tf [N·m]", &measured, &fitted)
+        })
+    };
     let staged = std::thread::scope(|scope| -> Result<Vec<Staged>> {
         let transient = scope.spawn(|| {
-            let measured = Series::new("measured", t.to_vec(), y.to_vec());
-            let fitted = Series::new("fitted (LuGre)", t.to_vec(), f.clone());
             let title = "Friction fit: torque under the imposed speed";
-            draw_staged(&dir.join("transient.svg"), |p| {
-                fit_plot(p, title, "t [s]", "Tf [N·m]", &measured, &fitted)
-            })
+            against(t, "transient.svg", title, "t [s]")
         });
         let speed = scope.spawn(|| {
-            let measured = Series::new("measured", w.to_vec(), y.to_vec());
-            let fitted = Series::new("fitted (LuGre)", w.to_vec(), f.clone());
             let title = "Friction fit: torque against speed";
-            draw_staged(&dir.join("friction-speed.svg"), |p| {
-                fit_plot(p, title, "ω [rad/s]", "Tf [N·m]", &measured, &fitted)
-            })
+            against(w, "friction-speed.svg", title, "ω [rad/s]")
         });
         let residuals = scope.spawn(|| {
             let res = Series::new("residual", t.to_vec(), r.clone());

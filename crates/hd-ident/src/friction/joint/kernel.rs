@@ -87,29 +87,8 @@ impl Chunk {
         let v1 = &omega[k0..k0 + len];
         let t0 = &t[k0 - 1..k0 - 1 + len];
         let t1 = &t[k0..k0 + len];
-        let [s0, s1, s2, s3, s4, s5, s6, s7, s8, s9] = &mut self.step;
-        let mut step: [&mut [f64]; 10] = [
-            &mut s0[..len],
-            &mut s1[..len],
-            &mut s2[..len],
-            &mut s3[..len],
-            &mut s4[..len],
-            &mut s5[..len],
-            &mut s6[..len],
-            &mut s7[..len],
-            &mut s8[..len],
-            &mut s9[..len],
-        ];
-        let [p0, p1, p2, p3, p4, p5, p6] = &mut self.slip;
-        let mut slip: [&mut [f64]; 7] = [
-            &mut p0[..len],
-            &mut p1[..len],
-            &mut p2[..len],
-            &mut p3[..len],
-            &mut p4[..len],
-            &mut p5[..len],
-            &mut p6[..len],
-        ];
+        let mut step = self.step.each_mut().map(|s| &mut s[..len]);
+        let mut slip = self.slip.each_mut().map(|s| &mut s[..len]);
         for j in 0..len {
             let h = t1[j] - t0[j];
             let vm = 0.5 * (v0[j] + v1[j]);
