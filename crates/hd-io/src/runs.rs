@@ -9,6 +9,8 @@ use crate::parquet_out::write_frame;
 use crate::trace::STREAM_CHUNK;
 use polars::prelude::*;
 use std::collections::HashSet;
+use std::fs::File;
+use std::io::BufWriter;
 use std::path::{Path, PathBuf};
 
 /// The run ids present in the given Parquet files.
@@ -102,6 +104,26 @@ pub const MERGE_WINDOW_ROWS: u64 = 32_768;
 /// which Parquet's row-group statistics turn into reading the row groups that hold them.
 /// Returns the number of rows written.
 pub fn merge_runs(files: &[PathBuf], out: &Path) -> Result<usize, IoError> {
+    merge_runs_by(files, out, |body| write_atomically(out, body))
+}
+
+/// [`merge_runs`] into the staged file `staged` (committed by the caller, with its
+/// siblings). Nothing is written when the inputs hold no row (0 is returned).
+pub fn merge_runs_into(files: &[PathBuf], staged: &mut Staged) -> Result<usize, IoError> {
+    let out = staged.dest().to_path_buf();
+    merge_runs_by(files, &out, |body| staged.write_with(body))
+}
+
+/// The writer a merge's rows go through.
+type MergeBody<'a> = Box<dyn FnOnce(&mut BufWriter<&mut File>) -> Result<usize, IoError> + 'a>;
+
+/// [`merge_runs`] with the file to write given by `write` (which runs the body it is
+/// handed), so the merged table can land alone or with a group.
+fn merge_runs_by(
+    files: &[PathBuf],
+    out: &Path,
+    write: impl FnOnce(MergeBody<'_>) -> Result<usize, IoError>,
+) -> Result<usize, IoError> {
     // Each file's index range, from its run_index column alone.
     let mut ranges = Vec::with_capacity(files.len());
     let (mut lo, mut hi, mut rows) = (u64::MAX, 0u64, 0u64);
@@ -123,7 +145,7 @@ pub fn merge_runs(files: &[PathBuf], out: &Path) -> Result<usize, IoError> {
     }
     let span = hi - lo + 1;
     let width = (span as u128 * MERGE_WINDOW_ROWS as u128 / rows as u128).max(1) as u64;
-    write_atomically(out, |file| {
+    write(Box::new(move |file: &mut BufWriter<&mut File>| {
         let mut writer = None;
         let mut written = 0usize;
         let mut a = lo;
@@ -177,7 +199,7 @@ pub fn merge_runs(files: &[PathBuf], out: &Path) -> Result<usize, IoError> {
             bw.finish().map_err(IoError::polars(out, "cannot write Parquet"))?;
         }
         Ok(written)
-    })
+    }))
 }
 
 /// The rows of `file` with `a <= run_index < b`.

@@ -11,7 +11,7 @@
 
 use crate::error::IoError;
 use crate::parquet_out::write_out_table;
-use crate::runs::{concat_files, for_each_run, merge_runs, read_run_ids};
+use crate::runs::{concat_files_into, for_each_run, merge_runs_into, read_run_ids};
 use hd_model::OutTable;
 use std::collections::HashSet;
 use std::path::{Path, PathBuf};
@@ -197,15 +197,26 @@ impl RunStore {
             run_inputs.push(self.runs_path());
         }
         run_inputs.extend(run_parts.iter().cloned());
-        let n = merge_runs(&run_inputs, &self.runs_path())?;
+        // The merged runs and traces tables land together (one group of renames that an
+        // interrupt cannot split): a runs table that counts the parts as merged never stands
+        // beside a traces table that lacks their traces, which a resume would then drop.
+        let mut staged = Vec::new();
         if !trace_parts.is_empty() {
             let mut trace_inputs = Vec::new();
             if self.traces_path().exists() {
                 trace_inputs.push(self.traces_path());
             }
             trace_inputs.extend(trace_parts.iter().cloned());
-            concat_files(&trace_inputs, &self.traces_path())?;
+            let mut traces = crate::atomic::Staged::new(&self.traces_path())?;
+            concat_files_into(&trace_inputs, &mut traces)?;
+            staged.push(traces);
         }
+        let mut runs = crate::atomic::Staged::new(&self.runs_path())?;
+        let n = merge_runs_into(&run_inputs, &mut runs)?;
+        if n > 0 {
+            staged.push(runs);
+        }
+        crate::atomic::commit(staged, &[])?;
         for f in run_parts.iter().chain(&trace_parts) {
             std::fs::remove_file(f).map_err(|e| IoError::fs(f, e))?;
         }
