@@ -4,8 +4,10 @@
 
 use super::fit_drive_out::pair_plots;
 use anyhow::Result;
-use hd_ident::drive::compliant::fit::{CompliantSpec, RecordScore};
-use hd_ident::drive::compliant::{Compliant, CompliantFit, NAMES, VoltageRecord, simulate};
+use hd_ident::drive::compliant::fit::{CompliantSpec, RecordScore, Signal};
+use hd_ident::drive::compliant::{
+    Compliant, CompliantFit, NAMES, VoltageRecord, on_encoder_zeros, simulate,
+};
 use serde_json::{Map, Value, json};
 use std::fmt::Write as _;
 use std::path::Path;
@@ -38,11 +40,18 @@ fn unit(name: &str) -> &'static str {
 fn scores_json(s: &RecordScore) -> Value {
     let mut m = Map::new();
     for (o, sc, noise, ratio) in &s.outputs {
-        m.insert(
-            o.name().into(),
-            json!({"rel_error": sc.rel_error, "rmse": sc.rmse, "fit_percent": sc.fit_percent,
-                   "noise": noise, "rmse_over_noise": ratio, "unit": o.unit()}),
-        );
+        let mut v = json!({"rel_error": sc.rel_error, "rmse": sc.rmse,
+                           "fit_percent": sc.fit_percent, "noise": noise,
+                           "rmse_over_noise": ratio, "unit": o.unit()});
+        let offset = match o {
+            Signal::Motor => Some(s.encoder_offsets[0]),
+            Signal::Load => Some(s.encoder_offsets[1]),
+            Signal::Current => None,
+        };
+        if let Some(x) = offset {
+            v["encoder_offset"] = json!(x);
+        }
+        m.insert(o.name().into(), v);
     }
     Value::Object(m)
 }
@@ -71,7 +80,9 @@ fn fmt_score(s: &RecordScore) -> String {
 /// Measured against simulated, and the residuals, of every compared output of `r`, as
 /// `prefix<output>.svg` and `prefix residuals-<output>.svg`.
 fn plots(dir: &Path, o: &Outcome, r: &VoltageRecord, prefix: &str) -> Result<Vec<String>> {
-    let sim = simulate(&Compliant::new(o.fit.values, o.spec.n), r, o.spec.between, o.spec.substeps);
+    let mut sim =
+        simulate(&Compliant::new(o.fit.values, o.spec.n), r, o.spec.between, o.spec.substeps);
+    on_encoder_zeros(r, &mut sim);
     let mut files = Vec::new();
     for (s, _) in &o.spec.outputs {
         let Some(meas) = s.measured(r) else { continue };

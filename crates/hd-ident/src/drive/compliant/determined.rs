@@ -1,9 +1,11 @@
 //! What a voltage test of the compliant drive determines, beyond the Jacobian's null
 //! directions and inseparable pairs ([`crate::drive::identifiability`]): a parameter whose
-//! 95 % interval (± 2 standard errors) reaches zero is not determined, and when
-//! the load inertia Jz is not determined the motor inertia Jj is determined only together
-//! with the load's reflected inertia Jz/N² (below the gear's resonance the two move as one
-//! inertia Jj + Jz/N²).
+//! 95 % interval (± 2 standard errors) reaches zero is not determined; when the load
+//! inertia Jz is not determined, the motor inertia Jj is determined only together with the
+//! load's reflected inertia Jz/N² (below the gear's resonance the two move as one inertia
+//! Jj + Jz/N²), and the load's damping and the gear's stiffness only relative to Jz (the
+//! record sees Cz/Jz and the resonance); the spring and the memory are reported together,
+//! as the load's resonance and the stiffness there.
 
 use super::fit::CompliantFit;
 use super::model::{NAMES, ix};
@@ -35,35 +37,111 @@ pub fn refine(
         }
     }
     let jz_free = std_errors[ix::JZ].is_some();
-    if jz_free && !determined[ix::JZ] && std_errors[ix::JJ].is_some() {
+    let said = |opening: &str| sentences.iter().any(|s| s.starts_with(opening));
+    if jz_free && !determined[ix::JZ] && std_errors[ix::JJ].is_some() && !said(INERTIA_SENTENCE) {
         let n2 = n * n;
         let total = values[ix::JJ] + values[ix::JZ] / n2;
         // Var(Jj + Jz/N²) = Var Jj + Var Jz/N⁴ + 2ρ·σJj·σJz/N².
         let (sj, sz) = (std_errors[ix::JJ].unwrap_or(0.0), std_errors[ix::JZ].unwrap_or(0.0));
         let var = sj * sj + sz * sz / (n2 * n2) + 2.0 * rho_jj_jz.unwrap_or(0.0) * sj * sz / n2;
         added.push(format!(
-            "Jj is determined only with the load's reflected inertia: Jj + Jz/N² = {total:.5e} ± {:.2e} kg·m² (Jz is not determined, so Jj alone is not either).",
+            "{INERTIA_SENTENCE} the load's reflected inertia: Jj + Jz/N² = {total:.5e} ± {:.2e} kg·m² (Jz is not determined, so Jj alone is not either).",
             var.max(0.0).sqrt()
         ));
         determined[ix::JJ] = false;
     }
+    // Jz, Cz and the gear's stiffness scaled together leave the load's motion relative to
+    // the motor as it was (its resonance and damping rates are ratios to Jz); only the
+    // deflection's small reaction on the motor sees the scale. So where Jz is not
+    // determined, neither are Cz, c and mem_A.
+    if jz_free && !determined[ix::JZ] {
+        if std_errors[ix::CZ].is_some() && determined[ix::CZ] && !said(DAMPING_SENTENCE) {
+            let rate = |v: &[f64; 18]| v[ix::CZ] / v[ix::JZ];
+            let se = delta_se(&rate, values, &[ix::CZ, ix::JZ], std_errors, corr);
+            added.push(format!(
+                "{DAMPING_SENTENCE} apart from Jz: the record sees the load's damping rate Cz/Jz = {:.4e} ± {se:.2e} 1/s.",
+                rate(values)
+            ));
+        }
+        for k in [ix::CZ, ix::C, ix::MEM_A] {
+            determined[k] = false;
+        }
+    }
     if determined[ix::KE] != determined[ix::KM] && std_errors[ix::KM] == std_errors[ix::KE] {
         determined[ix::KM] = determined[ix::KE];
     }
-    stiffness_rule(&mut added, values, std_errors, determined, n, corr);
+    if !said(STIFFNESS_SENTENCE) {
+        stiffness_rule(&mut added, values, std_errors, determined, n, corr);
+    }
     if !added.is_empty() {
         sentences.retain(|s| !s.starts_with("Every free parameter is determined"));
         sentences.extend(added);
     }
 }
 
+/// The opening of the stiffness rule's sentence (it is added once).
+const STIFFNESS_SENTENCE: &str = "The spring and the memory";
+
+/// The opening of the load-damping sentence (it is added once).
+const DAMPING_SENTENCE: &str = "Cz is not determined";
+
+/// The opening of the reflected-inertia sentence (it is added once).
+const INERTIA_SENTENCE: &str = "Jj is determined only with";
+
+/// The load's resonance ω [rad/s] of the drive at `v` (ratio `n`): the fixed point of
+/// ω = √(K(ω)/J), with the gear's dynamic stiffness K(ω) = c + A·ω²/(B² + ω²) and the two
+/// inertias' reduced inertia J = Jz·N²Jj/(Jz + N²Jj) [kg·m²]. Returns (ω, K(ω)).
+pub fn resonance(v: &[f64; 18], n: f64) -> (f64, f64) {
+    let (c, a, b) = (v[ix::C], v[ix::MEM_A], v[ix::MEM_B]);
+    let j_motor = v[ix::JJ] * n * n;
+    let j = v[ix::JZ] * j_motor / (v[ix::JZ] + j_motor);
+    let k_at = |w: f64| c + a * w * w / (b * b + w * w);
+    let mut w = ((c + a) / j).max(0.0).sqrt();
+    for _ in 0..60 {
+        w = (k_at(w) / j).max(0.0).sqrt();
+    }
+    (w, k_at(w))
+}
+
+/// Standard error of `f(values)` by the delta method over the parameters `which`, from
+/// their standard errors and correlations (central differences of `f`, a closed form).
+fn delta_se(
+    f: &dyn Fn(&[f64; 18]) -> f64,
+    values: &[f64; 18],
+    which: &[usize],
+    std_errors: &[Option<f64>; 18],
+    corr: &dyn Fn(usize, usize) -> Option<f64>,
+) -> f64 {
+    let grad: Vec<f64> = which
+        .iter()
+        .map(|&k| {
+            let h = 1e-6 * values[k].abs().max(f64::MIN_POSITIVE);
+            let (mut up, mut down) = (*values, *values);
+            up[k] += h;
+            down[k] -= h;
+            (f(&up) - f(&down)) / (2.0 * h)
+        })
+        .collect();
+    let mut var = 0.0;
+    for (i, &p) in which.iter().enumerate() {
+        for (l, &q) in which.iter().enumerate() {
+            let (Some(sp), Some(sq)) = (std_errors[p], std_errors[q]) else { continue };
+            let r = if p == q { 1.0 } else { corr(p, q).unwrap_or(0.0) };
+            var += grad[i] * grad[l] * r * sp * sq;
+        }
+    }
+    var.max(0.0).sqrt()
+}
+
 /// The gear's spring and memory act together: at a frequency ω the memory adds the storage
 /// stiffness A·ω²/(B² + ω²) to the spring's c, so a record that does not separate them
-/// determines only their sum near the frequencies it excites. When any of c, mem_A, mem_B
-/// is free and not determined, all three are reported as not determined, with the
-/// dynamic stiffness K(ω) = c + A·ω²/(B² + ω²) at the load's resonance ω = √(K(ω)/J)
-/// (J = Jz·N²Jj/(Jz + N²Jj), found by a few fixed-point steps) and its standard error
-/// (delta method).
+/// determines their sum only near the frequencies it excites. When any of c, mem_A, mem_B
+/// is free and not determined, all three are reported as not determined, with the load's
+/// resonance frequency ([`resonance`]) and the dynamic stiffness K there, each with its
+/// standard error (delta method). When the load inertia Jz is not determined either, the
+/// sentence says that the record sees the ratio K/J (the resonance), not K: scaling Jz, Cz
+/// and the gear's stiffness together changes the load's motion only through the small
+/// torque of the deflection's acceleration on the motor.
 fn stiffness_rule(
     added: &mut Vec<String>,
     values: &[f64; 18],
@@ -77,35 +155,41 @@ fn stiffness_rule(
     if free.is_empty() || free.iter().all(|&k| determined[k]) {
         return;
     }
-    let (c, a, b) = (values[ix::C], values[ix::MEM_A], values[ix::MEM_B]);
-    let j_motor = values[ix::JJ] * n * n;
-    let j = values[ix::JZ] * j_motor / (values[ix::JZ] + j_motor);
-    let k_at = |w: f64| c + a * w * w / (b * b + w * w);
-    let mut w = ((c + a) / j).sqrt();
-    for _ in 0..20 {
-        w = (k_at(w) / j).max(0.0).sqrt();
-    }
-    let w2 = w * w;
-    let grad = [1.0, w2 / (b * b + w2), -2.0 * a * b * w2 / (b * b + w2).powi(2)];
-    let mut var = 0.0;
-    for (i, &p) in group.iter().enumerate() {
-        for (l, &q) in group.iter().enumerate() {
-            let (Some(sp), Some(sq)) = (std_errors[p], std_errors[q]) else { continue };
-            let r = if p == q { 1.0 } else { corr(p, q).unwrap_or(0.0) };
-            var += grad[i] * grad[l] * r * sp * sq;
-        }
-    }
+    let which = [ix::JJ, ix::JZ, ix::C, ix::MEM_A, ix::MEM_B];
+    let hz = |v: &[f64; 18]| resonance(v, n).0 / std::f64::consts::TAU;
+    let stiffness = |v: &[f64; 18]| resonance(v, n).1;
+    let (f, se_f) = (hz(values), delta_se(&hz, values, &which, std_errors, corr));
+    let (k, se_k) = (stiffness(values), delta_se(&stiffness, values, &which, std_errors, corr));
     let names: Vec<&str> = free.iter().map(|&k| NAMES[k]).collect();
+    let jz_seen = std_errors[ix::JZ].is_none() || determined[ix::JZ];
+    let tail = if jz_seen {
+        String::new()
+    } else {
+        " The load inertia Jz is not determined, and the record sees the stiffness only relative to it (the resonance): K holds at the fitted Jz, and scales with it.".to_string()
+    };
     added.push(format!(
-        "The spring and the memory ({}) are determined only together: the gear's stiffness at the load's resonance ({:.1} Hz) is K = c + A·ω²/(B² + ω²) = {:.4e} ± {:.2e} N·m/rad.",
+        "{STIFFNESS_SENTENCE} ({}) are determined only together: the load resonates at {f:.2} ± {se_f:.2} Hz, where the gear's stiffness is K = c + A·ω²/(B² + ω²) = {k:.4e} ± {se_k:.2e} N·m/rad.{tail}",
         names.join(", "),
-        w / std::f64::consts::TAU,
-        k_at(w),
-        var.max(0.0).sqrt()
     ));
     for k in free {
         determined[k] = false;
     }
+}
+
+/// Run [`refine`]'s rules again on a fit whose `determined` changed after it was made (the
+/// agreement of rival fits): each rule adds its sentence once.
+pub fn refine_fit(fit: &mut CompliantFit, n: f64) {
+    let det = &fit.determination;
+    let params = fit.jacobian_params.clone();
+    let correlation = det.correlation.clone();
+    let corr = |a: usize, b: usize| {
+        let (sa, sb) = (params.iter().position(|&k| k == a)?, params.iter().position(|&k| k == b)?);
+        correlation[sa][sb]
+    };
+    let mut sentences = std::mem::take(&mut fit.determination.sentences);
+    refine(&mut sentences, &fit.values, &fit.std_errors, &mut fit.determined, n, &corr);
+    fit.determination.sentences = sentences;
+    fit.determination.all_determined = params.iter().all(|&k| fit.determined[k]);
 }
 
 /// Mark as not determined every parameter of `best` on which one of `rivals` (fits whose

@@ -6,7 +6,7 @@
 
 use super::model::{Compliant, NAMES};
 use super::record::{Between, VoltageRecord};
-use super::simulate::{Outputs, simulate};
+use super::simulate::{Outputs, on_encoder_zeros, simulate};
 use crate::drive::dual::{Dual, Scalar};
 use crate::drive::identifiability::{Determination, determination};
 use crate::drive::lm::{LmResult, LmSettings, minimise};
@@ -123,6 +123,9 @@ pub struct RecordScore {
     pub name: String,
     /// Per output: the output, its score, its noise level and RMS residual / noise [–].
     pub outputs: Vec<(Signal, Score, f64, f64)>,
+    /// The constants added to the simulated motor and load angles to put them on the
+    /// record's encoder zeros ([`on_encoder_zeros`]) [rad].
+    pub encoder_offsets: [f64; 2],
 }
 
 /// A fitted compliant drive.
@@ -179,7 +182,8 @@ pub fn score_records(
         .par_iter()
         .enumerate()
         .map(|(k, r)| {
-            let sim = simulate(&d, r, spec.between, spec.substeps);
+            let mut sim = simulate(&d, r, spec.between, spec.substeps);
+            let encoder_offsets = on_encoder_zeros(r, &mut sim);
             let outputs = spec
                 .outputs
                 .iter()
@@ -190,7 +194,7 @@ pub fn score_records(
                     Some((*o, s, sigma, s.rmse / sigma))
                 })
                 .collect();
-            RecordScore { name: r.name.clone(), outputs }
+            RecordScore { name: r.name.clone(), outputs, encoder_offsets }
         })
         .collect()
 }
@@ -207,7 +211,8 @@ fn residuals_of<T: Scalar + Send + Sync>(
         .par_iter()
         .enumerate()
         .map(|(k, r)| {
-            let sim = simulate(&d, r, spec.between, spec.substeps);
+            let mut sim = simulate(&d, r, spec.between, spec.substeps);
+            on_encoder_zeros(r, &mut sim);
             let mut out = Vec::new();
             for (o, noise) in &spec.outputs {
                 let Some(meas) = o.measured(r) else { continue };

@@ -19,5 +19,5 @@ pub use config::CompliantConfig;
 pub use fit::{CompliantFit, CompliantSpec, RecordScore, Signal, substeps_for};
 pub use model::{Compliant, NAMES};
 pub use record::{Between, VoltageRecord};
-pub use simulate::{Outputs, simulate};
+pub use simulate::{Outputs, on_encoder_zeros, simulate};
 pub use stages::fit_compliant;

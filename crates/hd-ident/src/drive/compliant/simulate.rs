@@ -50,3 +50,26 @@ pub fn simulate<T: Scalar>(
     }
     out
 }
+
+/// Put the simulated encoder angles on the record's encoder zeros: add to each the constant
+/// that best fits it to its record in least squares (the mean of measured − simulated). An
+/// encoder's zero is not a property of the drive: the laws depend on no absolute angle, so
+/// a constant offset is all that tells the zeros apart, and the first reading alone carries
+/// its quantisation and noise into every sample. Returns the offsets added [rad]
+/// (motor, load); in a run with sensitivities they carry their derivatives, so the fit sees
+/// the residuals with the zeros projected out.
+pub fn on_encoder_zeros<T: Scalar>(rec: &VoltageRecord, out: &mut Outputs<T>) -> [T; 2] {
+    let shift = |sim: &mut Vec<T>, meas: &[f64]| {
+        let n = sim.len().min(meas.len()).max(1) as f64;
+        let mut acc = T::cst(0.0);
+        for (s, m) in sim.iter().zip(meas) {
+            acc = acc + (-*s + *m);
+        }
+        let off = acc / n;
+        for s in sim.iter_mut() {
+            *s = *s + off;
+        }
+        off
+    };
+    [shift(&mut out.theta_m, &rec.theta_m), shift(&mut out.theta_l, &rec.theta_l)]
+}

@@ -16,7 +16,7 @@
 //!    differ by more than twice the best fit's standard error is not determined, whatever its
 //!    linearised standard error says (the cost's valley bends away from the tangent).
 
-use super::determined::not_determined_by_agreement;
+use super::determined::{not_determined_by_agreement, refine_fit};
 use super::fit::{CompliantFit, CompliantSpec, Progress, Signal, cost_at, fit_stage};
 use super::model::{NAMES, ix::*};
 use super::record::VoltageRecord;
@@ -88,6 +88,7 @@ pub fn fit_compliant(
     let rivals: Vec<&CompliantFit> =
         ok.iter().filter(|f| f.cost - best.cost <= threshold).collect();
     not_determined_by_agreement(&mut best, &rivals);
+    refine_fit(&mut best, spec.n);
     best.iterations = spent;
     best.failed_trials = failed;
     best.starts = starts.len();
