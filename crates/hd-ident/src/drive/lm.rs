@@ -12,13 +12,24 @@ pub struct LmSettings {
     pub max_iterations: usize,
     /// Stop when an accepted step lowers the cost by less than this share.
     pub cost_tolerance: f64,
+    /// Add the geodesic acceleration to each step (Transtrum and Sethna, 2012): the
+    /// residuals' second derivative along the step, from one more residual evaluation, bends
+    /// the step along a curved valley. Steps whose acceleration is not small against their
+    /// velocity (2‖a‖ > [`ACCELERATION_LIMIT`]·‖v‖, scaled norms) are refused.
+    pub geodesic: bool,
 }
 
 impl Default for LmSettings {
     fn default() -> Self {
-        LmSettings { max_iterations: 100, cost_tolerance: 1e-10 }
+        LmSettings { max_iterations: 100, cost_tolerance: 1e-10, geodesic: false }
     }
 }
+
+/// Largest ratio 2‖a‖/‖v‖ of a geodesic step's acceleration to its velocity [–].
+pub const ACCELERATION_LIMIT: f64 = 0.75;
+
+/// Finite step along the velocity, as a share of it, for the second derivative [–].
+const ACCELERATION_STEP: f64 = 0.1;
 
 /// Result of [`minimise`].
 #[derive(Clone, Debug, PartialEq)]
@@ -107,7 +118,14 @@ pub fn minimise(
                 lambda *= 10.0;
                 continue;
             };
-            let delta = chol.solve(&g);
+            let mut delta = chol.solve(&g);
+            if s.geodesic {
+                // Where the acceleration is unknown or large, the plain step is tried.
+                if let Some(a) = acceleration(residuals, &r, &jac, &x, &delta, &chol, &held, &diag)
+                {
+                    delta += a * 0.5;
+                }
+            }
             let mut trial: Vec<f64> = x.iter().zip(delta.iter()).map(|(a, d)| a + d).collect();
             clamp(&mut trial);
             match residuals(&trial) {
@@ -158,6 +176,41 @@ pub fn minimise(
         iterations += 1;
     }
     Some(LmResult { x, cost, iterations, failed_trials: failed, termination })
+}
+
+/// The geodesic acceleration `a` of the step `v` at `x` (residuals `r`, Jacobian `jac`):
+/// the directional second derivative r_vv ≈ (2/h)·((r(x + h·v) − r(x))/h − J·v), then
+/// a = −(JᵀJ + λD)⁻¹·Jᵀ·r_vv with the step's own factor `chol`; held parameters get none.
+/// None when the residuals cannot be evaluated there, or the acceleration is too large
+/// against the velocity ([`ACCELERATION_LIMIT`], norms scaled by √diag(JᵀJ)).
+#[allow(clippy::too_many_arguments)]
+fn acceleration(
+    residuals: &dyn Fn(&[f64]) -> Option<Vec<f64>>,
+    r: &[f64],
+    jac: &DMatrix<f64>,
+    x: &[f64],
+    v: &DVector<f64>,
+    chol: &nalgebra::Cholesky<f64, nalgebra::Dyn>,
+    held: &[bool],
+    diag: &[f64],
+) -> Option<DVector<f64>> {
+    let h = ACCELERATION_STEP;
+    let probe: Vec<f64> = x.iter().zip(v.iter()).map(|(a, d)| a + h * d).collect();
+    let rp = residuals(&probe)?;
+    let jv = jac * v;
+    let rvv: Vec<f64> = (0..r.len()).map(|i| (2.0 / h) * ((rp[i] - r[i]) / h - jv[i])).collect();
+    if !rvv.iter().all(|x| x.is_finite()) {
+        return None;
+    }
+    let mut rhs = -(jac.transpose() * DVector::from_column_slice(&rvv));
+    for (k, &hk) in held.iter().enumerate() {
+        if hk {
+            rhs[k] = 0.0;
+        }
+    }
+    let a = chol.solve(&rhs);
+    let norm = |w: &DVector<f64>| w.iter().zip(diag).map(|(x, d)| x * x * d).sum::<f64>().sqrt();
+    (2.0 * norm(&a) <= ACCELERATION_LIMIT * norm(v)).then_some(a)
 }
 
 #[cfg(test)]

@@ -202,6 +202,7 @@ pub fn spec(
             } else {
                 LmSettings::default().cost_tolerance
             },
+            geodesic: false,
         },
     })
 }

@@ -23,6 +23,29 @@ pub const MAX_FREE: usize = 16;
 /// Largest (fastest rate × substep) the substep count allows [–].
 const RATE_STEP: f64 = 0.1;
 
+/// Long-run variance ratio from which a sentence says an output's residuals are
+/// correlated [–].
+const CORRELATED_KAPPA: f64 = 1.5;
+
+/// The residual blocks of `spec` on `records`, in the order of [`residuals_at`]: (record,
+/// output, range).
+fn blocks(
+    spec: &CompliantSpec,
+    records: &[VoltageRecord],
+) -> Vec<(usize, Signal, std::ops::Range<usize>)> {
+    let mut out = Vec::new();
+    let mut at = 0;
+    for (k, r) in records.iter().enumerate() {
+        for (o, _) in &spec.outputs {
+            if o.measured(r).is_some() {
+                out.push((k, *o, at..at + r.len()));
+                at += r.len();
+            }
+        }
+    }
+    out
+}
+
 /// One of the compared outputs.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Signal {
@@ -334,8 +357,25 @@ pub(super) fn fit_stage(
     let (r, jac) = residuals_and_jacobian(spec, &values, &free_idx, records);
     let free_names: Vec<&str> = free_idx.iter().map(|&k| NAMES[k]).collect();
     let free_values: Vec<f64> = free_idx.iter().map(|&k| values[k]).collect();
-    let det = determination(&jac, cost, &free_names, &free_values);
-    let mut det = det;
+    // Correlated residuals hold fewer independent samples than they have
+    // ([`super::correlated`]): each output's rows are weighed down by its κ.
+    let blocks = blocks(spec, records);
+    let mut widened = jac.clone();
+    let kappas = super::correlated::widen(
+        &mut widened,
+        &r,
+        &blocks.iter().map(|b| b.2.clone()).collect::<Vec<_>>(),
+    );
+    let mut det = determination(&widened, cost, &free_names, &free_values);
+    for ((record, signal, _), (kappa, lag)) in blocks.iter().zip(&kappas) {
+        if *kappa >= CORRELATED_KAPPA {
+            det.sentences.push(format!(
+                "The {} residuals of {} are correlated over about {lag} samples: the standard errors count that record's {} as {:.0} independent samples, not {} (κ = {kappa:.1}).",
+                signal.name(), records[*record].name, signal.name(),
+                records[*record].len() as f64 / kappa, records[*record].len()
+            ));
+        }
+    }
     let mut std_errors = [None; 18];
     let mut determined = [false; 18];
     for (slot, &k) in free_idx.iter().enumerate() {

@@ -5,6 +5,7 @@
 //! the current, with the exact Jacobian of the integration ([`fit::fit_compliant`]).
 
 pub mod config;
+pub mod correlated;
 pub mod determined;
 pub mod fit;
 pub mod model;

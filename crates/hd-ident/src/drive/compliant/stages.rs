@@ -3,10 +3,11 @@
 //! 1. **Motor pass.** The motor's own parameters (R, Km, Ke, Jj, Cj) fitted to the current and
 //!    the motor encoder. These see the motor without the gear's ringing (the current alone
 //!    would leave the speed's scale free: Ke·s, Jj·s², Cj·s² give the same current).
-//! 2. **Load pass.** The load's and the gear's parameters (Jz, Cz, c, mem_A, mem_B) fitted to
-//!    the load encoder, the motor's held. The load's ringing makes this cost many-valleyed in
-//!    the resonance frequency, so it starts from the spring and memory stiffness scaled by
-//!    [`STIFFNESS_SCALES`] (in parallel).
+//! 2. **Load pass.** The load's and the gear's parameters (Cz, c, mem_A, mem_B; Jz too when
+//!    the stiffness is fixed) fitted to the load encoder, the motor's held. The load's
+//!    ringing makes this cost many-valleyed in the resonance frequency, so it starts from
+//!    the spring and memory stiffness scaled by [`STIFFNESS_SCALES`] (in parallel); ends
+//!    that predict the same load motion count once.
 //! 3. **Full fits** from the load pass's better starts, each [`settle`]d: a free parameter
 //!    the records leave undetermined (no standard error) is held at its start value and the
 //!    rest fitted again.
@@ -30,8 +31,9 @@ pub const STIFFNESS_SCALES: [f64; 5] = [0.25, 0.5, 1.0, 2.0, 4.0];
 /// the best one's.
 const LOAD_COST_FACTOR: f64 = 2.0;
 
-/// Relative distance below which two load-pass results count as one start [–].
-const SAME_START: f64 = 1e-3;
+/// RMS difference of two load-pass results' load residuals, as a share of the noise, below
+/// which they count as one start [–].
+const SAME_PREDICTION: f64 = 0.02;
 
 /// χ² quantile of one degree of freedom at 95 % [–].
 const PROFILE_95: f64 = 3.84;
@@ -136,7 +138,13 @@ fn staged_starts(
     let values = fit_stage(&motor, records, progress).map_or(spec.start, |f| f.values);
     let load_outputs: Vec<_> =
         spec.outputs.iter().filter(|(s, _)| *s == Signal::Load).cloned().collect();
-    let load = pass(spec, &[JZ, CZ, C, MEM_A, MEM_B], load_outputs, values);
+    // Jz, Cz and the stiffness scaled together move the load alike (the load's rates are
+    // ratios to Jz): with the stiffness free, Jz waits for the full fit, which alone can see
+    // that scale (through the motor), and the load pass does not crawl along it.
+    let stiffness_free = spec.free[C] || spec.free[MEM_A];
+    let load_set: &[usize] =
+        if stiffness_free { &[CZ, C, MEM_A, MEM_B] } else { &[JZ, CZ, C, MEM_A, MEM_B] };
+    let load = pass(spec, load_set, load_outputs, values);
     if !load.free.iter().any(|&f| f) {
         return vec![values];
     }
@@ -155,22 +163,29 @@ fn staged_starts(
         .collect();
     tried.sort_by(|a, b| a.0.total_cmp(&b.0));
     let Some(&(lowest, _)) = tried.first() else { return vec![values] };
-    // Starts that ended in the same place (every free load parameter within
-    // SAME_START of a better one's) would give the same full fit: one of them is kept.
-    let load_free: Vec<usize> =
-        [JZ, CZ, C, MEM_A, MEM_B].into_iter().filter(|&k| load.free[k]).collect();
-    let mut kept: Vec<[f64; 18]> = Vec::new();
+    // Starts that ended in the same place would give the same full fit: one of them is
+    // kept. The same place is the same prediction: load residuals that differ by less
+    // than SAME_PREDICTION of the noise, RMS over the samples (in a valley the parameters
+    // of two such ends can still differ in their last digits).
+    let predicted = |v: &[f64; 18]| super::fit::residuals_at(&load, v, records);
+    let mut kept: Vec<([f64; 18], Option<Vec<f64>>)> = Vec::new();
     for (cost, v) in tried {
-        let same = |w: &[f64; 18]| {
-            load_free
-                .iter()
-                .all(|&k| (v[k] - w[k]).abs() <= SAME_START * w[k].abs().max(f64::MIN_POSITIVE))
+        if cost > LOAD_COST_FACTOR * lowest {
+            continue;
+        }
+        let r = predicted(&v);
+        let same = |(_, w): &([f64; 18], Option<Vec<f64>>)| match (&r, w) {
+            (Some(a), Some(b)) => {
+                let d2 = a.iter().zip(b).map(|(x, y)| (x - y) * (x - y)).sum::<f64>();
+                d2 <= SAME_PREDICTION * SAME_PREDICTION * a.len().max(1) as f64
+            }
+            _ => false,
         };
-        if cost <= LOAD_COST_FACTOR * lowest && !kept.iter().any(same) {
-            kept.push(v);
+        if !kept.iter().any(same) {
+            kept.push((v, r));
         }
     }
-    kept
+    kept.into_iter().map(|(v, _)| v).collect()
 }
 
 /// `spec` with only `which` (where `spec` frees them) free, comparing `outputs`, from `start`.
