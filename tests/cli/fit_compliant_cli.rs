@@ -131,4 +131,14 @@ fn bad_compliant_configurations_get_one_line_errors() {
     std::fs::write(&cfg, text).unwrap();
     let o = hdw(&["fit", "drive", "--config", &cfg, "--out", dir.join("out").to_str().unwrap()]);
     assert_one_line_error(&o, &["amps", "chirp.csv"]);
+    // A params file asking for what the compliant model is not names the file and the key.
+    for (line, expect) in [
+        ("stiffness = \"maxwell-slip\"", "stiffness = \"maxwell-slip\""),
+        ("L = 0.002", "L = 2e-3"),
+        ("Ts_neg = 0.3", "Ts_neg"),
+    ] {
+        std::fs::write(dir.join("start.toml"), format!("R = 7.5\n{line}\n")).unwrap();
+        let o = run("", "");
+        assert_one_line_error(&o, &[expect, "start.toml"]);
+    }
 }

@@ -91,7 +91,12 @@ fn base_params(cfg: &CompliantConfig, base: &Path) -> Result<([f64; 18], f64)> {
         let path = base.join(f);
         let text = std::fs::read_to_string(&path)
             .with_context(|| format!("cannot read params_file {}", path.display()))?;
-        hd_model::params_file::apply_params_toml(&mut p, &text, &path.display().to_string())?;
+        let name = path.display().to_string();
+        hd_model::params_file::apply_params_toml(&mut p, &text, &name)?;
+        let law = hd_model::params_file::stiffness_from_toml(&text, &name)?;
+        if let Some(why) = hd_ident::drive::compliant::supported::unsupported(&p, law).first() {
+            anyhow::bail!("{name}: {why}");
+        }
     }
     let mut out = [0.0; 18];
     for (k, n) in NAMES.iter().enumerate() {

@@ -12,6 +12,7 @@ pub mod model;
 pub mod record;
 pub mod simulate;
 pub mod stages;
+pub mod supported;
 
 #[cfg(test)]
 mod tests;

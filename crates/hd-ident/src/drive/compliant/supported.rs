@@ -1,0 +1,64 @@
+//! What the compliant model can stand for. Its drive is the simulator's `full` variant with
+//! the seed's stiffness law (cubic spring plus fading memory), an algebraic current and
+//! symmetric LuGre friction that does not grow with the transmitted torque. A params file
+//! that asks for more would be fitted as something it is not and written back as a params
+//! file `hdw simulate` runs differently, so each such setting is refused, named.
+
+use hd_model::{HystLaw, Params};
+
+/// Each setting of `p` (stiffness law `law`) that the compliant model cannot represent, as
+/// one sentence; empty when it represents them all.
+pub fn unsupported(p: &Params, law: Option<HystLaw>) -> Vec<String> {
+    let mut out = Vec::new();
+    if let Some(law) = law.filter(|l| *l != HystLaw::Memory) {
+        out.push(format!(
+            "stiffness = \"{law}\": the compliant fit's gear is the cubic spring with the fading memory (\"memory\"); remove the key, or identify a {law} gear from a torsion test with `hdw fit stiffness`"
+        ));
+    }
+    if p.l != 0.0 {
+        out.push(format!(
+            "L = {:e}: the compliant fit's motor has an algebraic current (L = 0), so its electrical time constant L/R = {:.3e} s must lie well below the sample period; set L = 0",
+            p.l,
+            p.l / p.r
+        ));
+    }
+    for (name, v) in [("Tc_neg", p.tc_neg), ("Ts_neg", p.ts_neg)] {
+        if let Some(v) = v {
+            out.push(format!(
+                "{name} = {v:e}: the compliant fit's friction is the same in both directions; remove {name}"
+            ));
+        }
+    }
+    for (name, v) in [
+        ("mu_c_fwd", p.mu_c_fwd),
+        ("mu_s_fwd", p.mu_s_fwd),
+        ("mu_c_back", p.mu_c_back),
+        ("mu_s_back", p.mu_s_back),
+    ] {
+        if v != 0.0 {
+            out.push(format!(
+                "{name} = {v:e}: the compliant fit's friction does not grow with the transmitted torque; set {name} = 0"
+            ));
+        }
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The seed's parameters are representable; each unsupported setting is named once.
+    #[test]
+    fn the_seed_passes_and_each_extra_is_named() {
+        let seed = Params::default();
+        assert!(unsupported(&seed, None).is_empty());
+        assert!(unsupported(&seed, Some(HystLaw::Memory)).is_empty());
+        let p = Params { l: 1e-3, tc_neg: Some(0.2), mu_s_back: 0.1, ..Params::default() };
+        let found = unsupported(&p, Some(HystLaw::BoucWen));
+        assert_eq!(found.len(), 4, "{found:?}");
+        for key in ["stiffness = \"bouc-wen\"", "L = 1e-3", "Tc_neg", "mu_s_back"] {
+            assert!(found.iter().any(|s| s.starts_with(key)), "{key} in {found:?}");
+        }
+    }
+}
