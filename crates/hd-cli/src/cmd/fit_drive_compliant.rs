@@ -6,6 +6,7 @@ use super::common::ensure_dir;
 use super::fit_drive::DriveArgs;
 use super::fit_drive_compliant_out::{Outcome, write_outputs};
 use anyhow::{Context, Result};
+use hd_ident::drive::compliant::accuracy::accurate_substeps;
 use hd_ident::drive::compliant::config::VoltageExperimentConfig;
 use hd_ident::drive::compliant::fit::{CompliantSpec, score_records};
 use hd_ident::drive::compliant::{
@@ -150,7 +151,7 @@ pub fn run(args: &DriveArgs, text: &str) -> Result<()> {
         outputs.push((o, levels));
     }
     let h = records[0].h;
-    let substeps = cfg.substeps.unwrap_or_else(|| substeps_for(&start, n, h));
+    let floor = cfg.substeps.unwrap_or_else(|| substeps_for(&start, n, h));
     let noise_estimated =
         outputs.iter().map(|(o, _)| !cfg.fit.noise.contains_key(o.name())).collect();
     let spec = CompliantSpec {
@@ -163,12 +164,20 @@ pub fn run(args: &DriveArgs, text: &str) -> Result<()> {
         upper,
         outputs,
         km_is_ke: cfg.km_equals_ke.unwrap_or(true),
-        substeps,
+        substeps: floor,
         settings: LmSettings {
             max_iterations: cfg.fit.max_iterations.unwrap_or(MAX_ITERATIONS),
             cost_tolerance: COST_TOLERANCE,
             geodesic: true,
         },
+    };
+    // A count given in the configuration is used as given; otherwise it is raised until
+    // the integration error is below the noise (hd_ident::drive::compliant::accuracy).
+    let spec = if cfg.substeps.is_some() {
+        spec
+    } else {
+        let (substeps, _) = accurate_substeps(&spec, &records);
+        CompliantSpec { substeps, ..spec }
     };
     let dir = ensure_dir(&args.out)?;
     let bar = super::fit_drive::spinner("fitting the compliant drive".into());

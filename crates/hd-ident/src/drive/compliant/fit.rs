@@ -382,6 +382,29 @@ pub(super) fn fit_stage(
         std_errors[k] = det.std_errors[slot];
         determined[k] = det.determined[slot];
     }
+    // Information from samples where an encoder creeps is a quantisation staircase, not
+    // noise ([`super::creeping`]).
+    let masks: Vec<_> = blocks
+        .iter()
+        .filter(|(_, o, _)| *o != Signal::Current)
+        .filter_map(|(k, o, range)| {
+            let sigma = spec.outputs.iter().find(|(s, _)| s == o)?.1[*k];
+            let count = super::creeping::count_of(sigma);
+            Some((range.clone(), super::creeping::creeping(o.measured(&records[*k])?, count)))
+        })
+        .collect();
+    let shares = super::creeping::creeping_share(&widened, &masks);
+    for (slot, &k) in free_idx.iter().enumerate() {
+        if determined[k] && shares[slot] > super::creeping::CREEPING_SHARE {
+            determined[k] = false;
+            det.sentences.push(format!(
+                "{} is not determined by this record: {:.0} % of what it says of {} comes from samples where an encoder moves less than a count, where its rounding error is a staircase the fit can follow rather than noise; add an experiment that moves it further.",
+                NAMES[k],
+                100.0 * shares[slot],
+                NAMES[k]
+            ));
+        }
+    }
     let corr = |a: usize, b: usize| {
         let (sa, sb) =
             (free_idx.iter().position(|&k| k == a)?, free_idx.iter().position(|&k| k == b)?);

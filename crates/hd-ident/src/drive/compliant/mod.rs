@@ -4,8 +4,10 @@
 //! ([`simulate::simulate`]) and fitted by output error on the motor and load encoders and
 //! the current, with the exact Jacobian of the integration ([`fit::fit_compliant`]).
 
+pub mod accuracy;
 pub mod config;
 pub mod correlated;
+pub mod creeping;
 pub mod determined;
 pub mod fit;
 pub mod model;

@@ -11,11 +11,14 @@
 //! 3. **Full fits** from the load pass's better starts, each [`settle`]d: a free parameter
 //!    the records leave undetermined (no standard error) is held at its start value and the
 //!    rest fitted again.
-//! 4. **Agreement.** The best full fit is reported. Another full fit whose cost is within the
-//!    95 % profile threshold of the best (Δcost ≤ 3.84·s², s² the best fit's cost per degree
-//!    of freedom) is as good an explanation of the records; a parameter on which the two
-//!    differ by more than twice the best fit's standard error is not determined, whatever its
-//!    linearised standard error says (the cost's valley bends away from the tangent).
+//! 4. **Bounds.** A parameter that ran to its bound is held at its start value and the fit
+//!    run again; that fit is a rival (or reported, when it does better).
+//! 5. **Agreement.** The best full fit is reported. Another full fit whose cost is within the
+//!    95 % threshold of the best (Δcost ≤ χ²₉₅(m)·s², m the number of parameters on which
+//!    the two differ by more than twice the best fit's standard error, s² the best fit's
+//!    cost per degree of freedom) is as good an explanation of the records; a parameter on
+//!    which the two differ that much is not determined, whatever its linearised standard
+//!    error says (the cost's valley bends away from the tangent).
 
 use super::determined::{not_determined_by_agreement, refine_fit};
 use super::fit::{CompliantFit, CompliantSpec, Progress, Signal, cost_at, fit_stage};
@@ -35,8 +38,27 @@ const LOAD_COST_FACTOR: f64 = 2.0;
 /// which they count as one start [–].
 const SAME_PREDICTION: f64 = 0.02;
 
-/// χ² quantile of one degree of freedom at 95 % [–].
-const PROFILE_95: f64 = 3.84;
+/// χ² quantiles at 95 % for 1 to 16 degrees of freedom [–].
+const CHI2_95: [f64; 16] = [
+    3.84, 5.99, 7.81, 9.49, 11.07, 12.59, 14.07, 15.51, 16.92, 18.31, 19.68, 21.03, 22.36, 23.68,
+    25.00, 26.30,
+];
+
+/// Whether `rival` explains the records as well as `best` at 95 %: its cost is within the
+/// χ² quantile for as many degrees of freedom as parameters on which the two differ by
+/// more than twice the best fit's standard error (at least one), times s² (the best fit's
+/// cost per degree of freedom). Fits that move several parameters together are compared
+/// on that many.
+fn as_good(best: &CompliantFit, rival: &CompliantFit) -> bool {
+    let dof = (best.n as f64 - best.free.iter().filter(|&&f| f).count() as f64).max(1.0);
+    let apart = (0..NAMES.len())
+        .filter(|&k| {
+            best.std_errors[k].is_some_and(|se| (rival.values[k] - best.values[k]).abs() > 2.0 * se)
+        })
+        .count();
+    let q = CHI2_95[apart.clamp(1, CHI2_95.len()) - 1];
+    rival.cost - best.cost <= q * best.cost / dof
+}
 
 /// Fit `spec` to `records` (see the module's steps); `progress(iteration, cost)` is called
 /// as the fits go (several may run at once).
@@ -56,7 +78,8 @@ pub fn fit_compliant(
     // fit is settled again from where it ended, with those weights. The other fits keep
     // their ends, costed with the new weights: a rival's cost can only fall further if it
     // were refitted, so the agreement check below stays on the safe side.
-    if let Some(new) = reweigh(spec, &fits) {
+    let weighed = reweigh(spec, &fits);
+    if let Some(new) = &weighed {
         fits.sort_by(|a, b| match (a, b) {
             (Ok(a), Ok(b)) => a.cost.total_cmp(&b.cost),
             (Ok(_), Err(_)) => std::cmp::Ordering::Less,
@@ -64,7 +87,7 @@ pub fn fit_compliant(
             _ => std::cmp::Ordering::Equal,
         });
         if let Some(Ok(best)) = fits.first() {
-            let again = settle(&new, best.values, records, progress);
+            let again = settle(new, best.values, records, progress);
             if let Ok(f) = &again {
                 spent += f.iterations;
                 failed += f.failed_trials;
@@ -72,7 +95,7 @@ pub fn fit_compliant(
             fits[0] = again;
         }
         for f in fits.iter_mut().skip(1).flatten() {
-            f.cost = cost_at(&new, &f.values, records).unwrap_or(f64::INFINITY);
+            f.cost = cost_at(new, &f.values, records).unwrap_or(f64::INFINITY);
         }
     }
     let mut ok: Vec<CompliantFit> = Vec::new();
@@ -85,16 +108,55 @@ pub fn fit_compliant(
     }
     ok.sort_by(|a, b| a.cost.total_cmp(&b.cost));
     let mut best = if ok.is_empty() { return Err(last_error) } else { ok.remove(0) };
-    let dof = (best.n as f64 - best.free.iter().filter(|&&f| f).count() as f64).max(1.0);
-    let threshold = PROFILE_95 * best.cost / dof;
-    let rivals: Vec<&CompliantFit> =
-        ok.iter().filter(|f| f.cost - best.cost <= threshold).collect();
+    // A parameter on its bound: the fit again with it held at its start is a rival (or,
+    // when it does better, the fit reported).
+    let used = weighed.as_ref().unwrap_or(spec);
+    let bounded = on_bound(used, &best);
+    if !bounded.is_empty() {
+        let at_bound: Vec<f64> = bounded.iter().map(|&k| best.values[k]).collect();
+        let mut held = used.clone();
+        let mut start = best.values;
+        for &k in &bounded {
+            held.free[k] = false;
+            start[k] = used.start[k];
+        }
+        let mut gap = f64::NAN;
+        if let Ok(mut alt) = settle(&held, start, records, progress) {
+            spent += alt.iterations;
+            failed += alt.failed_trials;
+            alt.free = used.free;
+            alt.held.extend(bounded.iter().copied());
+            gap = alt.cost - best.cost;
+            if alt.cost < best.cost {
+                std::mem::swap(&mut best, &mut alt);
+            }
+            ok.push(alt);
+        }
+        for (&k, v) in bounded.iter().zip(at_bound) {
+            best.determined[k] = false;
+            best.determination.sentences.push(format!(
+                "{} ran to its bound ({v:.4e}); held at its start value {:.4e} instead, the fit's cost changes by {gap:+.1}: the record does not fix {} within the range the fit allows (widen [bounds] if such values are physical).",
+                NAMES[k], used.start[k], NAMES[k]
+            ));
+        }
+    }
+    let rivals: Vec<&CompliantFit> = ok.iter().filter(|f| as_good(&best, f)).collect();
     not_determined_by_agreement(&mut best, &rivals);
     refine_fit(&mut best, spec.n);
     best.iterations = spent;
     best.failed_trials = failed;
     best.starts = starts.len();
     Ok(best)
+}
+
+/// The free parameters of `fit` that ended on a bound of `spec` (within 1e-9 of it,
+/// relative).
+fn on_bound(spec: &CompliantSpec, fit: &CompliantFit) -> Vec<usize> {
+    let near = |v: f64, b: f64| b.is_finite() && (v - b).abs() <= 1e-9 * b.abs().max(1e-300);
+    (0..NAMES.len())
+        .filter(|&k| spec.free[k] && !fit.held.contains(&k))
+        .filter(|&k| near(fit.values[k], spec.lower[k]) || near(fit.values[k], spec.upper[k]))
+        .collect()
 }
 
 /// `spec` with every estimated noise level replaced by the best fit's residual RMS of that
