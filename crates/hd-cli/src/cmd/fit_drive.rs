@@ -88,7 +88,7 @@ fn load(ec: &ExperimentConfig, name: &str, path: &Path) -> Result<Experiment> {
 }
 
 /// A number of the configuration, or a scalar variable of `file`.
-fn resolve(v: &NumberOrVariable, key: &str, file: &Path) -> Result<f64> {
+pub fn resolve(v: &NumberOrVariable, key: &str, file: &Path) -> Result<f64> {
     match v {
         NumberOrVariable::Number(x) => Ok(*x),
         NumberOrVariable::Variable(name) => {

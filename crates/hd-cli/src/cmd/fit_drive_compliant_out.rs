@@ -30,6 +30,8 @@ pub struct Outcome {
     pub start_scores: Vec<RecordScore>,
     /// Scores of the fitted drive on the validation record.
     pub validation_scores: Option<RecordScore>,
+    /// The loop of closed-loop records (None for voltage tests).
+    pub controller: Option<super::fit_drive_compliant_loop::LoopInfo>,
 }
 
 /// The unit of a parameter, from hd-model's registry.
@@ -46,7 +48,7 @@ fn scores_json(s: &RecordScore) -> Value {
         let offset = match o {
             Signal::Motor => Some(s.encoder_offsets[0]),
             Signal::Load => Some(s.encoder_offsets[1]),
-            Signal::Current => None,
+            Signal::Current | Signal::Command => None,
         };
         if let Some(x) = offset {
             v["encoder_offset"] = json!(x);
@@ -133,6 +135,7 @@ fn write_all(dir: &Path, o: &Outcome) -> Result<()> {
         "experiments": records_json(&f.scores),
         "start_scores": records_json(&o.start_scores),
         "validation": o.validation_scores.as_ref().map(scores_json),
+        "controller": o.controller.as_ref().map(|c| c.json()),
     });
 
     // params.toml: a params file of `hdw simulate` (variant full, stiffness law memory).
@@ -163,6 +166,13 @@ fn write_all(dir: &Path, o: &Outcome) -> Result<()> {
         o.secs,
         f.termination
     );
+    if let Some(c) = &o.controller {
+        let _ = writeln!(r, "## The loop\n");
+        for l in c.lines() {
+            let _ = writeln!(r, "- {l}");
+        }
+        let _ = writeln!(r);
+    }
     let _ = writeln!(r, "| parameter | start | value | std. error | determined | unit |");
     let _ = writeln!(r, "|---|---:|---:|---:|---|---|");
     for (k, n) in NAMES.iter().enumerate() {

@@ -10,6 +10,7 @@ pub mod export;
 pub mod fit;
 pub mod fit_drive;
 pub mod fit_drive_compliant;
+pub mod fit_drive_compliant_loop;
 pub mod fit_drive_compliant_out;
 pub mod fit_drive_out;
 pub mod fit_hysteresis;

@@ -32,11 +32,13 @@ pub enum Signal {
     Load,
     /// Armature current [A].
     Current,
+    /// Closed loop: the controller's output [V or A].
+    Command,
 }
 
 impl Signal {
     /// Every output, in report order.
-    pub const ALL: [Signal; 3] = [Signal::Motor, Signal::Load, Signal::Current];
+    pub const ALL: [Signal; 4] = [Signal::Motor, Signal::Load, Signal::Current, Signal::Command];
 
     /// Its name in configurations and reports.
     pub fn name(self) -> &'static str {
@@ -44,6 +46,7 @@ impl Signal {
             Signal::Motor => "motor",
             Signal::Load => "load",
             Signal::Current => "current",
+            Signal::Command => "command",
         }
     }
 
@@ -51,6 +54,7 @@ impl Signal {
     pub fn unit(self) -> &'static str {
         match self {
             Signal::Current => "A",
+            Signal::Command => "V or A",
             _ => "rad",
         }
     }
@@ -66,6 +70,7 @@ impl Signal {
             Signal::Motor => Some(&r.theta_m),
             Signal::Load => Some(&r.theta_l),
             Signal::Current => r.current.as_deref(),
+            Signal::Command => r.closed.is_some().then_some(&r.u[..]),
         }
     }
 
@@ -75,6 +80,7 @@ impl Signal {
             Signal::Motor => &o.theta_m,
             Signal::Load => &o.theta_l,
             Signal::Current => &o.current,
+            Signal::Command => &o.command,
         }
     }
 }

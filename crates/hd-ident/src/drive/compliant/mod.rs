@@ -4,9 +4,11 @@
 //! ([`simulate::simulate`]) and fitted by output error on the motor and load encoders and
 //! the current, with the exact Jacobian of the integration ([`fit::fit_compliant`]).
 
+pub mod closed_loop;
 pub mod config;
 pub mod determined;
 pub mod fit;
+pub mod loop_config;
 pub mod model;
 pub mod record;
 pub mod simulate;
@@ -15,6 +17,7 @@ pub mod stages;
 #[cfg(test)]
 mod tests;
 
+pub use closed_loop::{Amplifier, ClosedLoop, Feedback};
 pub use config::CompliantConfig;
 pub use fit::{CompliantFit, CompliantSpec, RecordScore, Signal, substeps_for};
 pub use model::{Compliant, NAMES};
