@@ -29,3 +29,4 @@ pub mod study_json;
 pub mod study_traces;
 pub mod synth;
 pub mod synth_drive;
+pub mod synth_drive_loop;

@@ -13,6 +13,7 @@ pub mod model;
 pub mod record;
 pub mod simulate;
 pub mod stages;
+pub mod synth_loop;
 
 #[cfg(test)]
 mod tests;
