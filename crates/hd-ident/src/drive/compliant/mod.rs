@@ -17,6 +17,8 @@ pub mod synth_loop;
 
 #[cfg(test)]
 mod tests;
+#[cfg(test)]
+mod tests_loop;
 
 pub use closed_loop::{Amplifier, ClosedLoop, Feedback};
 pub use config::CompliantConfig;
