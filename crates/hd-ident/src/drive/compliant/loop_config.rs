@@ -127,7 +127,8 @@ pub fn check(c: &CompliantConfig, file: &str) -> Result<(), DriveError> {
             if pd && ctl.d.is_some_and(|d| d == 0.0 || !d.is_finite()) {
                 return Err(DriveError::config(at("d"), "expected a finite non-zero gain"));
             }
-            if !pd && !(ctl.kp.is_some() && ctl.kv.is_some()) {
+            let both = ctl.kp.is_some() && ctl.kv.is_some();
+            if !pd && !both {
                 let missing = if ctl.kp.is_none() { "kp" } else { "kv" };
                 return Err(DriveError::config(
                     at(missing),
