@@ -9,6 +9,7 @@ mod fault_injection;
 mod fit_bad_data;
 mod fit_cli;
 mod fit_compliant_cli;
+mod fit_compliant_loop_cli;
 mod fit_drive_cli;
 mod fit_laws;
 mod fit_rig_files;

@@ -73,3 +73,28 @@ def test_fit_drive_takes_a_compliant_configuration(tmp_path):
     assert fit.best == "compliant" and fit.laws["compliant"] == fit.values
     assert abs(fit.values["R"] - 6.0) < 0.05 and fit.values["Km"] == fit.values["Ke"]
     assert fit.scores()["chirp"]["current"]["rmse_over_noise"] < 1.2
+
+
+def test_fit_drive_takes_a_closed_loop_compliant_configuration(tmp_path):
+    """A record of the simulator's drive in its position loop fitted back through
+    hdw.fit_drive: the same fit.json as the command, the controller check in the report and
+    the command compared as an output."""
+    rec = tmp_path / "loop.csv"
+    run_cli("synth", "drive", "--loop-kp", "30", "--loop-kv", "0.5", "--freq", "5",
+            "--t-end", "0.5", "--motor-counts", "65536", "--out", rec)
+    cfg = tmp_path / "fit.toml"
+    cfg.write_text(
+        'transmission = "compliant"\n'
+        '[params]\nR = 7.0\nKe = 0.45\n'
+        '[[experiment]]\nname = "steps"\nfile = "loop.csv"\ntime = "t"\nreference = "ref"\n'
+        'command = "cmd"\nmotor = "theta_m"\nload = "theta_l"\ncurrent = "i"\n'
+        '[controller]\nkp = 30.0\nkv = 0.5\n'
+        '[fit]\nfree = ["R", "Ke", "Jj", "Cj"]\n'
+    )
+    run_cli("fit", "drive", "--config", cfg, "--out", tmp_path / "cli")
+    fit = hdw.fit_drive(cfg, hdw=HDW)
+    expected = read_json(tmp_path / "cli" / "fit.json")
+    assert without(fit.report, VARYING | {"wall_time_s"}) == without(expected, VARYING | {"wall_time_s"})
+    assert fit.report["controller"]["delay"] == 0 and fit.report["controller"]["feedback"] == "motor"
+    assert abs(fit.values["R"] - 6.0) < 0.05 and fit.values["Km"] == fit.values["Ke"]
+    assert fit.scores()["steps"]["command"]["rmse_over_noise"] < 1.2

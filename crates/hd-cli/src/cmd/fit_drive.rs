@@ -30,8 +30,9 @@ law(s), the outputs compared and the fixed parameters (docs/fit-drive.md). Outpu
   params.toml  the best law's parameters, as a [params] table a configuration can start from\n\
   report.md    the same in words, with force.svg, position.svg, residuals.svg (and validation-*.svg)\n\
 With transmission = \"compliant\" the configuration fits the simulator's compliant drive to voltage tests\n\
-(motor and load encoders, current); params.toml is then a params file hdw simulate runs, and the plots are\n\
-motor.svg, load.svg, current.svg with their residuals.\n\n\
+(motor and load encoders, current), or, with a [controller] and reference and command columns, to records\n\
+of its own position loop (the command is then an output too); params.toml is then a params file hdw\n\
+simulate runs, and the plots are motor.svg, load.svg, current.svg (command.svg) with their residuals.\n\n\
 Example:\n  hdw fit drive --config data/emps/fit.toml --out out/emps"
 )]
 pub struct DriveArgs {
@@ -88,7 +89,7 @@ fn load(ec: &ExperimentConfig, name: &str, path: &Path) -> Result<Experiment> {
 }
 
 /// A number of the configuration, or a scalar variable of `file`.
-fn resolve(v: &NumberOrVariable, key: &str, file: &Path) -> Result<f64> {
+pub fn resolve(v: &NumberOrVariable, key: &str, file: &Path) -> Result<f64> {
     match v {
         NumberOrVariable::Number(x) => Ok(*x),
         NumberOrVariable::Variable(name) => {

@@ -2,6 +2,7 @@
 //! --params` runs), report.md with plots, and the summary printed to the terminal. All of
 //! them land together or not at all.
 
+use super::fit_drive_compliant_loop::LoopInfo;
 use super::fit_drive_out::pair_plots;
 use anyhow::Result;
 use hd_ident::drive::compliant::fit::{CompliantSpec, RecordScore, Signal};
@@ -30,6 +31,8 @@ pub struct Outcome {
     pub start_scores: Vec<RecordScore>,
     /// Scores of the fitted drive on the validation record.
     pub validation_scores: Option<RecordScore>,
+    /// The loop of closed-loop records (None for voltage tests).
+    pub controller: Option<LoopInfo>,
 }
 
 /// The unit of a parameter, from hd-model's registry.
@@ -37,16 +40,24 @@ fn unit(name: &str) -> &'static str {
     hd_model::registry::lookup(name).map_or("", |i| i.unit)
 }
 
-fn scores_json(s: &RecordScore) -> Value {
+/// The unit of output `o`: the command's is the amplifier's (V or A).
+fn unit_of(o: Signal, ctl: Option<&LoopInfo>) -> &'static str {
+    match (o, ctl) {
+        (Signal::Command, Some(c)) => c.amplifier.unit(),
+        _ => o.unit(),
+    }
+}
+
+fn scores_json(s: &RecordScore, ctl: Option<&LoopInfo>) -> Value {
     let mut m = Map::new();
     for (o, sc, noise, ratio) in &s.outputs {
         let mut v = json!({"rel_error": sc.rel_error, "rmse": sc.rmse,
                            "fit_percent": sc.fit_percent, "noise": noise,
-                           "rmse_over_noise": ratio, "unit": o.unit()});
+                           "rmse_over_noise": ratio, "unit": unit_of(*o, ctl)});
         let offset = match o {
             Signal::Motor => Some(s.encoder_offsets[0]),
             Signal::Load => Some(s.encoder_offsets[1]),
-            Signal::Current => None,
+            Signal::Current | Signal::Command => None,
         };
         if let Some(x) = offset {
             v["encoder_offset"] = json!(x);
@@ -57,11 +68,11 @@ fn scores_json(s: &RecordScore) -> Value {
 }
 
 /// `{record name: {output: scores}}`, as the rigid fit's fit.json has them.
-fn records_json(v: &[RecordScore]) -> Value {
-    Value::Object(v.iter().map(|s| (s.name.clone(), scores_json(s))).collect())
+fn records_json(v: &[RecordScore], ctl: Option<&LoopInfo>) -> Value {
+    Value::Object(v.iter().map(|s| (s.name.clone(), scores_json(s, ctl))).collect())
 }
 
-fn fmt_score(s: &RecordScore) -> String {
+fn fmt_score(s: &RecordScore, ctl: Option<&LoopInfo>) -> String {
     s.outputs
         .iter()
         .map(|(o, sc, noise, ratio)| {
@@ -69,7 +80,7 @@ fn fmt_score(s: &RecordScore) -> String {
                 "{} rmse {:.3e} {} ({ratio:.2}× the noise {noise:.2e}), fit {:.2} %",
                 o.name(),
                 sc.rmse,
-                o.unit(),
+                unit_of(*o, ctl),
                 sc.fit_percent
             )
         })
@@ -86,7 +97,8 @@ fn plots(dir: &Path, o: &Outcome, r: &VoltageRecord, prefix: &str) -> Result<Vec
     let mut files = Vec::new();
     for (s, _) in &o.spec.outputs {
         let Some(meas) = s.measured(r) else { continue };
-        let what = (r.name.as_str(), s.name(), s.unit(), "compliant drive");
+        let what =
+            (r.name.as_str(), s.name(), unit_of(*s, o.controller.as_ref()), "compliant drive");
         files.extend(pair_plots(dir, prefix, what, &r.t, meas, s.simulated(&sim))?);
     }
     Ok(files)
@@ -101,6 +113,7 @@ pub fn write_outputs(dir: &Path, o: &Outcome) -> Result<()> {
 fn write_all(dir: &Path, o: &Outcome) -> Result<()> {
     let f = &o.fit;
     let sp = &o.spec;
+    let ctl = o.controller.as_ref();
     let parameters: Map<String, Value> = NAMES
         .iter()
         .enumerate()
@@ -117,7 +130,7 @@ fn write_all(dir: &Path, o: &Outcome) -> Result<()> {
         "config": o.config,
         "transmission": "compliant",
         "N": sp.n,
-        "voltage_between": sp.between.name(),
+        "voltage_between": if ctl.is_some() { "hold" } else { sp.between.name() },
         "substeps": sp.substeps,
         "km_equals_ke": sp.km_is_ke,
         "wall_time_s": o.secs,
@@ -130,9 +143,10 @@ fn write_all(dir: &Path, o: &Outcome) -> Result<()> {
         "parameters": parameters,
         "determination": f.determination.sentences,
         "best": "compliant",
-        "experiments": records_json(&f.scores),
-        "start_scores": records_json(&o.start_scores),
-        "validation": o.validation_scores.as_ref().map(scores_json),
+        "experiments": records_json(&f.scores, ctl),
+        "start_scores": records_json(&o.start_scores, ctl),
+        "validation": o.validation_scores.as_ref().map(|s| scores_json(s, ctl)),
+        "controller": o.controller.as_ref().map(|c| c.json()),
     });
 
     // params.toml: a params file of `hdw simulate` (variant full, stiffness law memory).
@@ -153,16 +167,27 @@ fn write_all(dir: &Path, o: &Outcome) -> Result<()> {
     let _ = writeln!(r, "# Compliant drive fit: {}\n", o.config);
     let _ = writeln!(
         r,
-        "{} record(s), {} residuals; voltage read `{}` between samples, {} Runge–Kutta substeps per sample; {} start(s) of the full fit, {} iterations in {:.2} s; {}.\n",
+        "{} record(s), {} residuals; {}, {} Runge–Kutta substeps per sample; {} start(s) of the full fit, {} iterations in {:.2} s; {}.\n",
         o.records.len(),
         f.n,
-        sp.between.name(),
+        if ctl.is_some() {
+            "closed loop, the command held over each sample".to_string()
+        } else {
+            format!("voltage read `{}` between samples", sp.between.name())
+        },
         sp.substeps,
         f.starts,
         f.iterations,
         o.secs,
         f.termination
     );
+    if let Some(c) = &o.controller {
+        let _ = writeln!(r, "## The loop\n");
+        for l in c.lines() {
+            let _ = writeln!(r, "- {l}");
+        }
+        let _ = writeln!(r);
+    }
     let _ = writeln!(r, "| parameter | start | value | std. error | determined | unit |");
     let _ = writeln!(r, "|---|---:|---:|---:|---|---|");
     for (k, n) in NAMES.iter().enumerate() {
@@ -193,11 +218,11 @@ fn write_all(dir: &Path, o: &Outcome) -> Result<()> {
     }
     let _ = writeln!(r, "\n## Scores\n");
     for (s, s0) in f.scores.iter().zip(&o.start_scores) {
-        let _ = writeln!(r, "- {} (fitted): {}", s.name, fmt_score(s));
-        let _ = writeln!(r, "- {} (start): {}", s0.name, fmt_score(s0));
+        let _ = writeln!(r, "- {} (fitted): {}", s.name, fmt_score(s, ctl));
+        let _ = writeln!(r, "- {} (start): {}", s0.name, fmt_score(s0, ctl));
     }
     if let Some(v) = &o.validation_scores {
-        let _ = writeln!(r, "- validation: {}", fmt_score(v));
+        let _ = writeln!(r, "- validation: {}", fmt_score(v, ctl));
     }
     let _ = writeln!(r, "\n## Plots\n");
     for fig in &figs {

@@ -30,7 +30,15 @@ Tests: chirp (--freq/10 to 10·--freq, linear over the record) or multisine (12 
 over the same band, Schroeder phases, peak --voltage). The motor gets each logged voltage held until the\n\
 next sample (--applied held, a digital amplifier; fit it with voltage_between = \"hold\"), or the test\n\
 signal itself (--applied continuous).\n\n\
-Example:\n  hdw synth drive --input multisine --freq 20 --t-end 1 --out out/drive.csv"
+Closed loop (--loop-kp and --loop-kv): the drive follows a position reference (--loop-reference steps or\n\
+chirp, --loop-amplitude rad on the fed-back side) through the discrete controller of hdw fit drive,\n\
+u = kp·kv·(r − q) − kv·(q_k − q_k−1)/h, clamped to ±--loop-saturation, computed from the quantised\n\
+--loop-feedback encoder and held over each sample after --loop-delay samples. Its output is the motor\n\
+voltage or, with --loop-amplifier current, the current of an ideal current amplifier. Each sample is\n\
+integrated by hd-model's solver under the held command. --input, --voltage and --applied are then unused.\n\
+Columns: t, ref [rad], cmd [V or A], i [A] (+ noise), theta_m, theta_l, theta_j_true, theta_z_true.\n\n\
+Examples:\n  hdw synth drive --input multisine --freq 20 --t-end 1 --out out/drive.csv\n\
+  hdw synth drive --loop-kp 30 --loop-kv 0.5 --loop-reference steps --freq 4 --t-end 1 --out out/loop.csv"
 )]
 pub struct DriveSynthArgs {
     /// Parameters, stiffness law, variant and solver (as `hdw simulate` takes them).
@@ -71,6 +79,9 @@ pub struct DriveSynthArgs {
     /// Output file (.csv or .parquet).
     #[arg(long, value_name = "FILE")]
     pub out: PathBuf,
+    /// Closed loop (with --loop-kp and --loop-kv).
+    #[command(flatten)]
+    pub closed: super::synth_drive_loop::LoopArgs,
 }
 
 /// The test voltage sampled every `h` [s] up to `t_end` and held from each sample to the
@@ -162,6 +173,10 @@ pub fn run(a: DriveSynthArgs) -> Result<()> {
         out: PathBuf::new(),
     };
     let mut cfg = super::simulate::config(&sim)?;
+    if a.closed.active() {
+        cfg.validate()?;
+        return super::synth_drive_loop::write(&a, &cfg);
+    }
     cfg.input = match a.applied.as_str() {
         "held" => held(&test_input(&a)?, a.sample_period, a.t_end)?,
         "continuous" => test_input(&a)?,

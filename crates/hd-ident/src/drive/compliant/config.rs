@@ -19,8 +19,12 @@ pub struct VoltageExperimentConfig {
     pub file: String,
     /// Time column [s].
     pub time: String,
-    /// Applied voltage column [V].
-    pub voltage: String,
+    /// Applied voltage column [V] (a voltage test; absent in closed loop).
+    pub voltage: Option<String>,
+    /// Closed loop: the recorded controller output column [V or A].
+    pub command: Option<String>,
+    /// Closed loop: the position reference column [rad, on the fed-back encoder's side].
+    pub reference: Option<String>,
     /// Motor encoder column (motor angle θj).
     pub motor: String,
     /// Load encoder column (load angle θz).
@@ -39,6 +43,12 @@ pub struct VoltageExperimentConfig {
     /// Factor to V of the voltage column; default 1.
     #[serde(default = "one")]
     pub voltage_scale: f64,
+    /// Factor to V or A of the command column; default 1.
+    #[serde(default = "one")]
+    pub command_scale: f64,
+    /// Factor to rad of the reference column; default 1.
+    #[serde(default = "one")]
+    pub reference_scale: f64,
 }
 
 fn one() -> f64 {
@@ -78,8 +88,11 @@ pub struct CompliantConfig {
     pub km_equals_ke: Option<bool>,
     /// Runge–Kutta substeps per sample; default from the start's fastest rate.
     pub substeps: Option<usize>,
-    /// The voltage tests fitted jointly.
+    /// The records fitted jointly (voltage tests, or closed-loop records with a
+    /// `[controller]`).
     pub experiment: Vec<VoltageExperimentConfig>,
+    /// The discrete controller of closed-loop records; absent for voltage tests.
+    pub controller: Option<super::loop_config::LoopControllerConfig>,
     /// The fit.
     #[serde(default)]
     pub fit: CompliantFitConfig,
@@ -119,6 +132,7 @@ impl CompliantConfig {
         }
         c.between(file)?;
         c.outputs(file)?;
+        super::loop_config::check(&c, file)?;
         c.free(file)?;
         for k in c.params.keys() {
             index(k, file, "[params]")?;
@@ -136,7 +150,7 @@ impl CompliantConfig {
             if Signal::parse(k).is_none() || !(*v > 0.0 && v.is_finite()) {
                 return Err(DriveError::config(
                     format!("{file}, [fit] noise.{k}"),
-                    "expected a positive noise level for `motor`, `load` or `current`",
+                    "expected a positive noise level for `motor`, `load`, `current` or `command`",
                 ));
             }
         }
@@ -167,7 +181,7 @@ impl CompliantConfig {
             let o = Signal::parse(s).ok_or_else(|| {
                 DriveError::config(
                     format!("{file}, [fit] outputs"),
-                    format!("'{s}'; expected motor, load or current"),
+                    format!("'{s}'; expected motor, load, current or command"),
                 )
             })?;
             if !out.contains(&o) {

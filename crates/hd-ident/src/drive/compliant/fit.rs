@@ -55,11 +55,13 @@ pub enum Signal {
     Load,
     /// Armature current [A].
     Current,
+    /// Closed loop: the controller's output [V or A].
+    Command,
 }
 
 impl Signal {
     /// Every output, in report order.
-    pub const ALL: [Signal; 3] = [Signal::Motor, Signal::Load, Signal::Current];
+    pub const ALL: [Signal; 4] = [Signal::Motor, Signal::Load, Signal::Current, Signal::Command];
 
     /// Its name in configurations and reports.
     pub fn name(self) -> &'static str {
@@ -67,6 +69,7 @@ impl Signal {
             Signal::Motor => "motor",
             Signal::Load => "load",
             Signal::Current => "current",
+            Signal::Command => "command",
         }
     }
 
@@ -74,6 +77,7 @@ impl Signal {
     pub fn unit(self) -> &'static str {
         match self {
             Signal::Current => "A",
+            Signal::Command => "V or A",
             _ => "rad",
         }
     }
@@ -89,6 +93,7 @@ impl Signal {
             Signal::Motor => Some(&r.theta_m),
             Signal::Load => Some(&r.theta_l),
             Signal::Current => r.current.as_deref(),
+            Signal::Command => r.closed.is_some().then_some(&r.u[..]),
         }
     }
 
@@ -98,6 +103,7 @@ impl Signal {
             Signal::Motor => &o.theta_m,
             Signal::Load => &o.theta_l,
             Signal::Current => &o.current,
+            Signal::Command => &o.command,
         }
     }
 }

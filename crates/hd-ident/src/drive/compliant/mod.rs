@@ -5,20 +5,26 @@
 //! the current, with the exact Jacobian of the integration ([`fit::fit_compliant`]).
 
 pub mod accuracy;
+pub mod closed_loop;
 pub mod config;
 pub mod correlated;
 pub mod creeping;
 pub mod determined;
 pub mod fit;
+pub mod loop_config;
 pub mod model;
 pub mod record;
 pub mod simulate;
 pub mod stages;
 pub mod supported;
+pub mod synth_loop;
 
 #[cfg(test)]
 mod tests;
+#[cfg(test)]
+mod tests_loop;
 
+pub use closed_loop::{Amplifier, ClosedLoop, Feedback};
 pub use config::CompliantConfig;
 pub use fit::{CompliantFit, CompliantSpec, RecordScore, Signal, substeps_for};
 pub use model::{Compliant, NAMES};

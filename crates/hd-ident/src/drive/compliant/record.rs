@@ -1,6 +1,7 @@
 //! A voltage test of a drive, logged as a rig logs it: the applied voltage, the motor and
 //! load encoders and, where measured, the armature current, sampled uniformly.
 
+use super::closed_loop::ClosedLoop;
 use crate::drive::error::DriveError;
 
 /// How the voltage runs between two samples.
@@ -56,6 +57,9 @@ pub struct VoltageRecord {
     pub theta_l: Vec<f64>,
     /// Armature current [A], if logged.
     pub current: Option<Vec<f64>>,
+    /// The loop the record was logged in, if any; `u` is then the recorded command
+    /// (the controller's output, [V] or [A]) ([`VoltageRecord::in_loop`]).
+    pub closed: Option<ClosedLoop>,
 }
 
 impl VoltageRecord {
@@ -104,7 +108,32 @@ impl VoltageRecord {
             theta_m,
             theta_l,
             current,
+            closed: None,
         })
+    }
+
+    /// The record as logged in loop `cl`: its `u` is the recorded command. The reference
+    /// must have one finite value per sample, and the controller the record's sample period.
+    pub fn in_loop(mut self, mut cl: ClosedLoop) -> Result<VoltageRecord, DriveError> {
+        let err = |m: String| DriveError::data(&self.source, m);
+        let n = self.len();
+        if cl.reference.len() != n {
+            return Err(err(format!(
+                "the reference column has {} samples but time has {n}",
+                cl.reference.len()
+            )));
+        }
+        if let Some(k) = cl.reference.iter().position(|v| !v.is_finite()) {
+            return Err(err(format!(
+                "reference, row {}: {} is not a finite number",
+                k + 2,
+                cl.reference[k]
+            )));
+        }
+        cl.controller.h = self.h;
+        cl.controller.open_loop = None;
+        self.closed = Some(cl);
+        Ok(self)
     }
 
     /// Number of samples.

@@ -1,5 +1,6 @@
-//! The compliant drive re-run under a record's voltage, from rest at the record's first
-//! encoder readings, sampled where the record is. Generic over the arithmetic: plain runs
+//! The compliant drive re-run under a record's voltage (or in its loop,
+//! [`super::closed_loop`]), from rest at the record's first encoder readings, sampled where
+//! the record is. Generic over the arithmetic: plain runs
 //! (`f64`) and runs carrying forward sensitivities ([`crate::drive::dual::Dual`]).
 
 use super::model::{Compliant, State};
@@ -15,6 +16,8 @@ pub struct Outputs<T> {
     pub theta_l: Vec<T>,
     /// Armature current [A].
     pub current: Vec<T>,
+    /// Closed loop: the command acting over each sample [V or A]; empty for a voltage test.
+    pub command: Vec<T>,
 }
 
 /// Run drive `d` under the voltage of `rec` (read between samples as `between`), `substeps`
@@ -26,6 +29,9 @@ pub fn simulate<T: Scalar>(
     between: Between,
     substeps: usize,
 ) -> Outputs<T> {
+    if let Some(cl) = &rec.closed {
+        return super::closed_loop::simulate_loop(d, rec, cl, substeps);
+    }
     let n = rec.len();
     let m = substeps.max(1);
     let step = rec.h / m as f64;
@@ -34,6 +40,7 @@ pub fn simulate<T: Scalar>(
         theta_m: Vec::with_capacity(n),
         theta_l: Vec::with_capacity(n),
         current: Vec::with_capacity(n),
+        command: Vec::new(),
     };
     let mut y = State::<T>::rest(rec.theta_m[0]);
     for k in 0..n {
@@ -58,8 +65,17 @@ pub fn simulate<T: Scalar>(
 /// its quantisation and noise into every sample. Returns the offsets added [rad]
 /// (motor, load); in a run with sensitivities they carry their derivatives, so the fit sees
 /// the residuals with the zeros projected out.
+///
+/// In closed loop the encoder the controller reads is not shifted: its zero enters the
+/// error r − q, so the run starts at that encoder's first reading and stays there (its
+/// offset is reported as 0). The other encoder's zero is still fitted as a constant.
 pub fn on_encoder_zeros<T: Scalar>(rec: &VoltageRecord, out: &mut Outputs<T>) -> [T; 2] {
-    let shift = |sim: &mut Vec<T>, meas: &[f64]| {
+    use super::closed_loop::Feedback;
+    let fixed = rec.closed.as_ref().map(|c| c.feedback);
+    let shift = |sim: &mut Vec<T>, meas: &[f64], fixed: bool| {
+        if fixed {
+            return T::cst(0.0);
+        }
         let n = sim.len().min(meas.len()).max(1) as f64;
         let mut acc = T::cst(0.0);
         for (s, m) in sim.iter().zip(meas) {
@@ -71,5 +87,8 @@ pub fn on_encoder_zeros<T: Scalar>(rec: &VoltageRecord, out: &mut Outputs<T>) ->
         }
         off
     };
-    [shift(&mut out.theta_m, &rec.theta_m), shift(&mut out.theta_l, &rec.theta_l)]
+    [
+        shift(&mut out.theta_m, &rec.theta_m, fixed == Some(Feedback::Motor)),
+        shift(&mut out.theta_l, &rec.theta_l, fixed == Some(Feedback::Load)),
+    ]
 }
