@@ -123,56 +123,6 @@ fn rates_held<T: Scalar>(d: &Compliant<T>, y: &State<T>, command: T, amp: Amplif
     r
 }
 
-/// `y + k·h`.
-fn add<T: Scalar>(y: &State<T>, k: &State<T>, h: f64) -> State<T> {
-    State {
-        theta_j: y.theta_j + k.theta_j * h,
-        omega_j: y.omega_j + k.omega_j * h,
-        theta: y.theta + k.theta * h,
-        omega_z: y.omega_z + k.omega_z * h,
-        z: y.z + k.z * h,
-        w: y.w + k.w * h,
-    }
-}
-
-/// One Runge–Kutta step of `h` [s] under the held command, the bristle carried by its
-/// integrating factor (the Lawson form, as [`Compliant::step`] does for a voltage test).
-fn step_held<T: Scalar>(
-    d: &Compliant<T>,
-    y: &State<T>,
-    command: T,
-    amp: Amplifier,
-    h: f64,
-) -> State<T> {
-    let l0 = d.relaxation(y);
-    let e_half = (-(l0 * (0.5 * h))).exp();
-    let e_full = e_half * e_half;
-    let rates = |at: &State<T>| {
-        let k = rates_held(d, at, command, amp);
-        State { w: k.w + l0 * at.w, ..k }
-    };
-    let k1 = rates(y);
-    let mut y2 = add(y, &k1, 0.5 * h);
-    y2.w = e_half * (y.w + k1.w * (0.5 * h));
-    let k2 = rates(&y2);
-    let mut y3 = add(y, &k2, 0.5 * h);
-    y3.w = e_half * y.w + k2.w * (0.5 * h);
-    let k3 = rates(&y3);
-    let mut y4 = add(y, &k3, h);
-    y4.w = e_full * y.w + e_half * k3.w * h;
-    let k4 = rates(&y4);
-    let sixth = h / 6.0;
-    let comb = |a: T, b: T, c: T, e: T| (a + (b + c) * 2.0 + e) * sixth;
-    State {
-        theta_j: y.theta_j + comb(k1.theta_j, k2.theta_j, k3.theta_j, k4.theta_j),
-        omega_j: y.omega_j + comb(k1.omega_j, k2.omega_j, k3.omega_j, k4.omega_j),
-        theta: y.theta + comb(k1.theta, k2.theta, k3.theta, k4.theta),
-        omega_z: y.omega_z + comb(k1.omega_z, k2.omega_z, k3.omega_z, k4.omega_z),
-        z: y.z + comb(k1.z, k2.z, k3.z, k4.z),
-        w: e_full * y.w + (e_full * k1.w + e_half * (k2.w + k3.w) * 2.0 + k4.w) * sixth,
-    }
-}
-
 /// Run drive `d` in the loop `cl` of record `rec`, `substeps` Runge–Kutta steps per sample,
 /// from rest at the record's first motor and load readings. The command output is the
 /// command acting over each sample [V or A].
@@ -215,7 +165,7 @@ pub fn simulate_loop<T: Scalar>(
             break;
         }
         for _ in 0..m {
-            y = step_held(d, &y, command, cl.amplifier, step);
+            y = d.step_by(&y, |s, _| rates_held(d, s, command, cl.amplifier), step);
         }
     }
     out

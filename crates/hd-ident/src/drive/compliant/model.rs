@@ -183,27 +183,40 @@ impl<T: Scalar> Compliant<T> {
         }
     }
 
-    /// One step of `d` [s] from `y` with the voltage `u(τ)` at τ = 0, d/2 and d: classical
-    /// Runge–Kutta for the mechanics, the memory and the motor, with the bristle carried by
-    /// its integrating factor e^{−λ0·τ} (λ0 the relaxation rate at the step's start; the
-    /// Lawson form of the same method), so a bristle that relaxes far faster than the step
-    /// stays stable and exact at a held speed.
+    /// One step of `d` [s] from `y` with the voltage `u(τ)` at τ = 0, d/2 and d
+    /// ([`Compliant::step_by`] with the model's own rates).
     pub fn step(&self, y: &State<T>, u: [f64; 3], d: f64) -> State<T> {
+        self.step_by(y, |s, at| self.rates(s, u[at]), d)
+    }
+
+    /// One step of `d` [s] from `y`, `rates(state, at)` giving the rates with the input at
+    /// τ = 0 (`at` = 0), d/2 (1) and d (2): classical Runge–Kutta for the mechanics, the
+    /// memory and the motor, with the bristle carried by its integrating factor e^{−λ0·τ}
+    /// (λ0 the relaxation rate at the step's start; the Lawson form of the same method), so
+    /// a bristle that relaxes far faster than the step stays stable and exact at a held
+    /// speed. One step for every input the drive takes: a voltage test's voltage, a loop's
+    /// held command.
+    pub fn step_by(
+        &self,
+        y: &State<T>,
+        rates: impl Fn(&State<T>, usize) -> State<T>,
+        d: f64,
+    ) -> State<T> {
         let l0 = self.relaxation(y);
         let e_half = (-(l0 * (0.5 * d))).exp();
         let e_full = e_half * e_half;
         // The bristle's rate less its stiff part, g = ẇ + λ0·w, drives the transformed state.
         let with_g = |k: State<T>, at: &State<T>| State { w: k.w + l0 * at.w, ..k };
-        let k1 = with_g(self.rates(y, u[0]), y);
+        let k1 = with_g(rates(y, 0), y);
         let mut y2 = y.add(&k1, 0.5 * d);
         y2.w = e_half * (y.w + k1.w * (0.5 * d));
-        let k2 = with_g(self.rates(&y2, u[1]), &y2);
+        let k2 = with_g(rates(&y2, 1), &y2);
         let mut y3 = y.add(&k2, 0.5 * d);
         y3.w = e_half * y.w + k2.w * (0.5 * d);
-        let k3 = with_g(self.rates(&y3, u[1]), &y3);
+        let k3 = with_g(rates(&y3, 1), &y3);
         let mut y4 = y.add(&k3, d);
         y4.w = e_full * y.w + e_half * k3.w * d;
-        let k4 = with_g(self.rates(&y4, u[2]), &y4);
+        let k4 = with_g(rates(&y4, 2), &y4);
         let sixth = d / 6.0;
         let comb = |a: T, b: T, c: T, e: T| (a + (b + c) * 2.0 + e) * sixth;
         State {

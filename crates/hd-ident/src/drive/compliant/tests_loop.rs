@@ -253,7 +253,7 @@ fn fits_the_drive_in_its_loop() {
         noise_estimated: Vec::new(),
         km_is_ke: true,
         substeps: 4 * substeps_for(&start, n, h),
-        settings: LmSettings { max_iterations: 300, cost_tolerance: 1e-8 },
+        settings: LmSettings { max_iterations: 300, cost_tolerance: 1e-8, geodesic: true },
     };
     let fit = fit_compliant(&spec, std::slice::from_ref(&rec), &|_, _| {}).unwrap();
     println!(
