@@ -141,4 +141,27 @@ fn bad_compliant_configurations_get_one_line_errors() {
         let o = run("", "");
         assert_one_line_error(&o, &[expect, "start.toml"]);
     }
+    // A load encoder that counts the other way, or a wrong gear ratio, is named before any
+    // fitting.
+    for (start_file, line, expect) in [
+        ("R = 7.5\n", "load_scale = -1.0", "opposite directions"),
+        ("R = 7.5\nN = 50\n", "", "moves 0.50"),
+    ] {
+        std::fs::write(dir.join("start.toml"), start_file).unwrap();
+        let cfg = config(&dir, "", "");
+        let text = std::fs::read_to_string(&cfg)
+            .unwrap()
+            .replace("current = \"i\"", &format!("current = \"i\"\n{line}"));
+        std::fs::write(&cfg, text).unwrap();
+        let out = dir.join("out");
+        let o = hdw(&[
+            "fit",
+            "drive",
+            "--config",
+            cfg.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+        ]);
+        assert_one_line_error(&o, &[expect, "chirp.csv"]);
+    }
 }

@@ -153,6 +153,11 @@ pub fn run(args: &DriveArgs, text: &str) -> Result<()> {
     let between = cfg.between(&file)?;
     let free = cfg.free(&file)?;
     let (params, n) = base_params(&cfg, base)?;
+    for r in records.iter().chain(&validation) {
+        if let Some(why) = hd_ident::drive::compliant::ratio_check::check_ratio(r, n) {
+            anyhow::bail!("{why}");
+        }
+    }
     let (start, lower, upper) = cfg.start_and_bounds(&params);
     let has_current = records.iter().all(|r| r.current.is_some());
     let current_amplifier = controller.as_ref().is_some_and(|c| c.amplifier == Amplifier::Current);
