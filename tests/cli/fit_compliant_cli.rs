@@ -97,8 +97,12 @@ fn bad_compliant_configurations_get_one_line_errors() {
     let rec = dir.join("chirp.csv");
     hdw_ok(&["synth", "drive", "--freq", "5", "--t-end", "0.1", "--out", rec.to_str().unwrap()]);
     start(&dir);
-    let run = |extra: &str, fit: &str| {
+    // The configuration with `extra` and `fit`, each experiment line `current = "i"`
+    // replaced by `current_line`, run; a failed fit must leave no output folder.
+    let run_with = |extra: &str, fit: &str, current_line: &str| {
         let cfg = config(&dir, extra, fit);
+        let text = std::fs::read_to_string(&cfg).unwrap().replace("current = \"i\"", current_line);
+        std::fs::write(&cfg, text).unwrap();
         let out = dir.join("out");
         let o = hdw(&[
             "fit",
@@ -111,6 +115,7 @@ fn bad_compliant_configurations_get_one_line_errors() {
         assert!(!out.exists(), "a failed fit leaves no output folder");
         o
     };
+    let run = |extra: &str, fit: &str| run_with(extra, fit, "current = \"i\"");
     let cases = [
         ("[params]\nJx = 1.0\n", "", "[params] 'Jx'"),
         ("", "free = [\"R\", \"gain\"]", "[fit] free 'gain'"),
@@ -125,11 +130,7 @@ fn bad_compliant_configurations_get_one_line_errors() {
         assert_one_line_error(&o, &[expect, "fit.toml"]);
     }
     // A missing column names the file and the column.
-    let cfg = config(&dir, "", "").to_str().unwrap().to_string();
-    let text =
-        std::fs::read_to_string(&cfg).unwrap().replace("current = \"i\"", "current = \"amps\"");
-    std::fs::write(&cfg, text).unwrap();
-    let o = hdw(&["fit", "drive", "--config", &cfg, "--out", dir.join("out").to_str().unwrap()]);
+    let o = run_with("", "", "current = \"amps\"");
     assert_one_line_error(&o, &["amps", "chirp.csv"]);
     // A params file asking for what the compliant model is not names the file and the key.
     for (line, expect) in [
@@ -148,20 +149,7 @@ fn bad_compliant_configurations_get_one_line_errors() {
         ("R = 7.5\nN = 50\n", "", "moves 0.50"),
     ] {
         std::fs::write(dir.join("start.toml"), start_file).unwrap();
-        let cfg = config(&dir, "", "");
-        let text = std::fs::read_to_string(&cfg)
-            .unwrap()
-            .replace("current = \"i\"", &format!("current = \"i\"\n{line}"));
-        std::fs::write(&cfg, text).unwrap();
-        let out = dir.join("out");
-        let o = hdw(&[
-            "fit",
-            "drive",
-            "--config",
-            cfg.to_str().unwrap(),
-            "--out",
-            out.to_str().unwrap(),
-        ]);
+        let o = run_with("", "", &format!("current = \"i\"\n{line}"));
         assert_one_line_error(&o, &[expect, "chirp.csv"]);
     }
 }
