@@ -210,6 +210,7 @@ pub fn run(args: &DriveArgs, text: &str) -> Result<()> {
         upper,
         outputs,
         km_is_ke: cfg.km_equals_ke.unwrap_or(true),
+        current_offset: cfg.fit.current_offset.unwrap_or(true),
         substeps: floor,
         settings: LmSettings {
             max_iterations: cfg.fit.max_iterations.unwrap_or(MAX_ITERATIONS),

@@ -5,10 +5,8 @@
 use super::fit_drive_compliant_loop::LoopInfo;
 use super::fit_drive_out::pair_plots;
 use anyhow::Result;
-use hd_ident::drive::compliant::fit::{CompliantSpec, RecordScore, Signal};
-use hd_ident::drive::compliant::{
-    Compliant, CompliantFit, NAMES, VoltageRecord, on_encoder_zeros, simulate,
-};
+use hd_ident::drive::compliant::fit::{CompliantSpec, RecordScore, Signal, simulate_on_zeros};
+use hd_ident::drive::compliant::{Compliant, CompliantFit, NAMES, VoltageRecord};
 use serde_json::{Map, Value, json};
 use std::fmt::Write as _;
 use std::path::Path;
@@ -62,6 +60,9 @@ fn scores_json(s: &RecordScore, ctl: Option<&LoopInfo>) -> Value {
         if let Some(x) = offset {
             v["encoder_offset"] = json!(x);
         }
+        if let (Signal::Current, Some(x)) = (o, s.current_offset) {
+            v["sensor_offset"] = json!(x);
+        }
         m.insert(o.name().into(), v);
     }
     Value::Object(m)
@@ -91,9 +92,7 @@ fn fmt_score(s: &RecordScore, ctl: Option<&LoopInfo>) -> String {
 /// Measured against simulated, and the residuals, of every compared output of `r`, as
 /// `prefix<output>.svg` and `prefix residuals-<output>.svg`.
 fn plots(dir: &Path, o: &Outcome, r: &VoltageRecord, prefix: &str) -> Result<Vec<String>> {
-    let mut sim =
-        simulate(&Compliant::new(o.fit.values, o.spec.n), r, o.spec.between, o.spec.substeps);
-    on_encoder_zeros(r, &mut sim);
+    let (sim, _, _) = simulate_on_zeros(&o.spec, &Compliant::new(o.fit.values, o.spec.n), r);
     let mut files = Vec::new();
     for (s, _) in &o.spec.outputs {
         let Some(meas) = s.measured(r) else { continue };

@@ -71,6 +71,9 @@ pub struct CompliantFitConfig {
     pub fix: Option<Vec<String>>,
     /// Iteration budget of each Levenberg–Marquardt pass; default 300.
     pub max_iterations: Option<usize>,
+    /// Fit each record's current sensor offset as a constant; default true (`false` takes
+    /// the sensor as zeroed, and lets the current's mean inform the fit).
+    pub current_offset: Option<bool>,
 }
 
 /// The whole configuration of a compliant fit.

@@ -6,7 +6,7 @@
 
 use super::model::{Compliant, NAMES};
 use super::record::{Between, VoltageRecord};
-use super::simulate::{Outputs, on_encoder_zeros, simulate};
+use super::simulate::{Outputs, on_current_zero, on_encoder_zeros, simulate};
 use crate::drive::dual::{Dual, Scalar};
 use crate::drive::identifiability::{Determination, determination};
 use crate::drive::lm::{LmResult, LmSettings, minimise};
@@ -132,6 +132,9 @@ pub struct CompliantSpec {
     /// Whether the torque constant Km [N·m/A] is the back-EMF constant Ke [V·s/rad] (in SI
     /// units they are one constant of an ideal DC motor; Km then follows Ke).
     pub km_is_ke: bool,
+    /// Whether each record's current sensor offset is fitted as a constant (projected out
+    /// of the current's residuals, as the encoder zeros are).
+    pub current_offset: bool,
     /// Runge–Kutta substeps per sample (fixed for the whole fit, so the objective is smooth).
     pub substeps: usize,
     /// Optimiser settings.
@@ -155,6 +158,22 @@ pub struct RecordScore {
     /// The constants added to the simulated motor and load angles to put them on the
     /// record's encoder zeros ([`on_encoder_zeros`]) [rad].
     pub encoder_offsets: [f64; 2],
+    /// The current sensor's offset, where fitted ([`CompliantSpec::current_offset`]) [A].
+    pub current_offset: Option<f64>,
+}
+
+/// Run drive `d` on record `rec` as `spec` says, with the outputs put on the record's zeros
+/// (the encoders' always, the current sensor's when `spec.current_offset`); returns the
+/// outputs, the encoder offsets and the current offset.
+pub fn simulate_on_zeros<T: Scalar>(
+    spec: &CompliantSpec,
+    d: &Compliant<T>,
+    rec: &VoltageRecord,
+) -> (Outputs<T>, [T; 2], Option<T>) {
+    let mut sim = simulate(d, rec, spec.between, spec.substeps);
+    let enc = on_encoder_zeros(rec, &mut sim);
+    let cur = if spec.current_offset { on_current_zero(rec, &mut sim) } else { None };
+    (sim, enc, cur)
 }
 
 /// A fitted compliant drive.
@@ -211,8 +230,7 @@ pub fn score_records(
         .par_iter()
         .enumerate()
         .map(|(k, r)| {
-            let mut sim = simulate(&d, r, spec.between, spec.substeps);
-            let encoder_offsets = on_encoder_zeros(r, &mut sim);
+            let (sim, encoder_offsets, current_offset) = simulate_on_zeros(spec, &d, r);
             let outputs = spec
                 .outputs
                 .iter()
@@ -223,7 +241,7 @@ pub fn score_records(
                     Some((*o, s, sigma, s.rmse / sigma))
                 })
                 .collect();
-            RecordScore { name: r.name.clone(), outputs, encoder_offsets }
+            RecordScore { name: r.name.clone(), outputs, encoder_offsets, current_offset }
         })
         .collect()
 }
@@ -240,8 +258,7 @@ fn residuals_of<T: Scalar + Send + Sync>(
         .par_iter()
         .enumerate()
         .map(|(k, r)| {
-            let mut sim = simulate(&d, r, spec.between, spec.substeps);
-            on_encoder_zeros(r, &mut sim);
+            let (sim, _, _) = simulate_on_zeros(spec, &d, r);
             let mut out = Vec::new();
             for (o, noise) in &spec.outputs {
                 let Some(meas) = o.measured(r) else { continue };

@@ -92,3 +92,20 @@ pub fn on_encoder_zeros<T: Scalar>(rec: &VoltageRecord, out: &mut Outputs<T>) ->
         shift(&mut out.theta_l, &rec.theta_l, fixed == Some(Feedback::Load)),
     ]
 }
+
+/// Put the simulated current on the record's current sensor zero: add the mean of measured
+/// − simulated (a sensor's constant offset, fitted by least squares). Returns the offset
+/// added [A], or None when the record logs no current.
+pub fn on_current_zero<T: Scalar>(rec: &VoltageRecord, out: &mut Outputs<T>) -> Option<T> {
+    let meas = rec.current.as_deref()?;
+    let n = out.current.len().min(meas.len()).max(1) as f64;
+    let mut acc = T::cst(0.0);
+    for (s, m) in out.current.iter().zip(meas) {
+        acc = acc + (-*s + *m);
+    }
+    let off = acc / n;
+    for s in out.current.iter_mut() {
+        *s = *s + off;
+    }
+    Some(off)
+}

@@ -165,6 +165,7 @@ fn exact_derivatives_through_the_loop() {
             ],
             noise_estimated: Vec::new(),
             km_is_ke: false,
+            current_offset: false,
             substeps: 8,
             settings: LmSettings::default(),
         };
@@ -252,6 +253,7 @@ fn fits_the_drive_in_its_loop() {
         outputs: Signal::ALL.iter().zip(noise).map(|(s, v)| (*s, vec![v])).collect(),
         noise_estimated: Vec::new(),
         km_is_ke: true,
+        current_offset: false,
         substeps: 4 * substeps_for(&start, n, h),
         settings: LmSettings { max_iterations: 300, cost_tolerance: 1e-8, geodesic: true },
     };
