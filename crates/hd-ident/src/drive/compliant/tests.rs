@@ -317,3 +317,48 @@ fn a_current_sensor_offset_is_projected_out() {
     let fitted = scores[0].current_offset.unwrap();
     assert!((fitted - offset).abs() < 1e-3 * offset, "{fitted}");
 }
+
+/// The substep count chosen for a record whose load encoder is fine (2^20 counts) meets the
+/// accuracy budget: the noise-weighted cost of the difference between runs at the count
+/// and at twice it is below 1, while at the rate floor it is not (measured: floor 20,
+/// cost 3.2; chosen 29, cost 0.50).
+#[test]
+fn the_substep_count_meets_the_accuracy_budget() {
+    use super::accuracy::{ACCURACY_COST, accurate_substeps};
+    let h = 1e-3;
+    let rec = record(&reference(0.4, h, 12.0), "ref");
+    let n = Params::default().n;
+    let p = seed();
+    let q = |counts: f64| TAU / counts / 12f64.sqrt();
+    let spec = CompliantSpec {
+        n,
+        between: Between::Linear,
+        start: p,
+        free: [false; 18],
+        lower: [f64::NEG_INFINITY; 18],
+        upper: [f64::INFINITY; 18],
+        outputs: vec![
+            (Signal::Motor, vec![q(4096.0)]),
+            (Signal::Load, vec![q((1u64 << 20) as f64)]),
+            (Signal::Current, vec![0.01]),
+        ],
+        noise_estimated: Vec::new(),
+        km_is_ke: true,
+        current_offset: true,
+        substeps: substeps_for(&p, n, h),
+        settings: LmSettings::default(),
+    };
+    let records = std::slice::from_ref(&rec);
+    let cost = |m: usize| {
+        let at = |m: usize| {
+            super::fit::residuals_at(&CompliantSpec { substeps: m, ..spec.clone() }, &p, records)
+                .unwrap()
+        };
+        at(m).iter().zip(&at(2 * m)).map(|(a, b)| (a - b) * (a - b)).sum::<f64>()
+    };
+    let (m, err) = accurate_substeps(&spec, records);
+    let floor = spec.substeps;
+    println!("floor {floor}: cost {:.3}; chosen {m}: cost {err:.3}", cost(floor));
+    assert!(err < ACCURACY_COST && (cost(m) - err).abs() < 1e-9, "{m}: {err}");
+    assert!(m == floor || cost(floor) >= ACCURACY_COST, "raised from {floor} to {m} needlessly");
+}
