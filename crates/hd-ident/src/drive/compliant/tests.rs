@@ -60,6 +60,31 @@ fn rms(a: &[f64]) -> f64 {
     (a.iter().map(|v| v * v).sum::<f64>() / a.len() as f64).sqrt()
 }
 
+/// A specification for these tests: the drive at `start` (ratio `n`), one record compared on
+/// `outputs` with their noise levels, `substeps` per sample; nothing free, no bounds, Km
+/// following Ke, no current offset, and the command's optimiser settings.
+pub(super) fn test_spec(
+    n: f64,
+    start: [f64; 18],
+    outputs: Vec<(Signal, Vec<f64>)>,
+    substeps: usize,
+) -> CompliantSpec {
+    CompliantSpec {
+        n,
+        between: Between::Linear,
+        start,
+        free: [false; 18],
+        lower: [f64::NEG_INFINITY; 18],
+        upper: [f64::INFINITY; 18],
+        outputs,
+        noise_estimated: Vec::new(),
+        km_is_ke: true,
+        current_offset: false,
+        substeps,
+        settings: LmSettings { max_iterations: 300, cost_tolerance: 1e-8, geodesic: true },
+    }
+}
+
 /// The fit's integration of the seed drive matches hd-model's adaptive solve (rtol 1e-11):
 /// at the substeps the fit picks, motor angle, load angle and current agree to 1e-4 of their
 /// RMS (8.7e-5, 8.7e-5 and 3.9e-5 measured), and twice the substeps cut every difference by
@@ -110,24 +135,13 @@ fn exact_derivatives() {
     let mut start = seed();
     start[super::model::ix::SIGMA2] = 0.01;
     let free_idx: Vec<usize> = (0..18).filter(|&k| k != 8 && k != 9).collect();
-    let spec = CompliantSpec {
-        n,
-        between: Between::Linear,
-        start,
-        free: [true; 18],
-        lower: [f64::NEG_INFINITY; 18],
-        upper: [f64::INFINITY; 18],
-        outputs: vec![
-            (Signal::Motor, vec![1e-3]),
-            (Signal::Load, vec![1e-5]),
-            (Signal::Current, vec![1e-2]),
-        ],
-        noise_estimated: Vec::new(),
-        km_is_ke: false,
-        current_offset: false,
-        substeps: 8,
-        settings: LmSettings { max_iterations: 300, cost_tolerance: 1e-8, geodesic: true },
-    };
+    let outputs = vec![
+        (Signal::Motor, vec![1e-3]),
+        (Signal::Load, vec![1e-5]),
+        (Signal::Current, vec![1e-2]),
+    ];
+    let spec =
+        CompliantSpec { free: [true; 18], km_is_ke: false, ..test_spec(n, start, outputs, 8) };
     let (_, jac) = residuals_and_jacobian(&spec, &start, &free_idx, std::slice::from_ref(&rec));
     for (c, &k) in free_idx.iter().enumerate() {
         let step = 1e-5 * start[k].abs().max(1e-6);
@@ -185,19 +199,12 @@ fn fit_chirp(t_end: f64, h: f64, f_end: f64) -> super::fit::CompliantFit {
     }
     free[KM] = true;
     let noise = [qm / 12f64.sqrt(), ql / 12f64.sqrt(), sigma_i];
+    let outputs = Signal::ALL.iter().zip(noise).map(|(s, v)| (*s, vec![v])).collect();
     let spec = CompliantSpec {
-        n,
-        between: Between::Linear,
-        start,
         free,
         lower: start.map(|v| v * 1e-3),
         upper: start.map(|v| v * 1e3),
-        outputs: Signal::ALL.iter().zip(noise).map(|(s, v)| (*s, vec![v])).collect(),
-        noise_estimated: Vec::new(),
-        km_is_ke: true,
-        current_offset: false,
-        substeps: substeps_for(&start, n, h),
-        settings: LmSettings { max_iterations: 300, cost_tolerance: 1e-8, geodesic: true },
+        ..test_spec(n, start, outputs, substeps_for(&start, n, h))
     };
     let at_truth =
         super::fit::residuals_and_jacobian(&spec, &truth, &[], std::slice::from_ref(&rec)).0;
@@ -294,18 +301,8 @@ fn a_current_sensor_offset_is_projected_out() {
     let n = Params::default().n;
     let p = seed();
     let spec = |current_offset: bool| CompliantSpec {
-        n,
-        between: Between::Linear,
-        start: p,
-        free: [false; 18],
-        lower: [f64::NEG_INFINITY; 18],
-        upper: [f64::INFINITY; 18],
-        outputs: vec![(Signal::Current, vec![1.0])],
-        noise_estimated: Vec::new(),
-        km_is_ke: true,
         current_offset,
-        substeps: substeps_for(&p, n, h),
-        settings: LmSettings::default(),
+        ..test_spec(n, p, vec![(Signal::Current, vec![1.0])], substeps_for(&p, n, h))
     };
     let records = std::slice::from_ref(&rec);
     let rms_at = |c: bool| rms(&super::fit::residuals_at(&spec(c), &p, records).unwrap());
@@ -330,24 +327,13 @@ fn the_substep_count_meets_the_accuracy_budget() {
     let n = Params::default().n;
     let p = seed();
     let q = |counts: f64| TAU / counts / 12f64.sqrt();
-    let spec = CompliantSpec {
-        n,
-        between: Between::Linear,
-        start: p,
-        free: [false; 18],
-        lower: [f64::NEG_INFINITY; 18],
-        upper: [f64::INFINITY; 18],
-        outputs: vec![
-            (Signal::Motor, vec![q(4096.0)]),
-            (Signal::Load, vec![q((1u64 << 20) as f64)]),
-            (Signal::Current, vec![0.01]),
-        ],
-        noise_estimated: Vec::new(),
-        km_is_ke: true,
-        current_offset: true,
-        substeps: substeps_for(&p, n, h),
-        settings: LmSettings::default(),
-    };
+    let outputs = vec![
+        (Signal::Motor, vec![q(4096.0)]),
+        (Signal::Load, vec![q((1u64 << 20) as f64)]),
+        (Signal::Current, vec![0.01]),
+    ];
+    let spec =
+        CompliantSpec { current_offset: true, ..test_spec(n, p, outputs, substeps_for(&p, n, h)) };
     let records = std::slice::from_ref(&rec);
     let cost = |m: usize| {
         let at = |m: usize| {

@@ -10,8 +10,8 @@ use super::record::{Between, VoltageRecord};
 use super::simulate::simulate;
 use super::stages::fit_compliant;
 use super::synth_loop::{quantise, run_loop};
+use super::tests::test_spec;
 use crate::drive::controller::Controller;
-use crate::drive::lm::LmSettings;
 use hd_model::{Params, SimConfig, SolverOptions};
 use std::f64::consts::{PI, TAU};
 
@@ -150,24 +150,17 @@ fn exact_derivatives_through_the_loop() {
                 .into_iter()
                 .filter(|&k| amplifier == Amplifier::Voltage || (k != R && k != KE))
                 .collect();
+        let outputs = vec![
+            (Signal::Motor, vec![1e-4]),
+            (Signal::Load, vec![1e-6]),
+            (Signal::Current, vec![1e-2]),
+            (Signal::Command, vec![1e-2]),
+        ];
         let spec = CompliantSpec {
-            n,
             between: Between::Hold,
-            start,
             free: [true; 18],
-            lower: [f64::NEG_INFINITY; 18],
-            upper: [f64::INFINITY; 18],
-            outputs: vec![
-                (Signal::Motor, vec![1e-4]),
-                (Signal::Load, vec![1e-6]),
-                (Signal::Current, vec![1e-2]),
-                (Signal::Command, vec![1e-2]),
-            ],
-            noise_estimated: Vec::new(),
             km_is_ke: false,
-            current_offset: false,
-            substeps: 8,
-            settings: LmSettings::default(),
+            ..test_spec(n, start, outputs, 8)
         };
         let recs = std::slice::from_ref(&rec);
         let (_, jac) = residuals_and_jacobian(&spec, &start, &free_idx, recs);
@@ -243,19 +236,13 @@ fn fits_the_drive_in_its_loop() {
     free[KM] = true;
     start[KM] = start[KE];
     let noise = [qm, ql, sigma_i, sigma_u];
+    let outputs = Signal::ALL.iter().zip(noise).map(|(s, v)| (*s, vec![v])).collect();
     let spec = CompliantSpec {
-        n,
         between: Between::Hold,
-        start,
         free,
         lower: start.map(|v| v * 1e-3),
         upper: start.map(|v| v * 1e3),
-        outputs: Signal::ALL.iter().zip(noise).map(|(s, v)| (*s, vec![v])).collect(),
-        noise_estimated: Vec::new(),
-        km_is_ke: true,
-        current_offset: false,
-        substeps: 4 * substeps_for(&start, n, h),
-        settings: LmSettings { max_iterations: 300, cost_tolerance: 1e-8, geodesic: true },
+        ..test_spec(n, start, outputs, 4 * substeps_for(&start, n, h))
     };
     let fit = fit_compliant(&spec, std::slice::from_ref(&rec), &|_, _| {}).unwrap();
     println!(
