@@ -60,6 +60,36 @@ fn rms(a: &[f64]) -> f64 {
     (a.iter().map(|v| v * v).sum::<f64>() / a.len() as f64).sqrt()
 }
 
+/// Relative RMS difference ‖a − b‖/‖b‖ of each (simulated, reference) pair [–].
+pub(super) fn relative_differences<const K: usize>(pairs: [(&[f64], &[f64]); K]) -> [f64; K] {
+    pairs.map(|(a, b)| {
+        let diff: Vec<f64> = a.iter().zip(b.iter()).map(|(x, y)| x - y).collect();
+        rms(&diff) / rms(b)
+    })
+}
+
+/// Assert that each output's relative difference to the reference at `m` substeps
+/// (`coarse`) is below `largest` and falls by more than `factor` at 2m (`fine`).
+pub(super) fn assert_converging(
+    names: &[&str],
+    coarse: &[f64],
+    fine: &[f64],
+    m: usize,
+    largest: f64,
+    factor: f64,
+) {
+    for (k, what) in names.iter().enumerate() {
+        println!(
+            "{what}: relative difference {:.3e} ({m} substeps), {:.3e} ({})",
+            coarse[k],
+            fine[k],
+            2 * m
+        );
+        assert!(coarse[k] < largest, "{what}: relative difference {:e}", coarse[k]);
+        assert!(fine[k] < coarse[k] / factor, "{what}: {:e} then {:e}", coarse[k], fine[k]);
+    }
+}
+
 /// A specification for these tests: the drive at `start` (ratio `n`), one record compared on
 /// `outputs` with their noise levels, `substeps` per sample; nothing free, no bounds, Km
 /// following Ke, no current offset, and the command's optimiser settings.
@@ -100,27 +130,14 @@ fn matches_the_simulator() {
     let m = substeps_for(&p, n, h);
     let differences = |m: usize| {
         let sim = simulate(&Compliant::new(p, n), &rec, Between::Linear, m);
-        [
+        relative_differences([
             (&sim.theta_m, &rec.theta_m),
             (&sim.theta_l, &rec.theta_l),
             (&sim.current, rec.current.as_ref().unwrap()),
-        ]
-        .map(|(a, b)| {
-            let diff: Vec<f64> = a.iter().zip(b.iter()).map(|(x, y)| x - y).collect();
-            rms(&diff) / rms(b)
-        })
+        ])
     };
     let (coarse, fine) = (differences(m), differences(2 * m));
-    for (k, what) in ["motor", "load", "current"].iter().enumerate() {
-        println!(
-            "{what}: relative difference {:.3e} ({m} substeps), {:.3e} ({})",
-            coarse[k],
-            fine[k],
-            2 * m
-        );
-        assert!(coarse[k] < 1e-3, "{what}: relative difference {:e}", coarse[k]);
-        assert!(fine[k] < coarse[k] / 4.0, "{what}: {:e} then {:e}", coarse[k], fine[k]);
-    }
+    assert_converging(&["motor", "load", "current"], &coarse, &fine, m, 1e-3, 4.0);
 }
 
 /// The Jacobian from dual numbers equals central differences of the plain simulation on

@@ -10,7 +10,7 @@ use super::record::{Between, VoltageRecord};
 use super::simulate::simulate;
 use super::stages::fit_compliant;
 use super::synth_loop::{quantise, run_loop};
-use super::tests::test_spec;
+use super::tests::{assert_converging, relative_differences, test_spec};
 use crate::drive::controller::Controller;
 use hd_model::{Params, SimConfig, SolverOptions};
 use std::f64::consts::{PI, TAU};
@@ -104,28 +104,17 @@ fn the_loop_matches_the_simulator() {
         let m = substeps_for(&p, n, c.h);
         let differences = |m: usize| {
             let sim = simulate(&super::model::Compliant::new(p, n), &rec, Between::Hold, m);
-            [
+            relative_differences([
                 (&sim.theta_m, &rec.theta_m),
                 (&sim.theta_l, &rec.theta_l),
                 (&sim.current, rec.current.as_ref().unwrap()),
                 (&sim.command, &rec.u),
-            ]
-            .map(|(a, b)| {
-                let diff: Vec<f64> = a.iter().zip(b.iter()).map(|(x, y)| x - y).collect();
-                rms(&diff) / rms(b)
-            })
+            ])
         };
         let (coarse, fine) = (differences(m), differences(2 * m));
-        for (k, what) in ["motor", "load", "current", "command"].iter().enumerate() {
-            println!(
-                "{feedback:?}/{amplifier:?} {what}: relative difference {:.3e} ({m} substeps), {:.3e} ({})",
-                coarse[k],
-                fine[k],
-                2 * m
-            );
-            assert!(coarse[k] < 1e-2, "{feedback:?}/{amplifier:?} {what}: {:e}", coarse[k]);
-            assert!(fine[k] < coarse[k] / 2.5, "{what}: {:e} then {:e}", coarse[k], fine[k]);
-        }
+        println!("{feedback:?}/{amplifier:?}:");
+        let names = ["motor", "load", "current", "command"];
+        assert_converging(&names, &coarse, &fine, m, 1e-2, 2.5);
     }
 }
 
