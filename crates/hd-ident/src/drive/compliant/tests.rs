@@ -56,7 +56,8 @@ fn record(cols: &[Vec<f64>; 5], name: &str) -> VoltageRecord {
     VoltageRecord::new(name, "test", t, u, tj, tz, Some(i)).unwrap()
 }
 
-fn rms(a: &[f64]) -> f64 {
+/// Root mean square of `a`.
+pub(super) fn rms(a: &[f64]) -> f64 {
     (a.iter().map(|v| v * v).sum::<f64>() / a.len() as f64).sqrt()
 }
 

@@ -10,7 +10,7 @@ use super::record::{Between, VoltageRecord};
 use super::simulate::simulate;
 use super::stages::fit_compliant;
 use super::synth_loop::{quantise, run_loop};
-use super::tests::{assert_converging, relative_differences, test_spec};
+use super::tests::{assert_converging, relative_differences, rms, test_spec};
 use crate::drive::controller::Controller;
 use hd_model::{Params, SimConfig, SolverOptions};
 use std::f64::consts::{PI, TAU};
@@ -19,10 +19,6 @@ use std::f64::consts::{PI, TAU};
 fn seed() -> [f64; 18] {
     let p = Params::default();
     NAMES.map(|n| p.get(n).unwrap())
-}
-
-fn rms(a: &[f64]) -> f64 {
-    (a.iter().map(|v| v * v).sum::<f64>() / a.len() as f64).sqrt()
 }
 
 /// Smoothed steps (raised-cosine ramps over 30 % of each interval) to `levels` [rad], one
