@@ -12,7 +12,9 @@
 //!    the records leave undetermined (no standard error) is held at its start value and the
 //!    rest fitted again.
 //! 4. **Bounds.** A parameter that ran to its bound is held at its start value and the fit
-//!    run again; that fit is a rival (or reported, when it does better).
+//!    run again. That fit is reported unless freeing the parameter lowers the cost by at
+//!    least BIC's price, ln n per parameter (in units of the cost per degree of freedom);
+//!    the other fit is a rival.
 //! 5. **Agreement.** The best full fit is reported. Another full fit whose cost is within the
 //!    95 % threshold of the best (Δcost ≤ χ²₉₅(m)·s², m the number of parameters on which
 //!    the two differ by more than twice the best fit's standard error, s² the best fit's
@@ -108,8 +110,9 @@ pub fn fit_compliant(
     }
     ok.sort_by(|a, b| a.cost.total_cmp(&b.cost));
     let mut best = if ok.is_empty() { return Err(last_error) } else { ok.remove(0) };
-    // A parameter on its bound: the fit again with it held at its start is a rival (or,
-    // when it does better, the fit reported).
+    // A parameter on its bound: the fit again with it held at its start is reported unless
+    // freeing it lowers the cost by at least BIC's price of the parameters it frees
+    // (ln n each, in units of the cost per degree of freedom); the other one is a rival.
     let used = weighed.as_ref().unwrap_or(spec);
     let bounded = on_bound(used, &best);
     if !bounded.is_empty() {
@@ -121,22 +124,31 @@ pub fn fit_compliant(
             start[k] = used.start[k];
         }
         let mut gap = f64::NAN;
+        let mut kept_held = false;
         if let Ok(mut alt) = settle(&held, start, records, progress) {
             spent += alt.iterations;
             failed += alt.failed_trials;
             alt.free = used.free;
             alt.held.extend(bounded.iter().copied());
             gap = alt.cost - best.cost;
-            if alt.cost < best.cost {
+            let dof = (best.n as f64 - best.free.iter().filter(|&&f| f).count() as f64).max(1.0);
+            let price = bounded.len() as f64 * (best.n as f64).ln() * best.cost / dof;
+            if gap < price {
                 std::mem::swap(&mut best, &mut alt);
+                kept_held = true;
             }
             ok.push(alt);
         }
         for (&k, v) in bounded.iter().zip(at_bound) {
             best.determined[k] = false;
+            let verdict = if kept_held {
+                "the record does not justify freeing it (BIC), so it is held there"
+            } else {
+                "the record asks for the bound; widen [bounds] if such values are physical"
+            };
             best.determination.sentences.push(format!(
-                "{} ran to its bound ({v:.4e}); held at its start value {:.4e} instead, the fit's cost changes by {gap:+.1}: the record does not fix {} within the range the fit allows (widen [bounds] if such values are physical).",
-                NAMES[k], used.start[k], NAMES[k]
+                "{} ran to its bound ({v:.4e}); held at its start value {:.4e} instead, the fit's cost changes by {gap:+.1}: {verdict}.",
+                NAMES[k], used.start[k]
             ));
         }
     }
