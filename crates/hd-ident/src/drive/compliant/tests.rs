@@ -227,7 +227,19 @@ fn fit_chirp(t_end: f64, h: f64, f_end: f64) -> super::fit::CompliantFit {
     let at_truth =
         super::fit::residuals_and_jacobian(&spec, &truth, &[], std::slice::from_ref(&rec)).0;
     println!("cost at the truth {:.1}", at_truth.iter().map(|v| v * v).sum::<f64>());
-    let fit = fit_compliant(&spec, &[rec], &|_, _| {}).unwrap();
+    fit_and_judge(&spec, rec, &truth, &free_idx)
+}
+
+/// Fit `spec` to `rec` and judge it against the `truth`: every output's residual within
+/// 1.2 times its noise, every parameter of `free_idx` reported as determined within 3 of
+/// its standard errors of the truth. Returns the fit.
+pub(super) fn fit_and_judge(
+    spec: &CompliantSpec,
+    rec: VoltageRecord,
+    truth: &[f64; 18],
+    free_idx: &[usize],
+) -> super::fit::CompliantFit {
+    let fit = fit_compliant(spec, &[rec], &|_, _| {}).unwrap();
     println!(
         "{} iterations, {}; cost {:.1} for {} residuals",
         fit.iterations, fit.termination, fit.cost, fit.n
@@ -239,11 +251,16 @@ fn fit_chirp(t_end: f64, h: f64, f_end: f64) -> super::fit::CompliantFit {
     for s in &fit.determination.sentences {
         println!("{s}");
     }
-    for &k in &free_idx {
+    for &k in free_idx {
         if let (true, Some(se)) = (fit.determined[k], fit.std_errors[k]) {
             let off = (fit.values[k] - truth[k]).abs() / se;
-            println!("{}: determined, {off:.2} standard errors from the truth", NAMES[k]);
+            println!(
+                "{}: {:.5e} ± {se:.2e} (truth {:.5e}), {off:.2} standard errors off",
+                NAMES[k], fit.values[k], truth[k]
+            );
             assert!(off < 3.0, "{}: {off} standard errors off", NAMES[k]);
+        } else {
+            println!("{}: not determined", NAMES[k]);
         }
     }
     fit

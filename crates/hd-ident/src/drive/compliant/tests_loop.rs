@@ -8,9 +8,8 @@ use super::fit::{CompliantSpec, Signal, residuals_and_jacobian, substeps_for};
 use super::model::{NAMES, ix::*};
 use super::record::{Between, VoltageRecord};
 use super::simulate::simulate;
-use super::stages::fit_compliant;
 use super::synth_loop::{quantise, run_loop};
-use super::tests::{assert_converging, relative_differences, rms, test_spec};
+use super::tests::{assert_converging, fit_and_judge, relative_differences, rms, test_spec};
 use crate::drive::controller::Controller;
 use hd_model::{Params, SimConfig, SolverOptions};
 use std::f64::consts::{PI, TAU};
@@ -229,32 +228,8 @@ fn fits_the_drive_in_its_loop() {
         upper: start.map(|v| v * 1e3),
         ..test_spec(n, start, outputs, 4 * substeps_for(&start, n, h))
     };
-    let fit = fit_compliant(&spec, std::slice::from_ref(&rec), &|_, _| {}).unwrap();
-    println!(
-        "{} iterations, {}; cost {:.1} for {} residuals",
-        fit.iterations, fit.termination, fit.cost, fit.n
-    );
-    for (o, s, sigma, ratio) in &fit.scores[0].outputs {
-        println!("{}: rmse {:.3e}, noise {sigma:.3e}, ratio {ratio:.3}", o.name(), s.rmse);
-        assert!(*ratio < 1.2, "{}: residual {ratio} × the noise", o.name());
-    }
-    for s in &fit.determination.sentences {
-        println!("{s}");
-    }
-    let mut determined = 0;
-    for &k in &free_idx {
-        if let (true, Some(se)) = (fit.determined[k], fit.std_errors[k]) {
-            let off = (fit.values[k] - truth[k]).abs() / se;
-            println!(
-                "{}: {:.5e} ± {se:.2e} (truth {:.5e}), {off:.2} standard errors off",
-                NAMES[k], fit.values[k], truth[k]
-            );
-            assert!(off < 3.0, "{}: {off} standard errors off", NAMES[k]);
-            determined += 1;
-        } else {
-            println!("{}: not determined", NAMES[k]);
-        }
-    }
+    let fit = fit_and_judge(&spec, rec, &truth, &free_idx);
+    let determined = free_idx.iter().filter(|&&k| fit.determined[k]).count();
     // The motor's constants and the Coulomb level are seen by any loop that moves it.
     for k in [R, KE, JJ, CJ, TC] {
         assert!(fit.determined[k], "{} not determined", NAMES[k]);
