@@ -15,6 +15,7 @@ pub mod loop_config;
 pub mod model;
 pub mod ratio_check;
 pub mod record;
+pub mod requantised;
 pub mod simulate;
 pub mod stages;
 pub mod supported;

@@ -154,6 +154,7 @@ pub fn fit_compliant(
     }
     let rivals: Vec<&CompliantFit> = ok.iter().filter(|f| as_good(&best, f)).collect();
     not_determined_by_agreement(&mut best, &rivals);
+    super::requantised::widen_by_rounding(used, &mut best, records);
     refine_fit(&mut best, spec.n);
     best.iterations = spent;
     best.failed_trials = failed;

@@ -11,7 +11,7 @@ use hd_model::{Input, Params, Profile, SimConfig, SolverOptions, simulate_stream
 use std::f64::consts::TAU;
 
 /// The seed drive's parameters in [`NAMES`] order.
-fn seed() -> [f64; 18] {
+pub(super) fn seed() -> [f64; 18] {
     let p = Params::default();
     NAMES.map(|n| p.get(n).unwrap())
 }
@@ -23,7 +23,7 @@ fn reference(t_end: f64, h: f64, volts: f64) -> [Vec<f64>; 5] {
 }
 
 /// [`reference`] with the chirp ending at `f_end` [Hz].
-fn chirp_reference(t_end: f64, h: f64, volts: f64, f_end: f64) -> [Vec<f64>; 5] {
+pub(super) fn chirp_reference(t_end: f64, h: f64, volts: f64, f_end: f64) -> [Vec<f64>; 5] {
     let n = (t_end / h).round() as usize + 1;
     let t: Vec<f64> = (0..n).map(|k| k as f64 * h).collect();
     // A chirp from 2 Hz to f_end, starting at zero.
