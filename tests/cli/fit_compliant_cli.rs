@@ -91,6 +91,65 @@ fn the_motor_is_fitted_back_from_a_voltage_test() {
     ]);
 }
 
+/// A drive whose gear is a Bouc–Wen element (`stiffness = "bouc-wen"` in the params file,
+/// `hdw synth drive --stiffness bouc-wen` for the record): the fit runs that law, so the
+/// residuals sit at the noise only with it; fit.json and params.toml name the law and carry
+/// its parameters (not the memory's), and the simulator runs the params file.
+#[test]
+fn a_bouc_wen_gear_is_fitted_and_written_back() {
+    let dir = scratch("fit-compliant-bw");
+    let rec = dir.join("chirp.csv");
+    hdw_ok(&[
+        "synth",
+        "drive",
+        "--stiffness",
+        "bouc-wen",
+        "--freq",
+        "5",
+        "--t-end",
+        "1",
+        "--out",
+        rec.to_str().unwrap(),
+    ]);
+    std::fs::write(
+        dir.join("start.toml"),
+        "stiffness = \"bouc-wen\"\nR = 7.5\nKe = 0.4\nKm = 0.4\nJj = 8.5e-4\nCj = 0.0022\n",
+    )
+    .unwrap();
+    let cfg = config(
+        &dir,
+        "",
+        "free = [\"R\", \"Ke\", \"Jj\", \"Cj\"]\nnoise = { motor = 4.43e-4, load = 1.73e-6 }",
+    );
+    let out = dir.join("out");
+    hdw_ok(&["fit", "drive", "--config", cfg.to_str().unwrap(), "--out", out.to_str().unwrap()]);
+    let doc = json(&out.join("fit.json"));
+    assert_eq!(doc["stiffness"], "bouc-wen");
+    assert!(doc["parameters"]["bw_alpha"].is_object() && doc["parameters"]["mem_A"].is_null());
+    for o in ["motor", "load", "current"] {
+        let r = doc["experiments"]["chirp"][o]["rmse_over_noise"].as_f64().unwrap();
+        assert!(r < 1.2, "{o}: {r}");
+    }
+    let params = std::fs::read_to_string(out.join("params.toml")).unwrap();
+    assert!(params.contains("stiffness = \"bouc-wen\"") && params.contains("bw_beta = "));
+    assert!(!params.contains("mem_A"), "{params}");
+    let sim = dir.join("sim");
+    hdw_ok(&[
+        "simulate",
+        "--params",
+        out.join("params.toml").to_str().unwrap(),
+        "--t-end",
+        "0.05",
+        "--out",
+        sim.to_str().unwrap(),
+    ]);
+    // The memory's parameters are not the Bouc–Wen drive's: naming one is an error.
+    let cfg = config(&dir, "", "free = [\"R\", \"mem_A\"]");
+    let o =
+        hdw(&["fit", "drive", "--config", cfg.to_str().unwrap(), "--out", out.to_str().unwrap()]);
+    assert_one_line_error(&o, &["[fit] free 'mem_A'", "bouc-wen"]);
+}
+
 #[test]
 fn bad_compliant_configurations_get_one_line_errors() {
     let dir = scratch("fit-compliant-bad");
@@ -122,6 +181,8 @@ fn bad_compliant_configurations_get_one_line_errors() {
         ("voltage_between = \"spline\"\n", "", "voltage_between"),
         ("", "noise = { torque = 1.0 }", "noise.torque"),
         ("[bounds]\nR = [5.0, 1.0]\n", "", "[bounds] R"),
+        ("", "free = [\"R\", \"bw_alpha\"]", "[fit] free 'bw_alpha'"),
+        ("[params]\nbw_beta = 1.0\n", "", "[params] 'bw_beta'"),
     ];
     for (extra, fit, expect) in cases {
         // `[params]` and `[bounds]` tables must come after the top-level keys but before

@@ -9,11 +9,13 @@ use anyhow::{Context, Result};
 use hd_ident::drive::compliant::accuracy::accurate_substeps;
 use hd_ident::drive::compliant::config::VoltageExperimentConfig;
 use hd_ident::drive::compliant::fit::{CompliantSpec, score_records};
+use hd_ident::drive::compliant::model::{P, on_law};
 use hd_ident::drive::compliant::{
     Amplifier, CompliantConfig, NAMES, Signal, VoltageRecord, fit_compliant, substeps_for,
 };
 use hd_ident::drive::fit::noise_level;
 use hd_ident::drive::lm::LmSettings;
+use hd_model::HystLaw;
 use std::path::Path;
 use std::time::Instant;
 
@@ -107,25 +109,29 @@ fn moving_at_start(r: &VoltageRecord) -> Option<String> {
 }
 
 /// The start values of the params file named in the configuration (or the seed's), in
-/// [`NAMES`] order, and the gear ratio N.
-fn base_params(cfg: &CompliantConfig, base: &Path) -> Result<([f64; 18], f64)> {
+/// [`NAMES`] order, the gear ratio N and the gear law (the file's `stiffness`, default the
+/// memory); the other law's hysteretic parameters are zero.
+fn base_params(cfg: &CompliantConfig, base: &Path) -> Result<([f64; P], f64, HystLaw)> {
     let mut p = hd_model::Params::default();
+    let mut law = HystLaw::Memory;
     if let Some(f) = &cfg.params_file {
         let path = base.join(f);
         let text = std::fs::read_to_string(&path)
             .with_context(|| format!("cannot read params_file {}", path.display()))?;
         let name = path.display().to_string();
         hd_model::params_file::apply_params_toml(&mut p, &text, &name)?;
-        let law = hd_model::params_file::stiffness_from_toml(&text, &name)?;
-        if let Some(why) = hd_ident::drive::compliant::supported::unsupported(&p, law).first() {
+        let found = hd_model::params_file::stiffness_from_toml(&text, &name)?;
+        if let Some(why) = hd_ident::drive::compliant::supported::unsupported(&p, found).first() {
             anyhow::bail!("{name}: {why}");
         }
+        law = found.unwrap_or(HystLaw::Memory);
     }
-    let mut out = [0.0; 18];
+    let mut out = [0.0; P];
     for (k, n) in NAMES.iter().enumerate() {
         out[k] = p.get(n)?;
     }
-    Ok((out, p.n))
+    on_law(&mut out, law);
+    Ok((out, p.n, law))
 }
 
 /// Run `hdw fit drive` on a compliant-drive configuration `text` of `args.config`.
@@ -151,8 +157,9 @@ pub fn run(args: &DriveArgs, text: &str) -> Result<()> {
         }
     }
     let between = cfg.between(&file)?;
-    let free = cfg.free(&file)?;
-    let (params, n) = base_params(&cfg, base)?;
+    let (params, n, law) = base_params(&cfg, base)?;
+    let free = cfg.free(&file, Some(law))?;
+    cfg.check_law(&file, law)?;
     for r in records.iter().chain(&validation) {
         if let Some(why) = hd_ident::drive::compliant::ratio_check::check_ratio(r, n) {
             anyhow::bail!("{why}");

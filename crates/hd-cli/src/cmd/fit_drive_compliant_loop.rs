@@ -6,7 +6,7 @@
 use super::fit_drive::resolve;
 use anyhow::{Result, anyhow};
 use hd_ident::drive::compliant::loop_config::check_delays;
-use hd_ident::drive::compliant::model::ix;
+use hd_ident::drive::compliant::model::{P, ix};
 use hd_ident::drive::compliant::{Amplifier, ClosedLoop, CompliantConfig, Feedback, VoltageRecord};
 use hd_ident::drive::config::DelayChoice;
 use hd_ident::drive::controller::{Controller, Reproduction};
@@ -135,7 +135,7 @@ pub fn attach(
 /// With an ideal current amplifier the motor's resistance and back-EMF act on nothing the
 /// loop records (the current is the command; Km × command is the torque): R is not fitted,
 /// nor Ke when Km is its own parameter.
-pub fn unfree_for_current(free: &mut [bool; 18], km_is_ke: bool) {
+pub fn unfree_for_current(free: &mut [bool; P], km_is_ke: bool) {
     free[ix::R] = false;
     if !km_is_ke {
         free[ix::KE] = false;

@@ -6,6 +6,7 @@ use super::fit_drive_compliant_loop::LoopInfo;
 use super::fit_drive_out::pair_plots;
 use anyhow::Result;
 use hd_ident::drive::compliant::fit::{CompliantSpec, RecordScore, Signal, simulate_on_zeros};
+use hd_ident::drive::compliant::model::{gear_law, in_law};
 use hd_ident::drive::compliant::{Compliant, CompliantFit, NAMES, VoltageRecord};
 use serde_json::{Map, Value, json};
 use std::fmt::Write as _;
@@ -113,9 +114,11 @@ fn write_all(dir: &Path, o: &Outcome) -> Result<()> {
     let f = &o.fit;
     let sp = &o.spec;
     let ctl = o.controller.as_ref();
+    let law = gear_law(&f.values);
     let parameters: Map<String, Value> = NAMES
         .iter()
         .enumerate()
+        .filter(|(k, _)| in_law(*k, law))
         .map(|(k, n)| {
             (
                 n.to_string(),
@@ -128,6 +131,7 @@ fn write_all(dir: &Path, o: &Outcome) -> Result<()> {
     let doc = json!({
         "config": o.config,
         "transmission": "compliant",
+        "stiffness": law.name(),
         "N": sp.n,
         "voltage_between": if ctl.is_some() { "hold" } else { sp.between.name() },
         "substeps": sp.substeps,
@@ -148,12 +152,15 @@ fn write_all(dir: &Path, o: &Outcome) -> Result<()> {
         "controller": o.controller.as_ref().map(|c| c.json()),
     });
 
-    // params.toml: a params file of `hdw simulate` (variant full, stiffness law memory).
+    // params.toml: a params file of `hdw simulate` (variant full, the fitted gear law).
     let mut params = format!(
-        "# Compliant drive fitted by `hdw fit drive --config {}`.\n# A params file for `hdw simulate --params` (variant full, stiffness law memory).\n# Parameters the records do not determine are listed in fit.json and report.md.\n\nN = {:e}\n",
-        o.config, sp.n
+        "# Compliant drive fitted by `hdw fit drive --config {}`.\n# A params file for `hdw simulate --params` (variant full, stiffness law {}).\n# Parameters the records do not determine are listed in fit.json and report.md.\n\nstiffness = \"{}\"\nN = {:e}\n",
+        o.config,
+        law.name(),
+        law.name(),
+        sp.n
     );
-    for (k, n) in NAMES.iter().enumerate() {
+    for (k, n) in NAMES.iter().enumerate().filter(|(k, _)| in_law(*k, law)) {
         let _ = writeln!(params, "{n} = {:e}", f.values[k]);
     }
 
@@ -189,7 +196,7 @@ fn write_all(dir: &Path, o: &Outcome) -> Result<()> {
     }
     let _ = writeln!(r, "| parameter | start | value | std. error | determined | unit |");
     let _ = writeln!(r, "|---|---:|---:|---:|---|---|");
-    for (k, n) in NAMES.iter().enumerate() {
+    for (k, n) in NAMES.iter().enumerate().filter(|(k, _)| in_law(*k, law)) {
         let se = match (f.free[k], f.held.contains(&k), f.std_errors[k]) {
             (false, _, _) => "fixed".to_string(),
             (true, true, _) => "held".to_string(),

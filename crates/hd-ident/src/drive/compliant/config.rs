@@ -3,9 +3,10 @@
 //! check names the file and the key.
 
 use super::fit::Signal;
-use super::model::{NAMES, ix};
+use super::model::{NAMES, P, hysteresis_of, in_law, ix};
 use super::record::Between;
 use crate::drive::error::DriveError;
+use hd_model::HystLaw;
 use serde::Deserialize;
 use std::collections::BTreeMap;
 
@@ -64,8 +65,8 @@ pub struct CompliantFitConfig {
     /// Noise level per output [rad or A]; estimated from each record where absent.
     #[serde(default)]
     pub noise: BTreeMap<String, f64>,
-    /// The free parameters; default all but a, b and sigma2 (Km follows Ke unless
-    /// `km_equals_ke = false`).
+    /// The free parameters; default all but a, b, sigma2, bw_A and bw_n, and the other
+    /// gear law's (Km follows Ke unless `km_equals_ke = false`).
     pub free: Option<Vec<String>>,
     /// Parameters removed from the free ones.
     pub fix: Option<Vec<String>>,
@@ -118,6 +119,23 @@ fn index(name: &str, file: &str, key: &str) -> Result<usize, DriveError> {
     })
 }
 
+/// An error naming `key` when parameter `k` belongs to the other gear law than `law`.
+fn not_of_law(k: usize, law: HystLaw, file: &str, key: &str) -> Result<(), DriveError> {
+    if in_law(k, law) {
+        return Ok(());
+    }
+    let own: Vec<&str> = hysteresis_of(law).iter().map(|&j| NAMES[j]).collect();
+    Err(DriveError::config(
+        format!("{file}, {key} '{}'", NAMES[k]),
+        format!(
+            "the params file's gear law is {}, which has no {}; use that law's parameters ({}) or set `stiffness` in the params file",
+            law.name(),
+            NAMES[k],
+            own.join(", ")
+        ),
+    ))
+}
+
 impl CompliantConfig {
     /// Parse and check `text` of file `file`.
     pub fn parse(text: &str, file: &str) -> Result<CompliantConfig, DriveError> {
@@ -136,7 +154,7 @@ impl CompliantConfig {
         c.between(file)?;
         c.outputs(file)?;
         super::loop_config::check(&c, file)?;
-        c.free(file)?;
+        c.free(file, None)?;
         for k in c.params.keys() {
             index(k, file, "[params]")?;
         }
@@ -197,19 +215,42 @@ impl CompliantConfig {
         Ok(Some(out))
     }
 
-    /// Which parameters are free ([`NAMES`] order).
-    pub fn free(&self, file: &str) -> Result<[bool; 18], DriveError> {
-        let mut free = [false; 18];
+    /// Which parameters are free ([`NAMES`] order) for gear law `law` (None: any law's
+    /// parameters may be named; the check of a configuration before its params file is
+    /// read). The default frees all but a, b, sigma2, bw_A and bw_n, and never the other
+    /// law's hysteretic parameters; naming one of those is an error.
+    pub fn free(&self, file: &str, law: Option<HystLaw>) -> Result<[bool; P], DriveError> {
+        let mut free = [false; P];
+        let other: Vec<usize> = match law {
+            Some(l) => [HystLaw::Memory, HystLaw::BoucWen]
+                .into_iter()
+                .filter(|&o| o != l)
+                .flat_map(|o| hysteresis_of(o).iter().copied())
+                .collect(),
+            None => Vec::new(),
+        };
         match &self.fit.free {
             Some(list) => {
                 for n in list {
-                    free[index(n, file, "[fit] free")?] = true;
+                    let k = index(n, file, "[fit] free")?;
+                    if let Some(l) = law {
+                        not_of_law(k, l, file, "[fit] free")?;
+                    }
+                    free[k] = true;
                 }
             }
             None => {
-                free = [true; 18];
-                for k in [ix::A, ix::B, ix::SIGMA2] {
+                free = [true; P];
+                for k in [ix::A, ix::B, ix::SIGMA2, ix::BW_A, ix::BW_N] {
                     free[k] = false;
+                }
+                for &k in &other {
+                    free[k] = false;
+                }
+                if law.is_none() {
+                    for &k in hysteresis_of(HystLaw::BoucWen) {
+                        free[k] = false;
+                    }
                 }
             }
         }
@@ -230,9 +271,17 @@ impl CompliantConfig {
         Ok(free)
     }
 
+    /// Check that `[params]` sets no parameter of the other gear law than `law`.
+    pub fn check_law(&self, file: &str, law: HystLaw) -> Result<(), DriveError> {
+        for name in self.params.keys() {
+            not_of_law(index(name, file, "[params]")?, law, file, "[params]")?;
+        }
+        Ok(())
+    }
+
     /// Start values ([`NAMES`] order) from the params file's values `base` and `[params]`,
     /// and the bounds.
-    pub fn start_and_bounds(&self, base: &[f64; 18]) -> ([f64; 18], [f64; 18], [f64; 18]) {
+    pub fn start_and_bounds(&self, base: &[f64; P]) -> ([f64; P], [f64; P], [f64; P]) {
         let mut start = *base;
         for (k, v) in &self.params {
             if let Some(i) = NAMES.iter().position(|n| n == k) {
@@ -242,8 +291,8 @@ impl CompliantConfig {
         if self.km_equals_ke.unwrap_or(true) {
             start[ix::KM] = start[ix::KE];
         }
-        let mut lower = [f64::NEG_INFINITY; 18];
-        let mut upper = [f64::INFINITY; 18];
+        let mut lower = [f64::NEG_INFINITY; P];
+        let mut upper = [f64::INFINITY; P];
         for k in 0..NAMES.len() {
             if start[k] > 0.0 {
                 lower[k] = start[k] * 1e-3;

@@ -8,15 +8,16 @@
 //! as the load's resonance and the stiffness there.
 
 use super::fit::CompliantFit;
-use super::model::{NAMES, ix};
+use super::model::{NAMES, P, gear_law, ix};
+use hd_model::HystLaw;
 
 /// Update `sentences` and `determined` ([`NAMES`] order) from the fitted `values` and
 /// their standard errors; `n` is the gear ratio, `rho_jj_jz` the correlation of Jj and Jz.
 pub fn refine(
     sentences: &mut Vec<String>,
-    values: &[f64; 18],
-    std_errors: &[Option<f64>; 18],
-    determined: &mut [bool; 18],
+    values: &[f64; P],
+    std_errors: &[Option<f64>; P],
+    determined: &mut [bool; P],
     n: f64,
     corr: &dyn Fn(usize, usize) -> Option<f64>,
 ) {
@@ -53,24 +54,24 @@ pub fn refine(
     // Jz, Cz and the gear's stiffness scaled together leave the load's motion relative to
     // the motor as it was (its resonance and damping rates are ratios to Jz); only the
     // deflection's small reaction on the motor sees the scale. So where Jz is not
-    // determined, neither are Cz, c and mem_A.
+    // determined, neither are Cz, c, mem_A and bw_alpha.
     if jz_free && !determined[ix::JZ] {
         if std_errors[ix::CZ].is_some() && determined[ix::CZ] && !said(DAMPING_SENTENCE) {
-            let rate = |v: &[f64; 18]| v[ix::CZ] / v[ix::JZ];
+            let rate = |v: &[f64; P]| v[ix::CZ] / v[ix::JZ];
             let se = delta_se(&rate, values, &[ix::CZ, ix::JZ], std_errors, corr);
             added.push(format!(
                 "{DAMPING_SENTENCE} apart from Jz: the record sees the load's damping rate Cz/Jz = {:.4e} ± {se:.2e} 1/s.",
                 rate(values)
             ));
         }
-        for k in [ix::CZ, ix::C, ix::MEM_A] {
+        for k in [ix::CZ, ix::C, ix::MEM_A, ix::BW_ALPHA] {
             determined[k] = false;
         }
     }
     if determined[ix::KE] != determined[ix::KM] && std_errors[ix::KM] == std_errors[ix::KE] {
         determined[ix::KM] = determined[ix::KE];
     }
-    if !said(STIFFNESS_SENTENCE) {
+    if !said(stiffness_sentence(values)) {
         stiffness_rule(&mut added, values, std_errors, determined, n, corr);
     }
     if !added.is_empty() {
@@ -79,8 +80,14 @@ pub fn refine(
     }
 }
 
-/// The opening of the stiffness rule's sentence (it is added once).
-const STIFFNESS_SENTENCE: &str = "The spring and the memory";
+/// The opening of the stiffness rule's sentence for the gear law of `values` (it is added
+/// once).
+fn stiffness_sentence(values: &[f64; P]) -> &'static str {
+    match gear_law(values) {
+        HystLaw::BoucWen => "The spring and the Bouc–Wen element",
+        _ => "The spring and the memory",
+    }
+}
 
 /// The opening of the load-damping sentence (it is added once).
 const DAMPING_SENTENCE: &str = "Cz is not determined";
@@ -89,10 +96,13 @@ const DAMPING_SENTENCE: &str = "Cz is not determined";
 const INERTIA_SENTENCE: &str = "Jj is determined only with";
 
 /// The load's resonance ω [rad/s] of the drive at `v` (ratio `n`): the fixed point of
-/// ω = √(K(ω)/J), with the gear's dynamic stiffness K(ω) = c + A·ω²/(B² + ω²) and the two
-/// inertias' reduced inertia J = Jz·N²Jj/(Jz + N²Jj) [kg·m²]. Returns (ω, K(ω)).
-pub fn resonance(v: &[f64; 18], n: f64) -> (f64, f64) {
-    let (c, a, b) = (v[ix::C], v[ix::MEM_A], v[ix::MEM_B]);
+/// ω = √(K(ω)/J), with the gear's small-amplitude dynamic stiffness K(ω) = c +
+/// A·ω²/(B² + ω²) + α·A_bw (the memory's storage stiffness, and the Bouc–Wen element's
+/// tangent at rest) and the two inertias' reduced inertia J = Jz·N²Jj/(Jz + N²Jj) [kg·m²].
+/// Returns (ω, K(ω)).
+pub fn resonance(v: &[f64; P], n: f64) -> (f64, f64) {
+    let (a, b) = (v[ix::MEM_A], v[ix::MEM_B]);
+    let c = v[ix::C] + v[ix::BW_ALPHA] * v[ix::BW_A];
     let j_motor = v[ix::JJ] * n * n;
     let j = v[ix::JZ] * j_motor / (v[ix::JZ] + j_motor);
     let k_at = |w: f64| c + a * w * w / (b * b + w * w);
@@ -106,10 +116,10 @@ pub fn resonance(v: &[f64; 18], n: f64) -> (f64, f64) {
 /// Standard error of `f(values)` by the delta method over the parameters `which`, from
 /// their standard errors and correlations (central differences of `f`, a closed form).
 fn delta_se(
-    f: &dyn Fn(&[f64; 18]) -> f64,
-    values: &[f64; 18],
+    f: &dyn Fn(&[f64; P]) -> f64,
+    values: &[f64; P],
     which: &[usize],
-    std_errors: &[Option<f64>; 18],
+    std_errors: &[Option<f64>; P],
     corr: &dyn Fn(usize, usize) -> Option<f64>,
 ) -> f64 {
     let grad: Vec<f64> = which
@@ -144,20 +154,22 @@ fn delta_se(
 /// torque of the deflection's acceleration on the motor.
 fn stiffness_rule(
     added: &mut Vec<String>,
-    values: &[f64; 18],
-    std_errors: &[Option<f64>; 18],
-    determined: &mut [bool; 18],
+    values: &[f64; P],
+    std_errors: &[Option<f64>; P],
+    determined: &mut [bool; P],
     n: f64,
     corr: &dyn Fn(usize, usize) -> Option<f64>,
 ) {
-    let group = [ix::C, ix::MEM_A, ix::MEM_B];
-    let free: Vec<usize> = group.into_iter().filter(|&k| std_errors[k].is_some()).collect();
+    let bouc_wen = gear_law(values) == HystLaw::BoucWen;
+    let group: &[usize] =
+        if bouc_wen { &[ix::C, ix::BW_ALPHA] } else { &[ix::C, ix::MEM_A, ix::MEM_B] };
+    let free: Vec<usize> = group.iter().copied().filter(|&k| std_errors[k].is_some()).collect();
     if free.is_empty() || free.iter().all(|&k| determined[k]) {
         return;
     }
-    let which = [ix::JJ, ix::JZ, ix::C, ix::MEM_A, ix::MEM_B];
-    let hz = |v: &[f64; 18]| resonance(v, n).0 / std::f64::consts::TAU;
-    let stiffness = |v: &[f64; 18]| resonance(v, n).1;
+    let which = [ix::JJ, ix::JZ, ix::C, ix::MEM_A, ix::MEM_B, ix::BW_ALPHA, ix::BW_A];
+    let hz = |v: &[f64; P]| resonance(v, n).0 / std::f64::consts::TAU;
+    let stiffness = |v: &[f64; P]| resonance(v, n).1;
     let (f, se_f) = (hz(values), delta_se(&hz, values, &which, std_errors, corr));
     let (k, se_k) = (stiffness(values), delta_se(&stiffness, values, &which, std_errors, corr));
     let names: Vec<&str> = free.iter().map(|&k| NAMES[k]).collect();
@@ -168,8 +180,10 @@ fn stiffness_rule(
         " The load inertia Jz is not determined, and the record sees the stiffness only relative to it (the resonance): K holds at the fitted Jz, and scales with it.".to_string()
     };
     added.push(format!(
-        "{STIFFNESS_SENTENCE} ({}) are determined only together: the load resonates at {f:.2} ± {se_f:.2} Hz, where the gear's stiffness is K = c + A·ω²/(B² + ω²) = {k:.4e} ± {se_k:.2e} N·m/rad.{tail}",
+        "{} ({}) are determined only together: the load resonates at {f:.2} ± {se_f:.2} Hz, where the gear's stiffness is {} = {k:.4e} ± {se_k:.2e} N·m/rad.{tail}",
+        stiffness_sentence(values),
         names.join(", "),
+        if bouc_wen { "K = c + α·A (at rest)" } else { "K = c + A·ω²/(B² + ω²)" },
     ));
     for k in free {
         determined[k] = false;

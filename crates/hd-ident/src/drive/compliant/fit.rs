@@ -4,7 +4,7 @@
 //! numbers, [`crate::drive::dual`]); standard errors, correlations and the combinations the
 //! records leave undetermined ([`crate::drive::identifiability`]).
 
-use super::model::{Compliant, NAMES};
+use super::model::{Compliant, NAMES, P};
 use super::record::{Between, VoltageRecord};
 use super::simulate::{Outputs, on_current_zero, on_encoder_zeros, simulate};
 use crate::drive::dual::{Dual, Scalar};
@@ -116,13 +116,13 @@ pub struct CompliantSpec {
     /// How the voltage runs between samples.
     pub between: Between,
     /// Start values, [`NAMES`] order.
-    pub start: [f64; 18],
+    pub start: [f64; P],
     /// Which parameters are free.
-    pub free: [bool; 18],
+    pub free: [bool; P],
     /// Lower bounds.
-    pub lower: [f64; 18],
+    pub lower: [f64; P],
     /// Upper bounds.
-    pub upper: [f64; 18],
+    pub upper: [f64; P],
     /// The outputs compared, each with its noise level per record [rad or A]
     /// (`noise[record]`).
     pub outputs: Vec<(Signal, Vec<f64>)>,
@@ -143,7 +143,7 @@ pub struct CompliantSpec {
 
 /// Substeps per sample of `h` [s] for the drive at `p`: enough that its fastest non-stiff
 /// rate times the substep stays below [`RATE_STEP`], at least 2, at most 512.
-pub fn substeps_for(p: &[f64; 18], n: f64, h: f64) -> usize {
+pub fn substeps_for(p: &[f64; P], n: f64, h: f64) -> usize {
     let rate = Compliant::new(*p, n).fastest_rate();
     ((rate * h / RATE_STEP).ceil() as usize).clamp(2, 512)
 }
@@ -180,11 +180,11 @@ pub fn simulate_on_zeros<T: Scalar>(
 #[derive(Clone, Debug, PartialEq)]
 pub struct CompliantFit {
     /// Every parameter's value, [`NAMES`] order.
-    pub values: [f64; 18],
+    pub values: [f64; P],
     /// Which were free.
-    pub free: [bool; 18],
+    pub free: [bool; P],
     /// Standard error of each free parameter (None where undetermined or fixed).
-    pub std_errors: [Option<f64>; 18],
+    pub std_errors: [Option<f64>; P],
     /// Σ (residual/noise)².
     pub cost: f64,
     /// Number of residuals.
@@ -213,7 +213,7 @@ pub struct CompliantFit {
     pub starts: usize,
     /// Per parameter: free and determined by the records (a standard error, and in no
     /// undetermined combination or inseparable pair).
-    pub determined: [bool; 18],
+    pub determined: [bool; P],
 }
 
 /// Score every output of every record with parameters `p` ([`NAMES`] order), against the
@@ -221,7 +221,7 @@ pub struct CompliantFit {
 /// level of output `o` for record `k`).
 pub fn score_records(
     spec: &CompliantSpec,
-    p: &[f64; 18],
+    p: &[f64; P],
     records: &[VoltageRecord],
     noise_of: &(dyn Fn(Signal, usize) -> f64 + Sync),
 ) -> Vec<RecordScore> {
@@ -250,7 +250,7 @@ pub fn score_records(
 /// arithmetic `T`.
 fn residuals_of<T: Scalar + Send + Sync>(
     spec: &CompliantSpec,
-    p: [T; 18],
+    p: [T; P],
     records: &[VoltageRecord],
 ) -> Vec<T> {
     let d = Compliant::new(p, spec.n);
@@ -275,7 +275,7 @@ fn residuals_of<T: Scalar + Send + Sync>(
 /// finite.
 pub fn residuals_at(
     spec: &CompliantSpec,
-    p: &[f64; 18],
+    p: &[f64; P],
     records: &[VoltageRecord],
 ) -> Option<Vec<f64>> {
     let r = residuals_of(spec, *p, records);
@@ -283,18 +283,18 @@ pub fn residuals_at(
 }
 
 /// Σ (residual/noise)² at parameters `p`, or None where a residual is not finite.
-pub fn cost_at(spec: &CompliantSpec, p: &[f64; 18], records: &[VoltageRecord]) -> Option<f64> {
+pub fn cost_at(spec: &CompliantSpec, p: &[f64; P], records: &[VoltageRecord]) -> Option<f64> {
     residuals_at(spec, p, records).map(|r| r.iter().map(|v| v * v).sum())
 }
 
 /// Residuals and their exact Jacobian with respect to the free parameters `free_idx`.
 fn jacobian<const N: usize>(
     spec: &CompliantSpec,
-    p: &[f64; 18],
+    p: &[f64; P],
     free_idx: &[usize],
     records: &[VoltageRecord],
 ) -> (Vec<f64>, DMatrix<f64>) {
-    let mut pd: [Dual<N>; 18] = p.map(Dual::cst);
+    let mut pd: [Dual<N>; P] = p.map(Dual::cst);
     for (slot, &k) in free_idx.iter().enumerate() {
         pd[k] = Dual::var(p[k], slot);
     }
@@ -310,7 +310,7 @@ fn jacobian<const N: usize>(
 /// Residuals and Jacobian at `p`, with the smallest dual size that holds the free ones.
 pub fn residuals_and_jacobian(
     spec: &CompliantSpec,
-    p: &[f64; 18],
+    p: &[f64; P],
     free_idx: &[usize],
     records: &[VoltageRecord],
 ) -> (Vec<f64>, DMatrix<f64>) {
@@ -399,8 +399,8 @@ pub(super) fn fit_stage(
             ));
         }
     }
-    let mut std_errors = [None; 18];
-    let mut determined = [false; 18];
+    let mut std_errors = [None; P];
+    let mut determined = [false; P];
     for (slot, &k) in free_idx.iter().enumerate() {
         std_errors[k] = det.std_errors[slot];
         determined[k] = det.determined[slot];

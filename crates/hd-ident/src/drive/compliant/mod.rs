@@ -24,6 +24,8 @@ pub mod synth_loop;
 #[cfg(test)]
 mod tests;
 #[cfg(test)]
+mod tests_bouc_wen;
+#[cfg(test)]
 mod tests_loop;
 
 pub use closed_loop::{Amplifier, ClosedLoop, Feedback};

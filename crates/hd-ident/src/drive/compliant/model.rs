@@ -1,30 +1,75 @@
 //! The compliant drive that `hdw fit drive` identifies from a voltage test: the simulator's
 //! `full` variant (docs/model.md §2): a DC motor (algebraic current), a gear with a cubic
-//! spring and a fading-memory term, LuGre friction on the wave generator's speed, and an
-//! inertial load.
+//! spring and a hysteretic term (the fading memory, or a Bouc–Wen element), LuGre friction
+//! on the wave generator's speed, and an inertial load.
 //!
 //! ```text
 //! i = (u − Ke·ωj)/R
 //! Jj·ω̇j = Km·i − Cj·ωj − (Tb + Tf)/N        Jz·ω̇z = Tb − Cz·ωz
-//! θ̇ = ωj/N − ωz                              Tb = c·θ + b·θ² + a·θ³ + z,  ż = A·θ̇ − B·z
+//! θ̇ = ωj/N − ωz                Tb = c·θ + b·θ² + a·θ³ + z + α·h,  ż = A·θ̇ − B·z
+//! ḣ = θ̇·(A_bw − |h|ⁿ·(β·sgn(θ̇·h) + γ))       (Bouc–Wen deflection h [rad])
 //! v = ωj/N,  ṡ = v − |v|·w/G(v),  ẇ = σ0·ṡ,  Tf = w + σ1·ṡ + σ2·v
 //! ```
 //!
-//! Every law is hd-model's (the cubic spring, the fading memory, the LuGre level G): each is
+//! Which hysteretic term a drive has is which of its parameters is non-zero ([`gear_law`]):
+//! the fit holds the other's at zero (mem_A = mem_B = 0 for Bouc–Wen, bw_alpha = 0 for the
+//! memory), and a run skips a term whose constant is zero.
+//!
+//! Every law is hd-model's (the cubic spring, the fading memory, Bouc–Wen, the LuGre level G): each is
 //! evaluated in `f64` by its own code and enters the generic arithmetic through
 //! [`Scalar::lift`] with its partial derivatives, so the same code gives plain runs and
 //! runs carrying the exact sensitivities to the parameters.
 
 use crate::drive::dual::Scalar;
+use hd_model::HystLaw;
+use hd_model::laws::bouc_wen::BoucWen;
 use hd_model::laws::friction::LuGre;
 use hd_model::laws::stiffness::{CubicSpring, FadingMemory};
 
+/// Number of parameters of the compliant drive.
+pub const P: usize = 23;
+
 /// The parameters of the compliant drive, in the order of a parameter vector (hd-model's
 /// registry names, so a fitted set is a params file `hdw simulate` reads).
-pub const NAMES: [&str; 18] = [
+pub const NAMES: [&str; P] = [
     "R", "Km", "Ke", "Jj", "Jz", "Cj", "Cz", "c", "a", "b", "mem_A", "mem_B", "sigma0", "sigma1",
-    "sigma2", "Tc", "Ts", "ws",
+    "sigma2", "Tc", "Ts", "ws", "bw_alpha", "bw_A", "bw_beta", "bw_gamma", "bw_n",
 ];
+
+/// The hysteretic parameters of each gear law the compliant drive takes.
+pub fn hysteresis_of(law: HystLaw) -> &'static [usize] {
+    use ix::*;
+    match law {
+        HystLaw::BoucWen => &[BW_ALPHA, BW_A, BW_BETA, BW_GAMMA, BW_N],
+        _ => &[MEM_A, MEM_B],
+    }
+}
+
+/// The gear law of parameters `p`: Bouc–Wen where its stiffness α is non-zero, the fading
+/// memory otherwise.
+pub fn gear_law(p: &[f64; P]) -> HystLaw {
+    if p[ix::BW_ALPHA] != 0.0 { HystLaw::BoucWen } else { HystLaw::Memory }
+}
+
+/// Whether parameter `k` belongs to a drive with gear law `law` (every parameter but the
+/// other law's hysteretic ones).
+pub fn in_law(k: usize, law: HystLaw) -> bool {
+    [HystLaw::Memory, HystLaw::BoucWen]
+        .into_iter()
+        .filter(|&l| l != law)
+        .all(|l| !hysteresis_of(l).contains(&k))
+}
+
+/// Put `p` on gear law `law`: the other law's hysteretic parameters to zero.
+pub fn on_law(p: &mut [f64; P], law: HystLaw) {
+    for l in [HystLaw::Memory, HystLaw::BoucWen] {
+        if l != law {
+            for &k in hysteresis_of(l) {
+                p[k] = 0.0;
+            }
+        }
+    }
+}
 
 /// Index of each parameter in [`NAMES`].
 pub mod ix {
@@ -46,11 +91,16 @@ pub mod ix {
     pub const TC: usize = 15;
     pub const TS: usize = 16;
     pub const WS: usize = 17;
+    pub const BW_ALPHA: usize = 18;
+    pub const BW_A: usize = 19;
+    pub const BW_BETA: usize = 20;
+    pub const BW_GAMMA: usize = 21;
+    pub const BW_N: usize = 22;
 }
 
 /// The state: motor angle θj [rad] and speed ωj [rad/s], gear deflection θ [rad] (θz =
-/// θj/N − θ), load speed ωz [rad/s], memory torque z [N·m] and bristle torque w = σ0·s
-/// [N·m].
+/// θj/N − θ), load speed ωz [rad/s], memory torque z [N·m], bristle torque w = σ0·s
+/// [N·m] and the Bouc–Wen element's deflection h [rad].
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct State<T> {
     /// Motor angle θj [rad].
@@ -65,13 +115,15 @@ pub struct State<T> {
     pub z: T,
     /// Bristle torque w [N·m].
     pub w: T,
+    /// Bouc–Wen deflection h [rad] (its torque is α·h).
+    pub h: T,
 }
 
 impl<T: Scalar> State<T> {
     /// At rest at motor angle `theta_j` [rad], gear unloaded.
     pub fn rest(theta_j: f64) -> Self {
         let o = T::cst(0.0);
-        State { theta_j: T::cst(theta_j), omega_j: o, theta: o, omega_z: o, z: o, w: o }
+        State { theta_j: T::cst(theta_j), omega_j: o, theta: o, omega_z: o, z: o, w: o, h: o }
     }
 
     /// `self + k·h`.
@@ -83,6 +135,7 @@ impl<T: Scalar> State<T> {
             omega_z: self.omega_z + k.omega_z * h,
             z: self.z + k.z * h,
             w: self.w + k.w * h,
+            h: self.h + k.h * h,
         }
     }
 }
@@ -91,7 +144,7 @@ impl<T: Scalar> State<T> {
 #[derive(Clone, Debug)]
 pub struct Compliant<T> {
     /// Every parameter, [`NAMES`] order.
-    pub p: [T; 18],
+    pub p: [T; P],
     /// Gear ratio N [–] (known from the gear's data, never fitted).
     pub n: f64,
     /// The LuGre law at the current values (f64: its level and slope are lifted).
@@ -100,7 +153,7 @@ pub struct Compliant<T> {
 
 impl<T: Scalar> Compliant<T> {
     /// The drive with parameters `p` ([`NAMES`] order) and ratio `n`.
-    pub fn new(p: [T; 18], n: f64) -> Self {
+    pub fn new(p: [T; P], n: f64) -> Self {
         use ix::*;
         let law = LuGre::symmetric(
             p[SIGMA0].re(),
@@ -154,6 +207,38 @@ impl<T: Scalar> Compliant<T> {
         )
     }
 
+    /// The Bouc–Wen element's deflection rate ḣ [rad/s] at deflection rate θ̇ and state h
+    /// (hd-model's law, lifted; zero when its stiffness α is zero).
+    fn bouc_wen_rate(&self, theta_dot: T, h: T) -> T {
+        use ix::*;
+        let law = BoucWen {
+            alpha: self.p[BW_ALPHA].re(),
+            a: self.p[BW_A].re(),
+            beta: self.p[BW_BETA].re(),
+            gamma: self.p[BW_GAMMA].re(),
+            n: self.p[BW_N].re(),
+        };
+        let (td, hr) = (theta_dot.re(), h.re());
+        let s = (td * hr).signum();
+        let ah = hr.abs();
+        let pn = ah.powf(law.n);
+        let shape = law.beta * s + law.gamma;
+        // ∂|h|ⁿ/∂h = n·|h|ⁿ/h (0 at h = 0); ∂|h|ⁿ/∂n = |h|ⁿ·ln|h| (0 at h = 0).
+        let dpn_dh = if ah > 0.0 { law.n * pn / hr } else { 0.0 };
+        let dpn_dn = if ah > 0.0 { pn * ah.ln() } else { 0.0 };
+        T::lift(
+            law.rate(td, hr),
+            &[
+                (law.slope(hr, td.signum()), theta_dot),
+                (-td * dpn_dh * shape, h),
+                (td, self.p[BW_A]),
+                (-td * pn * s, self.p[BW_BETA]),
+                (-td * pn, self.p[BW_GAMMA]),
+                (-td * dpn_dn * shape, self.p[BW_N]),
+            ],
+        )
+    }
+
     /// The bristle's relaxation rate λ = σ0·|v|/G(v) [1/s] at state `y`: the stiff part of
     /// the bristle equation, ẇ = λ·(sign(v)·G − w).
     pub fn relaxation(&self, y: &State<T>) -> T {
@@ -168,7 +253,12 @@ impl<T: Scalar> Compliant<T> {
         let inv_n = 1.0 / self.n;
         let v = y.omega_j * inv_n;
         let theta_dot = v - y.omega_z;
-        let tb = self.spring(y.theta) + y.z;
+        let bouc_wen = p[BW_ALPHA].re() != 0.0;
+        let tb = if bouc_wen {
+            self.spring(y.theta) + y.z + p[BW_ALPHA] * y.h
+        } else {
+            self.spring(y.theta) + y.z
+        };
         let g = self.level(v);
         let s_rate = v - v.abs() * y.w / g;
         let tf = y.w + p[SIGMA1] * s_rate + p[SIGMA2] * v;
@@ -180,6 +270,7 @@ impl<T: Scalar> Compliant<T> {
             omega_z: (tb - p[CZ] * y.omega_z) / p[JZ],
             z: self.memory_rate(theta_dot, y.z),
             w: p[SIGMA0] * s_rate,
+            h: if bouc_wen { self.bouc_wen_rate(theta_dot, y.h) } else { T::cst(0.0) },
         }
     }
 
@@ -226,6 +317,7 @@ impl<T: Scalar> Compliant<T> {
             omega_z: y.omega_z + comb(k1.omega_z, k2.omega_z, k3.omega_z, k4.omega_z),
             z: y.z + comb(k1.z, k2.z, k3.z, k4.z),
             w: e_full * y.w + (e_full * k1.w + e_half * (k2.w + k3.w) * 2.0 + k4.w) * sixth,
+            h: y.h + comb(k1.h, k2.h, k3.h, k4.h),
         }
     }
 
@@ -237,7 +329,7 @@ impl<T: Scalar> Compliant<T> {
         use ix::*;
         let r = |k: usize| self.p[k].re().abs();
         let n2 = self.n * self.n;
-        let k_gear = r(C) + r(MEM_A);
+        let k_gear = r(C) + r(MEM_A) + r(BW_ALPHA) * r(BW_A);
         let j_motor = r(JJ) * n2; // the motor inertia seen from the load
         let j_red = r(JZ) * j_motor / (r(JZ) + j_motor);
         [

@@ -16,7 +16,7 @@
 //! its standard error, and a sentence says so.
 
 use super::fit::{CompliantFit, CompliantSpec, Signal, fit_stage, simulate_on_zeros};
-use super::model::{Compliant, NAMES};
+use super::model::{Compliant, NAMES, P};
 use super::record::VoltageRecord;
 use crate::drive::lm::LmSettings;
 use rayon::prelude::*;
@@ -89,7 +89,7 @@ impl Draws {
 /// level), the current with fresh noise of its level.
 fn redrawn(
     spec: &CompliantSpec,
-    values: &[f64; 18],
+    values: &[f64; P],
     rec: &VoltageRecord,
     k: usize,
     draws: &mut Draws,
@@ -125,7 +125,7 @@ pub fn rounding_spread(
     spec: &CompliantSpec,
     fit: &CompliantFit,
     records: &[VoltageRecord],
-) -> Option<[Option<f64>; 18]> {
+) -> Option<[Option<f64>; P]> {
     let quantised =
         |r: &VoltageRecord| lattice(&r.theta_m).is_some() || lattice(&r.theta_l).is_some();
     if records.iter().any(|r| r.closed.is_some()) || !records.iter().any(quantised) {
@@ -142,7 +142,7 @@ pub fn rounding_spread(
     };
     let refit = CompliantSpec { free, start: fit.values, settings, ..spec.clone() };
     let quiet = |_: usize, _: f64| {};
-    let ends: Vec<[f64; 18]> = (0..REPLICATES)
+    let ends: Vec<[f64; P]> = (0..REPLICATES)
         .into_par_iter()
         .filter_map(|j| {
             let mut draws = Draws(0x5EED_0000 + j as u64);
@@ -156,9 +156,9 @@ pub fn rounding_spread(
         })
         .collect();
     if ends.len() < 3 {
-        return Some([None; 18]);
+        return Some([None; P]);
     }
-    let mut out = [None; 18];
+    let mut out = [None; P];
     for (k, slot) in out.iter_mut().enumerate().take(NAMES.len()) {
         if !free[k] {
             continue;

@@ -3,7 +3,7 @@
 //! 1. **Motor pass.** The motor's own parameters (R, Km, Ke, Jj, Cj) fitted to the current and
 //!    the motor encoder. These see the motor without the gear's ringing (the current alone
 //!    would leave the speed's scale free: Ke·s, Jj·s², Cj·s² give the same current).
-//! 2. **Load pass.** The load's and the gear's parameters (Cz, c, mem_A, mem_B; Jz too when
+//! 2. **Load pass.** The load's and the gear's parameters (Cz, c, mem_A, mem_B or bw_*; Jz too when
 //!    the stiffness is fixed) fitted to the load encoder, the motor's held. The load's
 //!    ringing makes this cost many-valleyed in the resonance frequency, so it starts from
 //!    the spring and memory stiffness scaled by [`STIFFNESS_SCALES`] (in parallel); ends
@@ -24,7 +24,7 @@
 
 use super::determined::{not_determined_by_agreement, refine_fit};
 use super::fit::{CompliantFit, CompliantSpec, Progress, Signal, cost_at, fit_stage};
-use super::model::{NAMES, ix::*};
+use super::model::{NAMES, P, ix::*};
 use super::record::VoltageRecord;
 use rayon::prelude::*;
 
@@ -202,7 +202,7 @@ fn staged_starts(
     spec: &CompliantSpec,
     records: &[VoltageRecord],
     progress: Progress<'_>,
-) -> Vec<[f64; 18]> {
+) -> Vec<[f64; P]> {
     let has = |s: Signal| spec.outputs.iter().any(|(o, _)| *o == s);
     let first_outputs: Vec<_> =
         spec.outputs.iter().filter(|(s, _)| *s != Signal::Load).cloned().collect();
@@ -216,20 +216,23 @@ fn staged_starts(
     // Jz, Cz and the stiffness scaled together move the load alike (the load's rates are
     // ratios to Jz): with the stiffness free, Jz waits for the full fit, which alone can see
     // that scale (through the motor), and the load pass does not crawl along it.
-    let stiffness_free = spec.free[C] || spec.free[MEM_A];
-    let load_set: &[usize] =
-        if stiffness_free { &[CZ, C, MEM_A, MEM_B] } else { &[JZ, CZ, C, MEM_A, MEM_B] };
-    let load = pass(spec, load_set, load_outputs, values);
+    let stiffness_free = spec.free[C] || spec.free[MEM_A] || spec.free[BW_ALPHA];
+    let gear = [C, MEM_A, MEM_B, BW_ALPHA, BW_A, BW_BETA, BW_GAMMA, BW_N];
+    let load_set: Vec<usize> =
+        if stiffness_free { vec![CZ] } else { vec![JZ, CZ] }.into_iter().chain(gear).collect();
+    let load = pass(spec, &load_set, load_outputs, values);
     if !load.free.iter().any(|&f| f) {
         return vec![values];
     }
-    let scales: &[f64] = if load.free[C] || load.free[MEM_A] { &STIFFNESS_SCALES } else { &[1.0] };
+    let scaled = [C, MEM_A, BW_ALPHA];
+    let scales: &[f64] =
+        if scaled.iter().any(|&k| load.free[k]) { &STIFFNESS_SCALES } else { &[1.0] };
     let quiet = |_: usize, _: f64| {};
-    let mut tried: Vec<(f64, [f64; 18])> = scales
+    let mut tried: Vec<(f64, [f64; P])> = scales
         .par_iter()
         .filter_map(|&g| {
             let mut start = values;
-            for k in [C, MEM_A].into_iter().filter(|&k| load.free[k]) {
+            for k in scaled.into_iter().filter(|&k| load.free[k]) {
                 start[k] *= g;
             }
             let s = CompliantSpec { start, ..load.clone() };
@@ -242,14 +245,14 @@ fn staged_starts(
     // kept. The same place is the same prediction: load residuals that differ by less
     // than SAME_PREDICTION of the noise, RMS over the samples (in a valley the parameters
     // of two such ends can still differ in their last digits).
-    let predicted = |v: &[f64; 18]| super::fit::residuals_at(&load, v, records);
-    let mut kept: Vec<([f64; 18], Option<Vec<f64>>)> = Vec::new();
+    let predicted = |v: &[f64; P]| super::fit::residuals_at(&load, v, records);
+    let mut kept: Vec<([f64; P], Option<Vec<f64>>)> = Vec::new();
     for (cost, v) in tried {
         if cost > LOAD_COST_FACTOR * lowest {
             continue;
         }
         let r = predicted(&v);
-        let same = |(_, w): &([f64; 18], Option<Vec<f64>>)| match (&r, w) {
+        let same = |(_, w): &([f64; P], Option<Vec<f64>>)| match (&r, w) {
             (Some(a), Some(b)) => {
                 let d2 = a.iter().zip(b).map(|(x, y)| (x - y) * (x - y)).sum::<f64>();
                 d2 <= SAME_PREDICTION * SAME_PREDICTION * a.len().max(1) as f64
@@ -268,9 +271,9 @@ fn pass(
     spec: &CompliantSpec,
     which: &[usize],
     outputs: Vec<(Signal, Vec<f64>)>,
-    start: [f64; 18],
+    start: [f64; P],
 ) -> CompliantSpec {
-    let mut free = [false; 18];
+    let mut free = [false; P];
     for &k in which {
         free[k] = spec.free[k];
     }
@@ -285,7 +288,7 @@ fn pass(
 /// combinations the records do see free. The held ones are listed in `held`.
 pub fn settle(
     spec: &CompliantSpec,
-    start: [f64; 18],
+    start: [f64; P],
     records: &[VoltageRecord],
     progress: Progress<'_>,
 ) -> Result<CompliantFit, String> {

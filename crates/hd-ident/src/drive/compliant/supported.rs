@@ -1,5 +1,6 @@
 //! What the compliant model can stand for. Its drive is the simulator's `full` variant with
-//! the seed's stiffness law (cubic spring plus fading memory), an algebraic current and
+//! the cubic spring plus the fading memory (`memory`, the seed's law) or plus a Bouc–Wen
+//! element (`bouc-wen`), an algebraic current and
 //! symmetric LuGre friction that does not grow with the transmitted torque. A params file
 //! that asks for more would be fitted as something it is not and written back as a params
 //! file `hdw simulate` runs differently, so each such setting is refused, named.
@@ -10,9 +11,9 @@ use hd_model::{HystLaw, Params};
 /// one sentence; empty when it represents them all.
 pub fn unsupported(p: &Params, law: Option<HystLaw>) -> Vec<String> {
     let mut out = Vec::new();
-    if let Some(law) = law.filter(|l| *l != HystLaw::Memory) {
+    if let Some(law) = law.filter(|l| !matches!(l, HystLaw::Memory | HystLaw::BoucWen)) {
         out.push(format!(
-            "stiffness = \"{law}\": the compliant fit's gear is the cubic spring with the fading memory (\"memory\"); remove the key, or identify a {law} gear from a torsion test with `hdw fit stiffness`"
+            "stiffness = \"{law}\": the compliant fit's gear is the cubic spring with the fading memory (\"memory\") or with a Bouc–Wen element (\"bouc-wen\"); use one of those, or identify a {law} gear from a torsion test with `hdw fit hysteresis --law {law}`"
         ));
     }
     if p.l != 0.0 {
@@ -54,10 +55,11 @@ mod tests {
         let seed = Params::default();
         assert!(unsupported(&seed, None).is_empty());
         assert!(unsupported(&seed, Some(HystLaw::Memory)).is_empty());
+        assert!(unsupported(&seed, Some(HystLaw::BoucWen)).is_empty());
         let p = Params { l: 1e-3, tc_neg: Some(0.2), mu_s_back: 0.1, ..Params::default() };
-        let found = unsupported(&p, Some(HystLaw::BoucWen));
+        let found = unsupported(&p, Some(HystLaw::MaxwellSlip));
         assert_eq!(found.len(), 4, "{found:?}");
-        for key in ["stiffness = \"bouc-wen\"", "L = 1e-3", "Tc_neg", "mu_s_back"] {
+        for key in ["stiffness = \"maxwell-slip\"", "L = 1e-3", "Tc_neg", "mu_s_back"] {
             assert!(found.iter().any(|s| s.starts_with(key)), "{key} in {found:?}");
         }
     }

@@ -2,18 +2,20 @@
 //! central differences, and a fit that recovers the drive from a record of it.
 
 use super::fit::{CompliantSpec, Signal, residuals_and_jacobian, substeps_for};
-use super::model::{Compliant, NAMES};
+use super::model::{Compliant, NAMES, P};
 use super::record::{Between, VoltageRecord};
 use super::simulate::simulate;
 use super::stages::fit_compliant;
 use crate::drive::lm::LmSettings;
-use hd_model::{Input, Params, Profile, SimConfig, SolverOptions, simulate_streaming};
+use hd_model::{HystLaw, Input, Params, Profile, SimConfig, SolverOptions, simulate_streaming};
 use std::f64::consts::TAU;
 
 /// The seed drive's parameters in [`NAMES`] order.
-pub(super) fn seed() -> [f64; 18] {
+pub(super) fn seed() -> [f64; P] {
     let p = Params::default();
-    NAMES.map(|n| p.get(n).unwrap())
+    let mut v = NAMES.map(|n| p.get(n).unwrap());
+    super::model::on_law(&mut v, hd_model::HystLaw::Memory);
+    v
 }
 
 /// hd-model's solve of the seed drive (rtol 1e-11) under a chirp sampled every `h` and
@@ -24,6 +26,18 @@ fn reference(t_end: f64, h: f64, volts: f64) -> [Vec<f64>; 5] {
 
 /// [`reference`] with the chirp ending at `f_end` [Hz].
 pub(super) fn chirp_reference(t_end: f64, h: f64, volts: f64, f_end: f64) -> [Vec<f64>; 5] {
+    chirp_reference_of(&Params::default(), HystLaw::Memory, t_end, h, volts, f_end)
+}
+
+/// [`chirp_reference`] of the drive with parameters `params` and gear law `law`.
+pub(super) fn chirp_reference_of(
+    params: &Params,
+    law: HystLaw,
+    t_end: f64,
+    h: f64,
+    volts: f64,
+    f_end: f64,
+) -> [Vec<f64>; 5] {
     let n = (t_end / h).round() as usize + 1;
     let t: Vec<f64> = (0..n).map(|k| k as f64 * h).collect();
     // A chirp from 2 Hz to f_end, starting at zero.
@@ -36,6 +50,8 @@ pub(super) fn chirp_reference(t_end: f64, h: f64, volts: f64, f_end: f64) -> [Ve
         t_end,
         dt_out: h,
         solver: SolverOptions { rtol: 1e-11, atol: 1e-14, ..SolverOptions::default() },
+        params: params.clone(),
+        stiffness: law,
         ..SimConfig::default()
     };
     let mut cols: [Vec<f64>; 5] = Default::default();
@@ -51,7 +67,7 @@ pub(super) fn chirp_reference(t_end: f64, h: f64, volts: f64, f_end: f64) -> [Ve
     cols
 }
 
-fn record(cols: &[Vec<f64>; 5], name: &str) -> VoltageRecord {
+pub(super) fn record(cols: &[Vec<f64>; 5], name: &str) -> VoltageRecord {
     let [t, u, tj, tz, i] = cols.clone();
     VoltageRecord::new(name, "test", t, u, tj, tz, Some(i)).unwrap()
 }
@@ -96,7 +112,7 @@ pub(super) fn assert_converging(
 /// following Ke, no current offset, and the command's optimiser settings.
 pub(super) fn test_spec(
     n: f64,
-    start: [f64; 18],
+    start: [f64; P],
     outputs: Vec<(Signal, Vec<f64>)>,
     substeps: usize,
 ) -> CompliantSpec {
@@ -104,9 +120,9 @@ pub(super) fn test_spec(
         n,
         between: Between::Linear,
         start,
-        free: [false; 18],
-        lower: [f64::NEG_INFINITY; 18],
-        upper: [f64::INFINITY; 18],
+        free: [false; P],
+        lower: [f64::NEG_INFINITY; P],
+        upper: [f64::INFINITY; P],
         outputs,
         noise_estimated: Vec::new(),
         km_is_ke: true,
@@ -150,16 +166,17 @@ fn exact_derivatives() {
     let cols = reference(0.15, h, 12.0);
     let rec = record(&cols, "ref");
     let n = Params::default().n;
+    use super::model::ix::*;
     let mut start = seed();
-    start[super::model::ix::SIGMA2] = 0.01;
-    let free_idx: Vec<usize> = (0..18).filter(|&k| k != 8 && k != 9).collect();
+    start[SIGMA2] = 0.01;
+    let free_idx: Vec<usize> = (0..P).filter(|&k| k != A && k != B && k < BW_ALPHA).collect();
     let outputs = vec![
         (Signal::Motor, vec![1e-3]),
         (Signal::Load, vec![1e-5]),
         (Signal::Current, vec![1e-2]),
     ];
     let spec =
-        CompliantSpec { free: [true; 18], km_is_ke: false, ..test_spec(n, start, outputs, 8) };
+        CompliantSpec { free: [true; P], km_is_ke: false, ..test_spec(n, start, outputs, 8) };
     let (_, jac) = residuals_and_jacobian(&spec, &start, &free_idx, std::slice::from_ref(&rec));
     for (c, &k) in free_idx.iter().enumerate() {
         let step = 1e-5 * start[k].abs().max(1e-6);
@@ -209,7 +226,7 @@ fn fit_chirp(t_end: f64, h: f64, f_end: f64) -> super::fit::CompliantFit {
     let n = Params::default().n;
     use super::model::ix::*;
     let free_idx = [R, KE, JJ, JZ, CJ, CZ, C, MEM_A, MEM_B, SIGMA0, SIGMA1, TC, TS, WS];
-    let mut free = [false; 18];
+    let mut free = [false; P];
     let mut start = truth;
     for (j, &k) in free_idx.iter().enumerate() {
         free[k] = true;
@@ -236,7 +253,7 @@ fn fit_chirp(t_end: f64, h: f64, f_end: f64) -> super::fit::CompliantFit {
 pub(super) fn fit_and_judge(
     spec: &CompliantSpec,
     rec: VoltageRecord,
-    truth: &[f64; 18],
+    truth: &[f64; P],
     free_idx: &[usize],
 ) -> super::fit::CompliantFit {
     let fit = fit_compliant(spec, &[rec], &|_, _| {}).unwrap();

@@ -5,7 +5,7 @@
 
 use super::closed_loop::{Amplifier, ClosedLoop, Feedback};
 use super::fit::{CompliantSpec, Signal, residuals_and_jacobian, substeps_for};
-use super::model::{NAMES, ix::*};
+use super::model::{NAMES, P, ix::*};
 use super::record::{Between, VoltageRecord};
 use super::simulate::simulate;
 use super::synth_loop::{quantise, run_loop};
@@ -14,11 +14,7 @@ use crate::drive::controller::Controller;
 use hd_model::{Params, SimConfig, SolverOptions};
 use std::f64::consts::{PI, TAU};
 
-/// The seed drive's parameters in [`NAMES`] order.
-fn seed() -> [f64; 18] {
-    let p = Params::default();
-    NAMES.map(|n| p.get(n).unwrap())
-}
+use super::tests::seed;
 
 /// Smoothed steps (raised-cosine ramps over 30 % of each interval) to `levels` [rad], one
 /// every `period` [s], sampled every `h` up to `t_end`.
@@ -142,7 +138,7 @@ fn exact_derivatives_through_the_loop() {
         ];
         let spec = CompliantSpec {
             between: Between::Hold,
-            free: [true; 18],
+            free: [true; P],
             km_is_ke: false,
             ..test_spec(n, start, outputs, 8)
         };
@@ -211,7 +207,7 @@ fn fits_the_drive_in_its_loop() {
     let sigma_u = qm * gain2.sqrt();
     let sigma_i = ((sigma_u / truth[R]).powi(2) + sigma_i * sigma_i).sqrt();
     let free_idx = [R, KE, JJ, CJ, SIGMA0, SIGMA1, TC, TS, WS];
-    let mut free = [false; 18];
+    let mut free = [false; P];
     let mut start = truth;
     for (j, &k) in free_idx.iter().enumerate() {
         free[k] = true;
