@@ -91,63 +91,75 @@ fn the_motor_is_fitted_back_from_a_voltage_test() {
     ]);
 }
 
-/// A drive whose gear is a Bouc–Wen element (`stiffness = "bouc-wen"` in the params file,
-/// `hdw synth drive --stiffness bouc-wen` for the record): the fit runs that law, so the
-/// residuals sit at the noise only with it; fit.json and params.toml name the law and carry
-/// its parameters (not the memory's), and the simulator runs the params file.
+/// Drives whose gear is a Bouc–Wen element or Maxwell-slip elements (`stiffness = "…"` in
+/// the params file, `hdw synth drive --stiffness …` for the record): the fit runs that law,
+/// so the residuals sit at the noise only with it; fit.json and params.toml name the law
+/// and carry its parameters (not the memory's), and the simulator runs the params file.
+/// Naming the memory's parameters for such a drive is an error.
 #[test]
-fn a_bouc_wen_gear_is_fitted_and_written_back() {
-    let dir = scratch("fit-compliant-bw");
-    let rec = dir.join("chirp.csv");
-    hdw_ok(&[
-        "synth",
-        "drive",
-        "--stiffness",
-        "bouc-wen",
-        "--freq",
-        "5",
-        "--t-end",
-        "1",
-        "--out",
-        rec.to_str().unwrap(),
-    ]);
-    std::fs::write(
-        dir.join("start.toml"),
-        "stiffness = \"bouc-wen\"\nR = 7.5\nKe = 0.4\nKm = 0.4\nJj = 8.5e-4\nCj = 0.0022\n",
-    )
-    .unwrap();
-    let cfg = config(
-        &dir,
-        "",
-        "free = [\"R\", \"Ke\", \"Jj\", \"Cj\"]\nnoise = { motor = 4.43e-4, load = 1.73e-6 }",
-    );
-    let out = dir.join("out");
-    hdw_ok(&["fit", "drive", "--config", cfg.to_str().unwrap(), "--out", out.to_str().unwrap()]);
-    let doc = json(&out.join("fit.json"));
-    assert_eq!(doc["stiffness"], "bouc-wen");
-    assert!(doc["parameters"]["bw_alpha"].is_object() && doc["parameters"]["mem_A"].is_null());
-    for o in ["motor", "load", "current"] {
-        let r = doc["experiments"]["chirp"][o]["rmse_over_noise"].as_f64().unwrap();
-        assert!(r < 1.2, "{o}: {r}");
+fn other_gear_laws_are_fitted_and_written_back() {
+    for (law, own) in [("bouc-wen", "bw_beta"), ("maxwell-slip", "ms_delta")] {
+        let dir = scratch(&format!("fit-compliant-{law}"));
+        let rec = dir.join("chirp.csv");
+        hdw_ok(&[
+            "synth",
+            "drive",
+            "--stiffness",
+            law,
+            "--freq",
+            "5",
+            "--t-end",
+            "1",
+            "--out",
+            rec.to_str().unwrap(),
+        ]);
+        std::fs::write(
+            dir.join("start.toml"),
+            format!(
+                "stiffness = \"{law}\"\nR = 7.5\nKe = 0.4\nKm = 0.4\nJj = 8.5e-4\nCj = 0.0022\n"
+            ),
+        )
+        .unwrap();
+        let cfg = config(
+            &dir,
+            "",
+            "free = [\"R\", \"Ke\", \"Jj\", \"Cj\"]\nnoise = { motor = 4.43e-4, load = 1.73e-6 }",
+        );
+        let out = dir.join("out");
+        let args =
+            ["fit", "drive", "--config", cfg.to_str().unwrap(), "--out", out.to_str().unwrap()];
+        hdw_ok(&args);
+        let doc = json(&out.join("fit.json"));
+        assert_eq!(doc["stiffness"], law);
+        assert!(doc["parameters"][own].is_object() && doc["parameters"]["mem_A"].is_null());
+        for o in ["motor", "load", "current"] {
+            let r = doc["experiments"]["chirp"][o]["rmse_over_noise"].as_f64().unwrap();
+            assert!(r < 1.2, "{law}, {o}: {r}");
+        }
+        let params = std::fs::read_to_string(out.join("params.toml")).unwrap();
+        assert!(params.contains(&format!("stiffness = \"{law}\"")), "{params}");
+        assert!(params.contains(&format!("{own} = ")) && !params.contains("mem_A"), "{params}");
+        let sim = dir.join("sim");
+        hdw_ok(&[
+            "simulate",
+            "--params",
+            out.join("params.toml").to_str().unwrap(),
+            "--t-end",
+            "0.05",
+            "--out",
+            sim.to_str().unwrap(),
+        ]);
+        let cfg = config(&dir, "", "free = [\"R\", \"mem_A\"]");
+        let o = hdw(&[
+            "fit",
+            "drive",
+            "--config",
+            cfg.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+        ]);
+        assert_one_line_error(&o, &["[fit] free 'mem_A'", law]);
     }
-    let params = std::fs::read_to_string(out.join("params.toml")).unwrap();
-    assert!(params.contains("stiffness = \"bouc-wen\"") && params.contains("bw_beta = "));
-    assert!(!params.contains("mem_A"), "{params}");
-    let sim = dir.join("sim");
-    hdw_ok(&[
-        "simulate",
-        "--params",
-        out.join("params.toml").to_str().unwrap(),
-        "--t-end",
-        "0.05",
-        "--out",
-        sim.to_str().unwrap(),
-    ]);
-    // The memory's parameters are not the Bouc–Wen drive's: naming one is an error.
-    let cfg = config(&dir, "", "free = [\"R\", \"mem_A\"]");
-    let o =
-        hdw(&["fit", "drive", "--config", cfg.to_str().unwrap(), "--out", out.to_str().unwrap()]);
-    assert_one_line_error(&o, &["[fit] free 'mem_A'", "bouc-wen"]);
 }
 
 #[test]
@@ -183,6 +195,7 @@ fn bad_compliant_configurations_get_one_line_errors() {
         ("[bounds]\nR = [5.0, 1.0]\n", "", "[bounds] R"),
         ("", "free = [\"R\", \"bw_alpha\"]", "[fit] free 'bw_alpha'"),
         ("[params]\nbw_beta = 1.0\n", "", "[params] 'bw_beta'"),
+        ("", "free = [\"R\", \"ms_n\"]", "[fit] free 'ms_n'"),
     ];
     for (extra, fit, expect) in cases {
         // `[params]` and `[bounds]` tables must come after the top-level keys but before
@@ -195,7 +208,7 @@ fn bad_compliant_configurations_get_one_line_errors() {
     assert_one_line_error(&o, &["amps", "chirp.csv"]);
     // A params file asking for what the compliant model is not names the file and the key.
     for (line, expect) in [
-        ("stiffness = \"maxwell-slip\"", "stiffness = \"maxwell-slip\""),
+        ("stiffness = \"catalogue\"", "stiffness = \"catalogue\""),
         ("L = 0.002", "L = 2e-3"),
         ("Ts_neg = 0.3", "Ts_neg"),
     ] {

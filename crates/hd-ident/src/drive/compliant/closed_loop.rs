@@ -111,9 +111,15 @@ impl ClosedLoop {
 /// ideal current amplifier (then Km × command is the motor torque and no back-EMF acts).
 /// The model's own rates at zero voltage, plus the command's share, which enters only the
 /// motor's speed.
-fn rates_held<T: Scalar>(d: &Compliant<T>, y: &State<T>, command: T, amp: Amplifier) -> State<T> {
+fn rates_held<T: Scalar>(
+    d: &Compliant<T>,
+    y: &State<T>,
+    slips: &[T],
+    command: T,
+    amp: Amplifier,
+) -> State<T> {
     let p = &d.p;
-    let mut r = d.rates(y, 0.0);
+    let mut r = d.rates(y, 0.0, slips);
     // At zero voltage the model's current is −Ke·ωj/R.
     let current = match amp {
         Amplifier::Voltage => command / p[ix::R],
@@ -146,6 +152,7 @@ pub fn simulate_loop<T: Scalar>(
     let mut read: Vec<T> = Vec::with_capacity(n);
     let mut computed: Vec<T> = Vec::with_capacity(n);
     let mut y = State::<T>::rest(rec.theta_m[0]);
+    let mut slips = vec![T::cst(0.0); d.slip_count()];
     for k in 0..n {
         let theta_l = y.theta_j / d.n - y.theta + zero_l;
         read.push(match cl.feedback {
@@ -165,7 +172,9 @@ pub fn simulate_loop<T: Scalar>(
             break;
         }
         for _ in 0..m {
-            y = d.step_by(&y, |s, _| rates_held(d, s, command, cl.amplifier), step);
+            let next = d.step_by(&y, |s, _| rates_held(d, s, &slips, command, cl.amplifier), step);
+            d.commit(&y, &next, &mut slips);
+            y = next;
         }
     }
     out

@@ -65,8 +65,8 @@ pub struct CompliantFitConfig {
     /// Noise level per output [rad or A]; estimated from each record where absent.
     #[serde(default)]
     pub noise: BTreeMap<String, f64>,
-    /// The free parameters; default all but a, b, sigma2, bw_A and bw_n, and the other
-    /// gear law's (Km follows Ke unless `km_equals_ke = false`).
+    /// The free parameters; default all but a, b, sigma2, bw_A, bw_n and ms_n, and the
+    /// other gear laws' (Km follows Ke unless `km_equals_ke = false`).
     pub free: Option<Vec<String>>,
     /// Parameters removed from the free ones.
     pub fix: Option<Vec<String>>,
@@ -217,12 +217,12 @@ impl CompliantConfig {
 
     /// Which parameters are free ([`NAMES`] order) for gear law `law` (None: any law's
     /// parameters may be named; the check of a configuration before its params file is
-    /// read). The default frees all but a, b, sigma2, bw_A and bw_n, and never the other
-    /// law's hysteretic parameters; naming one of those is an error.
+    /// read). The default frees all but a, b, sigma2, bw_A, bw_n and ms_n, and never the
+    /// other laws' hysteretic parameters; naming one of those is an error.
     pub fn free(&self, file: &str, law: Option<HystLaw>) -> Result<[bool; P], DriveError> {
         let mut free = [false; P];
         let other: Vec<usize> = match law {
-            Some(l) => [HystLaw::Memory, HystLaw::BoucWen]
+            Some(l) => super::model::LAWS
                 .into_iter()
                 .filter(|&o| o != l)
                 .flat_map(|o| hysteresis_of(o).iter().copied())
@@ -241,21 +241,29 @@ impl CompliantConfig {
             }
             None => {
                 free = [true; P];
-                for k in [ix::A, ix::B, ix::SIGMA2, ix::BW_A, ix::BW_N] {
+                for k in [ix::A, ix::B, ix::SIGMA2, ix::BW_A, ix::BW_N, ix::MS_N] {
                     free[k] = false;
                 }
                 for &k in &other {
                     free[k] = false;
                 }
                 if law.is_none() {
-                    for &k in hysteresis_of(HystLaw::BoucWen) {
-                        free[k] = false;
+                    for l in [HystLaw::BoucWen, HystLaw::MaxwellSlip] {
+                        for &k in hysteresis_of(l) {
+                            free[k] = false;
+                        }
                     }
                 }
             }
         }
         for n in self.fit.fix.iter().flatten() {
             free[index(n, file, "[fit] fix")?] = false;
+        }
+        if free[ix::MS_N] {
+            return Err(DriveError::config(
+                format!("{file}, [fit] free 'ms_n'"),
+                "the number of slip elements is a count, not fitted; set it in the params file",
+            ));
         }
         if self.km_equals_ke.unwrap_or(true) {
             free[ix::KM] = free[ix::KE];

@@ -54,7 +54,7 @@ pub fn refine(
     // Jz, Cz and the gear's stiffness scaled together leave the load's motion relative to
     // the motor as it was (its resonance and damping rates are ratios to Jz); only the
     // deflection's small reaction on the motor sees the scale. So where Jz is not
-    // determined, neither are Cz, c, mem_A and bw_alpha.
+    // determined, neither are Cz, c, mem_A, bw_alpha and ms_k.
     if jz_free && !determined[ix::JZ] {
         if std_errors[ix::CZ].is_some() && determined[ix::CZ] && !said(DAMPING_SENTENCE) {
             let rate = |v: &[f64; P]| v[ix::CZ] / v[ix::JZ];
@@ -64,7 +64,7 @@ pub fn refine(
                 rate(values)
             ));
         }
-        for k in [ix::CZ, ix::C, ix::MEM_A, ix::BW_ALPHA] {
+        for k in [ix::CZ, ix::C, ix::MEM_A, ix::BW_ALPHA, ix::MS_K] {
             determined[k] = false;
         }
     }
@@ -85,6 +85,7 @@ pub fn refine(
 fn stiffness_sentence(values: &[f64; P]) -> &'static str {
     match gear_law(values) {
         HystLaw::BoucWen => "The spring and the Bouc–Wen element",
+        HystLaw::MaxwellSlip => "The spring and the slip elements",
         _ => "The spring and the memory",
     }
 }
@@ -96,13 +97,10 @@ const DAMPING_SENTENCE: &str = "Cz is not determined";
 const INERTIA_SENTENCE: &str = "Jj is determined only with";
 
 /// The load's resonance ω [rad/s] of the drive at `v` (ratio `n`): the fixed point of
-/// ω = √(K(ω)/J), with the gear's small-amplitude dynamic stiffness K(ω) = c +
-/// A·ω²/(B² + ω²) + α·A_bw (the memory's storage stiffness, and the Bouc–Wen element's
-/// tangent at rest) and the two inertias' reduced inertia J = Jz·N²Jj/(Jz + N²Jj) [kg·m²].
-/// Returns (ω, K(ω)).
+/// ω = √(K(ω)/J), with the memory gear's dynamic stiffness K(ω) = c + A·ω²/(B² + ω²) and
+/// the two inertias' reduced inertia J = Jz·N²Jj/(Jz + N²Jj) [kg·m²]. Returns (ω, K(ω)).
 pub fn resonance(v: &[f64; P], n: f64) -> (f64, f64) {
-    let (a, b) = (v[ix::MEM_A], v[ix::MEM_B]);
-    let c = v[ix::C] + v[ix::BW_ALPHA] * v[ix::BW_A];
+    let (c, a, b) = (v[ix::C], v[ix::MEM_A], v[ix::MEM_B]);
     let j_motor = v[ix::JJ] * n * n;
     let j = v[ix::JZ] * j_motor / (v[ix::JZ] + j_motor);
     let k_at = |w: f64| c + a * w * w / (b * b + w * w);
@@ -160,30 +158,51 @@ fn stiffness_rule(
     n: f64,
     corr: &dyn Fn(usize, usize) -> Option<f64>,
 ) {
-    let bouc_wen = gear_law(values) == HystLaw::BoucWen;
-    let group: &[usize] =
-        if bouc_wen { &[ix::C, ix::BW_ALPHA] } else { &[ix::C, ix::MEM_A, ix::MEM_B] };
+    let law = gear_law(values);
+    let group: &[usize] = match law {
+        HystLaw::BoucWen => &[ix::C, ix::BW_ALPHA],
+        HystLaw::MaxwellSlip => &[ix::C, ix::MS_K],
+        _ => &[ix::C, ix::MEM_A, ix::MEM_B],
+    };
     let free: Vec<usize> = group.iter().copied().filter(|&k| std_errors[k].is_some()).collect();
     if free.is_empty() || free.iter().all(|&k| determined[k]) {
         return;
     }
-    let which = [ix::JJ, ix::JZ, ix::C, ix::MEM_A, ix::MEM_B, ix::BW_ALPHA, ix::BW_A];
+    let names: Vec<&str> = free.iter().map(|&k| NAMES[k]).collect();
+    let jz_seen = std_errors[ix::JZ].is_none() || determined[ix::JZ];
+    if law != HystLaw::Memory {
+        // A rate-independent element's share of the stiffness depends on how far it is
+        // deflected (it saturates, or its elements slip): no single resonance frequency
+        // stands for the record, so none is given.
+        let tail = if jz_seen {
+            ""
+        } else {
+            " The load inertia Jz is not determined either, and the record sees the gear's stiffness only relative to it."
+        };
+        added.push(format!(
+            "{} ({}) are determined only together: the element's share of the gear's stiffness depends on how far it is deflected, and this record does not separate it from the spring's.{tail}",
+            stiffness_sentence(values),
+            names.join(", "),
+        ));
+        for k in free {
+            determined[k] = false;
+        }
+        return;
+    }
+    let which = [ix::JJ, ix::JZ, ix::C, ix::MEM_A, ix::MEM_B];
     let hz = |v: &[f64; P]| resonance(v, n).0 / std::f64::consts::TAU;
     let stiffness = |v: &[f64; P]| resonance(v, n).1;
     let (f, se_f) = (hz(values), delta_se(&hz, values, &which, std_errors, corr));
     let (k, se_k) = (stiffness(values), delta_se(&stiffness, values, &which, std_errors, corr));
-    let names: Vec<&str> = free.iter().map(|&k| NAMES[k]).collect();
-    let jz_seen = std_errors[ix::JZ].is_none() || determined[ix::JZ];
     let tail = if jz_seen {
         String::new()
     } else {
         " The load inertia Jz is not determined, and the record sees the stiffness only relative to it (the resonance): K holds at the fitted Jz, and scales with it.".to_string()
     };
     added.push(format!(
-        "{} ({}) are determined only together: the load resonates at {f:.2} ± {se_f:.2} Hz, where the gear's stiffness is {} = {k:.4e} ± {se_k:.2e} N·m/rad.{tail}",
+        "{} ({}) are determined only together: the load resonates at {f:.2} ± {se_f:.2} Hz, where the gear's stiffness is K = c + A·ω²/(B² + ω²) = {k:.4e} ± {se_k:.2e} N·m/rad.{tail}",
         stiffness_sentence(values),
         names.join(", "),
-        if bouc_wen { "K = c + α·A (at rest)" } else { "K = c + A·ω²/(B² + ω²)" },
     ));
     for k in free {
         determined[k] = false;

@@ -24,7 +24,7 @@ pub mod synth_loop;
 #[cfg(test)]
 mod tests;
 #[cfg(test)]
-mod tests_bouc_wen;
+mod tests_laws;
 #[cfg(test)]
 mod tests_loop;
 

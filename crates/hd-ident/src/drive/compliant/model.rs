@@ -1,19 +1,23 @@
 //! The compliant drive that `hdw fit drive` identifies from a voltage test: the simulator's
 //! `full` variant (docs/model.md §2): a DC motor (algebraic current), a gear with a cubic
-//! spring and a hysteretic term (the fading memory, or a Bouc–Wen element), LuGre friction
-//! on the wave generator's speed, and an inertial load.
+//! spring and a hysteretic term (the fading memory, a Bouc–Wen element, or Maxwell-slip
+//! elements), LuGre friction on the wave generator's speed, and an inertial load.
 //!
 //! ```text
 //! i = (u − Ke·ωj)/R
 //! Jj·ω̇j = Km·i − Cj·ωj − (Tb + Tf)/N        Jz·ω̇z = Tb − Cz·ωz
 //! θ̇ = ωj/N − ωz                Tb = c·θ + b·θ² + a·θ³ + z + α·h,  ż = A·θ̇ − B·z
 //! ḣ = θ̇·(A_bw − |h|ⁿ·(β·sgn(θ̇·h) + γ))       (Bouc–Wen deflection h [rad])
+//! or Tb = c·θ + b·θ² + a·θ³ + Σ (ms_k/n)·clamp(θ + oᵢ, ±δᵢ),  δᵢ = ms_delta·i/n (slip)
 //! v = ωj/N,  ṡ = v − |v|·w/G(v),  ẇ = σ0·ṡ,  Tf = w + σ1·ṡ + σ2·v
 //! ```
 //!
 //! Which hysteretic term a drive has is which of its parameters is non-zero ([`gear_law`]):
-//! the fit holds the other's at zero (mem_A = mem_B = 0 for Bouc–Wen, bw_alpha = 0 for the
-//! memory), and a run skips a term whose constant is zero.
+//! the fit holds the others' at zero, and a run skips a term whose constant is zero. The
+//! slip elements (`ms_n` of them, evenly spread as hd-model's `maxwell-slip` law spreads
+//! them) are carried as hd-model carries them: each by its offset oᵢ = eᵢ − θ, held over a
+//! step (the element torque is then a continuous function of θ) and moved along the
+//! step's deflection by the play operator when the step is taken ([`Compliant::commit`]).
 //!
 //! Every law is hd-model's (the cubic spring, the fading memory, Bouc–Wen, the LuGre level G): each is
 //! evaluated in `f64` by its own code and enters the generic arithmetic through
@@ -24,45 +28,54 @@ use crate::drive::dual::Scalar;
 use hd_model::HystLaw;
 use hd_model::laws::bouc_wen::BoucWen;
 use hd_model::laws::friction::LuGre;
+use hd_model::laws::slip_set::MAX_SLIP;
 use hd_model::laws::stiffness::{CubicSpring, FadingMemory};
 
 /// Number of parameters of the compliant drive.
-pub const P: usize = 23;
+pub const P: usize = 26;
 
 /// The parameters of the compliant drive, in the order of a parameter vector (hd-model's
 /// registry names, so a fitted set is a params file `hdw simulate` reads).
 pub const NAMES: [&str; P] = [
     "R", "Km", "Ke", "Jj", "Jz", "Cj", "Cz", "c", "a", "b", "mem_A", "mem_B", "sigma0", "sigma1",
-    "sigma2", "Tc", "Ts", "ws", "bw_alpha", "bw_A", "bw_beta", "bw_gamma", "bw_n",
+    "sigma2", "Tc", "Ts", "ws", "bw_alpha", "bw_A", "bw_beta", "bw_gamma", "bw_n", "ms_k",
+    "ms_delta", "ms_n",
 ];
+
+/// The gear laws of the compliant drive.
+pub const LAWS: [HystLaw; 3] = [HystLaw::Memory, HystLaw::BoucWen, HystLaw::MaxwellSlip];
 
 /// The hysteretic parameters of each gear law the compliant drive takes.
 pub fn hysteresis_of(law: HystLaw) -> &'static [usize] {
     use ix::*;
     match law {
         HystLaw::BoucWen => &[BW_ALPHA, BW_A, BW_BETA, BW_GAMMA, BW_N],
+        HystLaw::MaxwellSlip => &[MS_K, MS_DELTA, MS_N],
         _ => &[MEM_A, MEM_B],
     }
 }
 
-/// The gear law of parameters `p`: Bouc–Wen where its stiffness α is non-zero, the fading
-/// memory otherwise.
+/// The gear law of parameters `p`: Maxwell-slip where the elements' stiffness ms_k is
+/// non-zero, Bouc–Wen where its stiffness α is, the fading memory otherwise.
 pub fn gear_law(p: &[f64; P]) -> HystLaw {
-    if p[ix::BW_ALPHA] != 0.0 { HystLaw::BoucWen } else { HystLaw::Memory }
+    if p[ix::MS_K] != 0.0 {
+        HystLaw::MaxwellSlip
+    } else if p[ix::BW_ALPHA] != 0.0 {
+        HystLaw::BoucWen
+    } else {
+        HystLaw::Memory
+    }
 }
 
 /// Whether parameter `k` belongs to a drive with gear law `law` (every parameter but the
 /// other law's hysteretic ones).
 pub fn in_law(k: usize, law: HystLaw) -> bool {
-    [HystLaw::Memory, HystLaw::BoucWen]
-        .into_iter()
-        .filter(|&l| l != law)
-        .all(|l| !hysteresis_of(l).contains(&k))
+    LAWS.into_iter().filter(|&l| l != law).all(|l| !hysteresis_of(l).contains(&k))
 }
 
 /// Put `p` on gear law `law`: the other law's hysteretic parameters to zero.
 pub fn on_law(p: &mut [f64; P], law: HystLaw) {
-    for l in [HystLaw::Memory, HystLaw::BoucWen] {
+    for l in LAWS {
         if l != law {
             for &k in hysteresis_of(l) {
                 p[k] = 0.0;
@@ -96,6 +109,9 @@ pub mod ix {
     pub const BW_BETA: usize = 20;
     pub const BW_GAMMA: usize = 21;
     pub const BW_N: usize = 22;
+    pub const MS_K: usize = 23;
+    pub const MS_DELTA: usize = 24;
+    pub const MS_N: usize = 25;
 }
 
 /// The state: motor angle θj [rad] and speed ωj [rad/s], gear deflection θ [rad] (θz =
@@ -246,19 +262,58 @@ impl<T: Scalar> Compliant<T> {
         self.p[ix::SIGMA0] * v.abs() / self.level(v)
     }
 
-    /// The state's rates at voltage `u` [V].
-    pub fn rates(&self, y: &State<T>, u: f64) -> State<T> {
+    /// Number of slip elements: `ms_n` when the gear is Maxwell-slip (ms_k ≠ 0), else 0.
+    pub fn slip_count(&self) -> usize {
+        if self.p[ix::MS_K].re() == 0.0 {
+            return 0;
+        }
+        (self.p[ix::MS_N].re().round().max(0.0) as usize).min(MAX_SLIP)
+    }
+
+    /// The yield deflection δᵢ = ms_delta·(i + 1)/n of slip element i of `count` [rad].
+    fn yield_of(&self, i: usize, count: usize) -> T {
+        self.p[ix::MS_DELTA] * ((i + 1) as f64 / count as f64)
+    }
+
+    /// The slip elements' torque Σ (ms_k/n)·clamp(θ + oᵢ, −δᵢ, δᵢ) [N·m] at deflection θ
+    /// with offsets `o` (hd-model's `SlipSet::torque` for its even set).
+    fn slip_torque(&self, theta: T, o: &[T]) -> T {
+        let count = o.len();
+        let mut sum = T::cst(0.0);
+        for (i, &oi) in o.iter().enumerate() {
+            sum = sum + clamp(theta + oi, self.yield_of(i, count));
+        }
+        sum * self.p[ix::MS_K] / count.max(1) as f64
+    }
+
+    /// Move the slip elements' offsets `o` along a step from `from` to `to`: each element's
+    /// deflection follows the play operator over the step's deflection change (taken as
+    /// monotone over a substep) and its offset becomes its new deflection less θ.
+    pub fn commit(&self, from: &State<T>, to: &State<T>, o: &mut [T]) {
+        let count = o.len();
+        for (i, oi) in o.iter_mut().enumerate() {
+            let d = self.yield_of(i, count);
+            let e0 = clamp(from.theta + *oi, d);
+            let e1 = clamp(e0 + (to.theta - from.theta), d);
+            *oi = e1 - to.theta;
+        }
+    }
+
+    /// The state's rates at voltage `u` [V], the slip elements (if any) at offsets `o`.
+    pub fn rates(&self, y: &State<T>, u: f64, o: &[T]) -> State<T> {
         use ix::*;
         let p = &self.p;
         let inv_n = 1.0 / self.n;
         let v = y.omega_j * inv_n;
         let theta_dot = v - y.omega_z;
         let bouc_wen = p[BW_ALPHA].re() != 0.0;
-        let tb = if bouc_wen {
-            self.spring(y.theta) + y.z + p[BW_ALPHA] * y.h
-        } else {
-            self.spring(y.theta) + y.z
-        };
+        let mut tb = self.spring(y.theta) + y.z;
+        if bouc_wen {
+            tb = tb + p[BW_ALPHA] * y.h;
+        }
+        if !o.is_empty() {
+            tb = tb + self.slip_torque(y.theta, o);
+        }
         let g = self.level(v);
         let s_rate = v - v.abs() * y.w / g;
         let tf = y.w + p[SIGMA1] * s_rate + p[SIGMA2] * v;
@@ -275,9 +330,12 @@ impl<T: Scalar> Compliant<T> {
     }
 
     /// One step of `d` [s] from `y` with the voltage `u(τ)` at τ = 0, d/2 and d
-    /// ([`Compliant::step_by`] with the model's own rates).
-    pub fn step(&self, y: &State<T>, u: [f64; 3], d: f64) -> State<T> {
-        self.step_by(y, |s, at| self.rates(s, u[at]), d)
+    /// ([`Compliant::step_by`] with the model's own rates), the slip elements' offsets `o`
+    /// held over it and then committed ([`Compliant::commit`]).
+    pub fn step(&self, y: &State<T>, o: &mut [T], u: [f64; 3], d: f64) -> State<T> {
+        let next = self.step_by(y, |s, at| self.rates(s, u[at], o), d);
+        self.commit(y, &next, o);
+        next
     }
 
     /// One step of `d` [s] from `y`, `rates(state, at)` giving the rates with the input at
@@ -329,7 +387,7 @@ impl<T: Scalar> Compliant<T> {
         use ix::*;
         let r = |k: usize| self.p[k].re().abs();
         let n2 = self.n * self.n;
-        let k_gear = r(C) + r(MEM_A) + r(BW_ALPHA) * r(BW_A);
+        let k_gear = r(C) + r(MEM_A) + r(BW_ALPHA) * r(BW_A) + r(MS_K);
         let j_motor = r(JJ) * n2; // the motor inertia seen from the load
         let j_red = r(JZ) * j_motor / (r(JZ) + j_motor);
         [
@@ -344,5 +402,17 @@ impl<T: Scalar> Compliant<T> {
         .into_iter()
         .filter(|x| x.is_finite())
         .fold(0.0, f64::max)
+    }
+}
+
+/// x clamped to [−d, d] (d ≥ 0), carrying the derivative of whichever it is.
+fn clamp<T: Scalar>(x: T, d: T) -> T {
+    let (xr, dr) = (x.re(), d.re());
+    if xr.abs() < dr {
+        x
+    } else if xr > 0.0 {
+        d
+    } else {
+        -d
     }
 }

@@ -43,6 +43,7 @@ pub fn simulate<T: Scalar>(
         command: Vec::new(),
     };
     let mut y = State::<T>::rest(rec.theta_m[0]);
+    let mut slips = vec![T::cst(0.0); d.slip_count()];
     for k in 0..n {
         out.theta_m.push(y.theta_j);
         out.theta_l.push(y.theta_j / d.n - y.theta + zero_l);
@@ -52,7 +53,7 @@ pub fn simulate<T: Scalar>(
         }
         for j in 0..m {
             let at = |f: f64| rec.voltage(k, (j as f64 + f) / m as f64, between);
-            y = d.step(&y, [at(0.0), at(0.5), at(1.0)], step);
+            y = d.step(&y, &mut slips, [at(0.0), at(0.5), at(1.0)], step);
         }
     }
     out

@@ -216,15 +216,15 @@ fn staged_starts(
     // Jz, Cz and the stiffness scaled together move the load alike (the load's rates are
     // ratios to Jz): with the stiffness free, Jz waits for the full fit, which alone can see
     // that scale (through the motor), and the load pass does not crawl along it.
-    let stiffness_free = spec.free[C] || spec.free[MEM_A] || spec.free[BW_ALPHA];
-    let gear = [C, MEM_A, MEM_B, BW_ALPHA, BW_A, BW_BETA, BW_GAMMA, BW_N];
+    let stiffness_free = [C, MEM_A, BW_ALPHA, MS_K].iter().any(|&k| spec.free[k]);
+    let gear = [C, MEM_A, MEM_B, BW_ALPHA, BW_A, BW_BETA, BW_GAMMA, BW_N, MS_K, MS_DELTA];
     let load_set: Vec<usize> =
         if stiffness_free { vec![CZ] } else { vec![JZ, CZ] }.into_iter().chain(gear).collect();
     let load = pass(spec, &load_set, load_outputs, values);
     if !load.free.iter().any(|&f| f) {
         return vec![values];
     }
-    let scaled = [C, MEM_A, BW_ALPHA];
+    let scaled = [C, MEM_A, BW_ALPHA, MS_K];
     let scales: &[f64] =
         if scaled.iter().any(|&k| load.free[k]) { &STIFFNESS_SCALES } else { &[1.0] };
     let quiet = |_: usize, _: f64| {};

@@ -1,20 +1,36 @@
 //! What the compliant model can stand for. Its drive is the simulator's `full` variant with
-//! the cubic spring plus the fading memory (`memory`, the seed's law) or plus a Bouc–Wen
-//! element (`bouc-wen`), an algebraic current and
+//! the cubic spring plus the fading memory (`memory`, the seed's law), a Bouc–Wen element
+//! (`bouc-wen`) or `ms_n` evenly spread Maxwell-slip elements (`maxwell-slip`), an
+//! algebraic current and
 //! symmetric LuGre friction that does not grow with the transmitted torque. A params file
 //! that asks for more would be fitted as something it is not and written back as a params
 //! file `hdw simulate` runs differently, so each such setting is refused, named.
 
+use hd_model::laws::slip_set::MAX_SLIP;
 use hd_model::{HystLaw, Params};
 
 /// Each setting of `p` (stiffness law `law`) that the compliant model cannot represent, as
 /// one sentence; empty when it represents them all.
 pub fn unsupported(p: &Params, law: Option<HystLaw>) -> Vec<String> {
     let mut out = Vec::new();
-    if let Some(law) = law.filter(|l| !matches!(l, HystLaw::Memory | HystLaw::BoucWen)) {
+    if let Some(law) = law.filter(|l| !super::model::LAWS.contains(l)) {
         out.push(format!(
-            "stiffness = \"{law}\": the compliant fit's gear is the cubic spring with the fading memory (\"memory\") or with a Bouc–Wen element (\"bouc-wen\"); use one of those, or identify a {law} gear from a torsion test with `hdw fit hysteresis --law {law}`"
+            "stiffness = \"{law}\": the compliant fit's gear is the cubic spring with the fading memory (\"memory\"), a Bouc–Wen element (\"bouc-wen\") or Maxwell-slip elements (\"maxwell-slip\"); use one of those (a catalogue gear's curve comes from its data sheet, `hdw datasheet`, and its loop from a torsion test, `hdw fit hysteresis --law maxwell-slip`)"
         ));
+    }
+    if law == Some(HystLaw::MaxwellSlip) {
+        if p.ms_elements.iter().any(|e| e.k > 0.0) {
+            out.push(
+                "ms_k<i>, ms_f<i>: the compliant fit's slip elements are the even set of ms_n, ms_k and ms_delta; remove the explicit elements".to_string(),
+            );
+        }
+        let whole = p.ms_n.fract() == 0.0 && (1.0..=MAX_SLIP as f64).contains(&p.ms_n);
+        if !(whole && p.ms_k > 0.0 && p.ms_delta > 0.0) {
+            out.push(format!(
+                "ms_n = {}, ms_k = {:e}, ms_delta = {:e}: expected a whole number of elements in [1, {MAX_SLIP}] and a positive total stiffness and yield deflection",
+                p.ms_n, p.ms_k, p.ms_delta
+            ));
+        }
     }
     if p.l != 0.0 {
         out.push(format!(
@@ -56,10 +72,14 @@ mod tests {
         assert!(unsupported(&seed, None).is_empty());
         assert!(unsupported(&seed, Some(HystLaw::Memory)).is_empty());
         assert!(unsupported(&seed, Some(HystLaw::BoucWen)).is_empty());
+        assert!(unsupported(&seed, Some(HystLaw::MaxwellSlip)).is_empty());
+        let odd = Params { ms_n: 2.5, ..Params::default() };
+        let found = unsupported(&odd, Some(HystLaw::MaxwellSlip));
+        assert!(found.len() == 1 && found[0].starts_with("ms_n = 2.5"), "{found:?}");
         let p = Params { l: 1e-3, tc_neg: Some(0.2), mu_s_back: 0.1, ..Params::default() };
-        let found = unsupported(&p, Some(HystLaw::MaxwellSlip));
+        let found = unsupported(&p, Some(HystLaw::Catalogue));
         assert_eq!(found.len(), 4, "{found:?}");
-        for key in ["stiffness = \"maxwell-slip\"", "L = 1e-3", "Tc_neg", "mu_s_back"] {
+        for key in ["stiffness = \"catalogue\"", "L = 1e-3", "Tc_neg", "mu_s_back"] {
             assert!(found.iter().any(|s| s.starts_with(key)), "{key} in {found:?}");
         }
     }
