@@ -95,28 +95,27 @@ fn the_motor_is_fitted_back_from_a_voltage_test() {
 /// the params file, `hdw synth drive --stiffness …` for the record): the fit runs that law,
 /// so the residuals sit at the noise only with it; fit.json and params.toml name the law
 /// and carry its parameters (not the memory's), and the simulator runs the params file.
-/// Naming the memory's parameters for such a drive is an error.
+/// Naming the memory's parameters for such a drive is an error. The same for friction
+/// levels that differ by direction (Tc_neg, Ts_neg in the params file).
 #[test]
 fn other_gear_laws_are_fitted_and_written_back() {
-    for (law, own) in [("bouc-wen", "bw_beta"), ("maxwell-slip", "ms_delta")] {
+    let directional: &[&str] = &["--set", "Tc_neg=0.1", "--set", "Ts_neg=0.18"];
+    for (law, own, set, lines) in [
+        ("bouc-wen", "bw_beta", &[][..], ""),
+        ("maxwell-slip", "ms_delta", &[][..], ""),
+        ("memory", "Ts_neg", directional, "Tc_neg = 0.1\nTs_neg = 0.18\n"),
+    ] {
         let dir = scratch(&format!("fit-compliant-{law}"));
         let rec = dir.join("chirp.csv");
-        hdw_ok(&[
-            "synth",
-            "drive",
-            "--stiffness",
-            law,
-            "--freq",
-            "5",
-            "--t-end",
-            "1",
-            "--out",
-            rec.to_str().unwrap(),
-        ]);
+        let mut synth =
+            vec!["synth", "drive", "--stiffness", law, "--freq", "5", "--t-end", "1", "--out"];
+        synth.push(rec.to_str().unwrap());
+        synth.extend(set);
+        hdw_ok(&synth);
         std::fs::write(
             dir.join("start.toml"),
             format!(
-                "stiffness = \"{law}\"\nR = 7.5\nKe = 0.4\nKm = 0.4\nJj = 8.5e-4\nCj = 0.0022\n"
+                "stiffness = \"{law}\"\nR = 7.5\nKe = 0.4\nKm = 0.4\nJj = 8.5e-4\nCj = 0.0022\n{lines}"
             ),
         )
         .unwrap();
@@ -131,14 +130,17 @@ fn other_gear_laws_are_fitted_and_written_back() {
         hdw_ok(&args);
         let doc = json(&out.join("fit.json"));
         assert_eq!(doc["stiffness"], law);
-        assert!(doc["parameters"][own].is_object() && doc["parameters"]["mem_A"].is_null());
+        assert!(doc["parameters"][own].is_object());
+        assert_eq!(doc["parameters"]["mem_A"].is_null(), law != "memory");
+        assert_eq!(doc["directional_friction"], !lines.is_empty());
         for o in ["motor", "load", "current"] {
             let r = doc["experiments"]["chirp"][o]["rmse_over_noise"].as_f64().unwrap();
             assert!(r < 1.2, "{law}, {o}: {r}");
         }
         let params = std::fs::read_to_string(out.join("params.toml")).unwrap();
         assert!(params.contains(&format!("stiffness = \"{law}\"")), "{params}");
-        assert!(params.contains(&format!("{own} = ")) && !params.contains("mem_A"), "{params}");
+        assert!(params.contains(&format!("{own} = ")), "{params}");
+        assert_eq!(params.contains("mem_A"), law == "memory", "{params}");
         let sim = dir.join("sim");
         hdw_ok(&[
             "simulate",
@@ -149,6 +151,9 @@ fn other_gear_laws_are_fitted_and_written_back() {
             "--out",
             sim.to_str().unwrap(),
         ]);
+        if law == "memory" {
+            continue;
+        }
         let cfg = config(&dir, "", "free = [\"R\", \"mem_A\"]");
         let o = hdw(&[
             "fit",
@@ -196,6 +201,7 @@ fn bad_compliant_configurations_get_one_line_errors() {
         ("", "free = [\"R\", \"bw_alpha\"]", "[fit] free 'bw_alpha'"),
         ("[params]\nbw_beta = 1.0\n", "", "[params] 'bw_beta'"),
         ("", "free = [\"R\", \"ms_n\"]", "[fit] free 'ms_n'"),
+        ("", "free = [\"R\", \"Tc_neg\"]", "[fit] free 'Tc_neg'"),
     ];
     for (extra, fit, expect) in cases {
         // `[params]` and `[bounds]` tables must come after the top-level keys but before
@@ -207,11 +213,9 @@ fn bad_compliant_configurations_get_one_line_errors() {
     let o = run_with("", "", "current = \"amps\"");
     assert_one_line_error(&o, &["amps", "chirp.csv"]);
     // A params file asking for what the compliant model is not names the file and the key.
-    for (line, expect) in [
-        ("stiffness = \"catalogue\"", "stiffness = \"catalogue\""),
-        ("L = 0.002", "L = 2e-3"),
-        ("Ts_neg = 0.3", "Ts_neg"),
-    ] {
+    for (line, expect) in
+        [("stiffness = \"catalogue\"", "stiffness = \"catalogue\""), ("L = 0.002", "L = 2e-3")]
+    {
         std::fs::write(dir.join("start.toml"), format!("R = 7.5\n{line}\n")).unwrap();
         let o = run("", "");
         assert_one_line_error(&o, &[expect, "start.toml"]);

@@ -110,8 +110,9 @@ fn moving_at_start(r: &VoltageRecord) -> Option<String> {
 
 /// The start values of the params file named in the configuration (or the seed's), in
 /// [`NAMES`] order, the gear ratio N and the gear law (the file's `stiffness`, default the
-/// memory); the other law's hysteretic parameters are zero.
-fn base_params(cfg: &CompliantConfig, base: &Path) -> Result<([f64; P], f64, HystLaw)> {
+/// memory); the other law's hysteretic parameters are zero. The last value says whether the
+/// file sets direction-dependent friction levels (Tc_neg or Ts_neg).
+fn base_params(cfg: &CompliantConfig, base: &Path) -> Result<([f64; P], f64, HystLaw, bool)> {
     let mut p = hd_model::Params::default();
     let mut law = HystLaw::Memory;
     if let Some(f) = &cfg.params_file {
@@ -131,7 +132,7 @@ fn base_params(cfg: &CompliantConfig, base: &Path) -> Result<([f64; P], f64, Hys
         out[k] = p.get(n)?;
     }
     on_law(&mut out, law);
-    Ok((out, p.n, law))
+    Ok((out, p.n, law, p.tc_neg.is_some() || p.ts_neg.is_some()))
 }
 
 /// Run `hdw fit drive` on a compliant-drive configuration `text` of `args.config`.
@@ -157,8 +158,9 @@ pub fn run(args: &DriveArgs, text: &str) -> Result<()> {
         }
     }
     let between = cfg.between(&file)?;
-    let (params, n, law) = base_params(&cfg, base)?;
-    let free = cfg.free(&file, Some(law))?;
+    let (params, n, law, sets_negative) = base_params(&cfg, base)?;
+    let directional = cfg.directional_friction.unwrap_or(sets_negative);
+    let free = cfg.free(&file, Some(law), directional)?;
     cfg.check_law(&file, law)?;
     for r in records.iter().chain(&validation) {
         if let Some(why) = hd_ident::drive::compliant::ratio_check::check_ratio(r, n) {
@@ -217,6 +219,7 @@ pub fn run(args: &DriveArgs, text: &str) -> Result<()> {
         upper,
         outputs,
         km_is_ke: cfg.km_equals_ke.unwrap_or(true),
+        symmetric_friction: !directional,
         current_offset: cfg.fit.current_offset.unwrap_or(true),
         substeps: floor,
         settings: LmSettings {
@@ -225,6 +228,8 @@ pub fn run(args: &DriveArgs, text: &str) -> Result<()> {
             geodesic: true,
         },
     };
+    // Followers start at their leaders' values (as the fit holds them).
+    let spec = CompliantSpec { start: spec.tied(spec.start), ..spec };
     // A count given in the configuration is used as given; otherwise it is raised until
     // the integration error is below the noise (hd_ident::drive::compliant::accuracy).
     let spec = if cfg.substeps.is_some() {

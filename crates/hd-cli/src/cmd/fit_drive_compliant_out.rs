@@ -6,6 +6,7 @@ use super::fit_drive_compliant_loop::LoopInfo;
 use super::fit_drive_out::pair_plots;
 use anyhow::Result;
 use hd_ident::drive::compliant::fit::{CompliantSpec, RecordScore, Signal, simulate_on_zeros};
+use hd_ident::drive::compliant::model::ix::{TC_NEG, TS_NEG};
 use hd_ident::drive::compliant::model::{gear_law, in_law};
 use hd_ident::drive::compliant::{Compliant, CompliantFit, NAMES, VoltageRecord};
 use serde_json::{Map, Value, json};
@@ -115,10 +116,14 @@ fn write_all(dir: &Path, o: &Outcome) -> Result<()> {
     let sp = &o.spec;
     let ctl = o.controller.as_ref();
     let law = gear_law(&f.values);
+    // The gear law's parameters; the negative-side friction levels only where they are
+    // the drive's own (a symmetric fit's follow Tc and Ts).
+    let shown =
+        |k: usize| in_law(k, law) && !(sp.symmetric_friction && [TC_NEG, TS_NEG].contains(&k));
     let parameters: Map<String, Value> = NAMES
         .iter()
         .enumerate()
-        .filter(|(k, _)| in_law(*k, law))
+        .filter(|(k, _)| shown(*k))
         .map(|(k, n)| {
             (
                 n.to_string(),
@@ -136,6 +141,7 @@ fn write_all(dir: &Path, o: &Outcome) -> Result<()> {
         "voltage_between": if ctl.is_some() { "hold" } else { sp.between.name() },
         "substeps": sp.substeps,
         "km_equals_ke": sp.km_is_ke,
+        "directional_friction": !sp.symmetric_friction,
         "wall_time_s": o.secs,
         "starts": f.starts,
         "iterations": f.iterations,
@@ -160,7 +166,7 @@ fn write_all(dir: &Path, o: &Outcome) -> Result<()> {
         law.name(),
         sp.n
     );
-    for (k, n) in NAMES.iter().enumerate().filter(|(k, _)| in_law(*k, law)) {
+    for (k, n) in NAMES.iter().enumerate().filter(|(k, _)| shown(*k)) {
         let _ = writeln!(params, "{n} = {:e}", f.values[k]);
     }
 
@@ -196,7 +202,7 @@ fn write_all(dir: &Path, o: &Outcome) -> Result<()> {
     }
     let _ = writeln!(r, "| parameter | start | value | std. error | determined | unit |");
     let _ = writeln!(r, "|---|---:|---:|---:|---|---|");
-    for (k, n) in NAMES.iter().enumerate().filter(|(k, _)| in_law(*k, law)) {
+    for (k, n) in NAMES.iter().enumerate().filter(|(k, _)| shown(*k)) {
         let se = match (f.free[k], f.held.contains(&k), f.std_errors[k]) {
             (false, _, _) => "fixed".to_string(),
             (true, true, _) => "held".to_string(),

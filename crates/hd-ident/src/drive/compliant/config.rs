@@ -90,6 +90,9 @@ pub struct CompliantConfig {
     pub voltage_between: Option<String>,
     /// Whether Km equals Ke (SI units); default true.
     pub km_equals_ke: Option<bool>,
+    /// Whether the friction levels differ by direction (Tc_neg, Ts_neg their own
+    /// parameters); default: whether the params file sets Tc_neg or Ts_neg.
+    pub directional_friction: Option<bool>,
     /// Runge–Kutta substeps per sample; default from the start's fastest rate.
     pub substeps: Option<usize>,
     /// The records fitted jointly (voltage tests, or closed-loop records with a
@@ -154,7 +157,7 @@ impl CompliantConfig {
         c.between(file)?;
         c.outputs(file)?;
         super::loop_config::check(&c, file)?;
-        c.free(file, None)?;
+        c.free(file, None, true)?;
         for k in c.params.keys() {
             index(k, file, "[params]")?;
         }
@@ -219,7 +222,15 @@ impl CompliantConfig {
     /// parameters may be named; the check of a configuration before its params file is
     /// read). The default frees all but a, b, sigma2, bw_A, bw_n and ms_n, and never the
     /// other laws' hysteretic parameters; naming one of those is an error.
-    pub fn free(&self, file: &str, law: Option<HystLaw>) -> Result<[bool; P], DriveError> {
+    ///
+    /// With `directional` false, Tc_neg and Ts_neg follow Tc and Ts (naming them is an
+    /// error); with it true they are free by default.
+    pub fn free(
+        &self,
+        file: &str,
+        law: Option<HystLaw>,
+        directional: bool,
+    ) -> Result<[bool; P], DriveError> {
         let mut free = [false; P];
         let other: Vec<usize> = match law {
             Some(l) => super::model::LAWS
@@ -235,6 +246,12 @@ impl CompliantConfig {
                     let k = index(n, file, "[fit] free")?;
                     if let Some(l) = law {
                         not_of_law(k, l, file, "[fit] free")?;
+                    }
+                    if law.is_some() && !directional && (k == ix::TC_NEG || k == ix::TS_NEG) {
+                        return Err(DriveError::config(
+                            format!("{file}, [fit] free '{n}'"),
+                            "the friction is symmetric here, so Tc_neg and Ts_neg follow Tc and Ts; set `directional_friction = true` to fit them apart",
+                        ));
                     }
                     free[k] = true;
                 }
@@ -268,8 +285,13 @@ impl CompliantConfig {
         if self.km_equals_ke.unwrap_or(true) {
             free[ix::KM] = free[ix::KE];
         }
+        if !directional {
+            free[ix::TC_NEG] = free[ix::TC];
+            free[ix::TS_NEG] = free[ix::TS];
+        }
         let count = free.iter().filter(|&&f| f).count()
-            - usize::from(self.km_equals_ke.unwrap_or(true) && free[ix::KM]);
+            - usize::from(self.km_equals_ke.unwrap_or(true) && free[ix::KM])
+            - if directional { 0 } else { usize::from(free[ix::TC]) + usize::from(free[ix::TS]) };
         if count > super::fit::MAX_FREE {
             return Err(DriveError::config(
                 format!("{file}, [fit] free"),

@@ -132,6 +132,9 @@ pub struct CompliantSpec {
     /// Whether the torque constant Km [N·m/A] is the back-EMF constant Ke [V·s/rad] (in SI
     /// units they are one constant of an ideal DC motor; Km then follows Ke).
     pub km_is_ke: bool,
+    /// Whether the friction is the same in both directions: Tc_neg and Ts_neg then follow
+    /// Tc and Ts ([`CompliantSpec::ties`]).
+    pub symmetric_friction: bool,
     /// Whether each record's current sensor offset is fitted as a constant (projected out
     /// of the current's residuals, as the encoder zeros are).
     pub current_offset: bool,
@@ -139,6 +142,37 @@ pub struct CompliantSpec {
     pub substeps: usize,
     /// Optimiser settings.
     pub settings: LmSettings,
+}
+
+impl CompliantSpec {
+    /// The parameters that follow another, as (follower, leader) in [`NAMES`] indices: Km
+    /// follows Ke when `km_is_ke`, Tc_neg and Ts_neg follow Tc and Ts when the friction is
+    /// symmetric. A follower is never an optimisation variable: it takes its leader's value
+    /// and its derivative flows into its leader's.
+    pub fn ties(&self) -> Vec<(usize, usize)> {
+        use super::model::ix::*;
+        let mut t = Vec::new();
+        if self.km_is_ke {
+            t.push((KM, KE));
+        }
+        if self.symmetric_friction {
+            t.extend([(TC_NEG, TC), (TS_NEG, TS)]);
+        }
+        t
+    }
+
+    /// Whether parameter `k` follows another ([`CompliantSpec::ties`]).
+    pub fn follows(&self, k: usize) -> bool {
+        self.ties().iter().any(|&(f, _)| f == k)
+    }
+
+    /// `p` with every follower set to its leader's value.
+    pub fn tied<S: Copy>(&self, mut p: [S; P]) -> [S; P] {
+        for (f, l) in self.ties() {
+            p[f] = p[l];
+        }
+        p
+    }
 }
 
 /// Substeps per sample of `h` [s] for the drive at `p`: enough that its fastest non-stiff
@@ -225,7 +259,7 @@ pub fn score_records(
     records: &[VoltageRecord],
     noise_of: &(dyn Fn(Signal, usize) -> f64 + Sync),
 ) -> Vec<RecordScore> {
-    let d = Compliant::new(*p, spec.n);
+    let d = Compliant::new(spec.tied(*p), spec.n);
     records
         .par_iter()
         .enumerate()
@@ -253,7 +287,7 @@ fn residuals_of<T: Scalar + Send + Sync>(
     p: [T; P],
     records: &[VoltageRecord],
 ) -> Vec<T> {
-    let d = Compliant::new(p, spec.n);
+    let d = Compliant::new(spec.tied(p), spec.n);
     let parts: Vec<Vec<T>> = records
         .par_iter()
         .enumerate()
@@ -298,9 +332,7 @@ fn jacobian<const N: usize>(
     for (slot, &k) in free_idx.iter().enumerate() {
         pd[k] = Dual::var(p[k], slot);
     }
-    if spec.km_is_ke {
-        pd[super::model::ix::KM] = pd[super::model::ix::KE];
-    }
+    let pd = spec.tied(pd);
     let rd = residuals_of(spec, pd, records);
     let r: Vec<f64> = rd.iter().map(|d| d.v).collect();
     let j = DMatrix::from_fn(r.len(), free_idx.len(), |i, c| rd[i].d[c]);
@@ -328,9 +360,8 @@ pub(super) fn fit_stage(
     records: &[VoltageRecord],
     progress: Progress<'_>,
 ) -> Result<CompliantFit, String> {
-    let free_idx: Vec<usize> = (0..NAMES.len())
-        .filter(|&k| spec.free[k] && !(spec.km_is_ke && k == super::model::ix::KM))
-        .collect();
+    let free_idx: Vec<usize> =
+        (0..NAMES.len()).filter(|&k| spec.free[k] && !spec.follows(k)).collect();
     if free_idx.len() > MAX_FREE {
         return Err(format!(
             "{} free parameters; the compliant fit takes at most {MAX_FREE}",
@@ -347,10 +378,7 @@ pub(super) fn fit_stage(
         for (slot, &k) in free_idx.iter().enumerate() {
             p[k] = if logged[slot] { x[slot].exp() } else { x[slot] };
         }
-        if spec.km_is_ke {
-            p[super::model::ix::KM] = p[super::model::ix::KE];
-        }
-        p
+        spec.tied(p)
     };
     let finite = |r: &[f64]| r.iter().all(|v| v.is_finite());
     let plain = |x: &[f64]| {
@@ -433,10 +461,9 @@ pub(super) fn fit_stage(
             (free_idx.iter().position(|&k| k == a)?, free_idx.iter().position(|&k| k == b)?);
         det.correlation[sa][sb]
     };
-    if spec.km_is_ke {
-        use super::model::ix::{KE, KM};
-        std_errors[KM] = std_errors[KE];
-        determined[KM] = determined[KE];
+    for (f, l) in spec.ties() {
+        std_errors[f] = std_errors[l];
+        determined[f] = determined[l];
     }
     super::determined::refine(
         &mut det.sentences,

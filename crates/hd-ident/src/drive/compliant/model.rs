@@ -32,14 +32,14 @@ use hd_model::laws::slip_set::MAX_SLIP;
 use hd_model::laws::stiffness::{CubicSpring, FadingMemory};
 
 /// Number of parameters of the compliant drive.
-pub const P: usize = 26;
+pub const P: usize = 28;
 
 /// The parameters of the compliant drive, in the order of a parameter vector (hd-model's
 /// registry names, so a fitted set is a params file `hdw simulate` reads).
 pub const NAMES: [&str; P] = [
     "R", "Km", "Ke", "Jj", "Jz", "Cj", "Cz", "c", "a", "b", "mem_A", "mem_B", "sigma0", "sigma1",
     "sigma2", "Tc", "Ts", "ws", "bw_alpha", "bw_A", "bw_beta", "bw_gamma", "bw_n", "ms_k",
-    "ms_delta", "ms_n",
+    "ms_delta", "ms_n", "Tc_neg", "Ts_neg",
 ];
 
 /// The gear laws of the compliant drive.
@@ -112,6 +112,8 @@ pub mod ix {
     pub const MS_K: usize = 23;
     pub const MS_DELTA: usize = 24;
     pub const MS_N: usize = 25;
+    pub const TC_NEG: usize = 26;
+    pub const TS_NEG: usize = 27;
 }
 
 /// The state: motor angle θj [rad] and speed ωj [rad/s], gear deflection θ [rad] (θz =
@@ -171,14 +173,18 @@ impl<T: Scalar> Compliant<T> {
     /// The drive with parameters `p` ([`NAMES`] order) and ratio `n`.
     pub fn new(p: [T; P], n: f64) -> Self {
         use ix::*;
-        let law = LuGre::symmetric(
-            p[SIGMA0].re(),
-            p[SIGMA1].re(),
-            p[SIGMA2].re(),
-            p[TC].re(),
-            p[TS].re(),
-            p[WS].re(),
-        );
+        let law = LuGre {
+            tc_neg: p[TC_NEG].re(),
+            ts_neg: p[TS_NEG].re(),
+            ..LuGre::symmetric(
+                p[SIGMA0].re(),
+                p[SIGMA1].re(),
+                p[SIGMA2].re(),
+                p[TC].re(),
+                p[TS].re(),
+                p[WS].re(),
+            )
+        };
         Compliant { p, n, law }
     }
 
@@ -193,11 +199,19 @@ impl<T: Scalar> Compliant<T> {
         let vr = v.re();
         let lg = self.law.level_grad(vr);
         let (_, slope) = self.law.stribeck(vr);
-        // One set of levels for both directions: the negative side's entries are Tc's, Ts's.
+        // The negative side's levels are their own parameters (a symmetric fit ties them to
+        // Tc and Ts, so their derivatives land there).
         let g = lg.grad;
         T::lift(
             lg.level,
-            &[(slope, v), (g[0] + g[4], self.p[TC]), (g[1] + g[5], self.p[TS]), (g[2], self.p[WS])],
+            &[
+                (slope, v),
+                (g[0], self.p[TC]),
+                (g[1], self.p[TS]),
+                (g[2], self.p[WS]),
+                (g[4], self.p[TC_NEG]),
+                (g[5], self.p[TS_NEG]),
+            ],
         )
     }
 

@@ -94,7 +94,7 @@ fn redrawn(
     k: usize,
     draws: &mut Draws,
 ) -> VoltageRecord {
-    let d = Compliant::new(*values, spec.n);
+    let d = Compliant::new(spec.tied(*values), spec.n);
     let (sim, _, _) = simulate_on_zeros(spec, &d, rec);
     let level = |s: Signal| spec.outputs.iter().find(|(o, _)| *o == s).map(|(_, n)| n[k]);
     let mut encoder = |sim: &[f64], measured: &[f64], s: Signal| -> Vec<f64> {

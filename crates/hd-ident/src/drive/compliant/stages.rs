@@ -298,7 +298,7 @@ pub fn settle(
         let mut members: Vec<(usize, f64)> = direction
             .iter()
             .map(|&(slot, w)| (first.jacobian_params[slot], w))
-            .filter(|(k, _)| !(spec.km_is_ke && *k == KM))
+            .filter(|(k, _)| !spec.follows(*k))
             .collect();
         members.sort_by(|a, b| b.1.abs().total_cmp(&a.1.abs()));
         if members.iter().any(|(k, _)| unseen.contains(k)) {

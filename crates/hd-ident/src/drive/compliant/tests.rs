@@ -126,6 +126,7 @@ pub(super) fn test_spec(
         outputs,
         noise_estimated: Vec::new(),
         km_is_ke: true,
+        symmetric_friction: true,
         current_offset: false,
         substeps,
         settings: LmSettings { max_iterations: 300, cost_tolerance: 1e-8, geodesic: true },
