@@ -1,7 +1,7 @@
 //! How the compliant fit gets to its optimum, and how it checks what that optimum means.
 //!
-//! 1. **Motor pass.** The motor's own parameters (R, Km, Ke, Jj, Cj) fitted to the current and
-//!    the motor encoder. These see the motor without the gear's ringing (the current alone
+//! 1. **Motor pass.** The motor's own parameters (R, Km, Ke, Jj, Cj; with direction-dependent
+//!    friction, the two Coulomb levels too) fitted to the current and the motor encoder. These see the motor without the gear's ringing (the current alone
 //!    would leave the speed's scale free: Ke·s, Jj·s², Cj·s² give the same current).
 //! 2. **Load pass.** The load's and the gear's parameters (Cz, c, mem_A, mem_B or bw_*; Jz too when
 //!    the stiffness is fixed) fitted to the load encoder, the motor's held. The load's
@@ -209,7 +209,17 @@ fn staged_starts(
     if !has(Signal::Load) || first_outputs.is_empty() {
         return vec![spec.start];
     }
-    let motor = pass(spec, &[R, KM, KE, JJ, CJ], first_outputs, spec.start);
+    // Levels that differ by direction act on the motor as a torque that flips with the
+    // direction, which the motor's own parameters would absorb from a wrong start (a 5 s
+    // multisine with Tc_neg, Ts_neg 30 % off then ended with the load's resonance at half
+    // its frequency): the motor pass fits the two Coulomb levels too. A symmetric level's
+    // error is absorbed without harm, and fitting it there only costs time.
+    let motor_set: &[usize] = if spec.symmetric_friction {
+        &[R, KM, KE, JJ, CJ]
+    } else {
+        &[R, KM, KE, JJ, CJ, TC, TC_NEG]
+    };
+    let motor = pass(spec, motor_set, first_outputs, spec.start);
     let values = fit_stage(&motor, records, progress).map_or(spec.start, |f| f.values);
     let load_outputs: Vec<_> =
         spec.outputs.iter().filter(|(s, _)| *s == Signal::Load).cloned().collect();
