@@ -101,9 +101,11 @@ impl<const N: usize> Dual<N> {
 }
 
 impl<const N: usize> Scalar for Dual<N> {
+    #[inline(always)]
     fn cst(v: f64) -> Self {
         Dual { v, d: [0.0; N] }
     }
+    #[inline(always)]
     fn re(self) -> f64 {
         self.v
     }
@@ -132,6 +134,7 @@ impl<const N: usize> Scalar for Dual<N> {
 
 impl<const N: usize> Add for Dual<N> {
     type Output = Dual<N>;
+    #[inline(always)]
     fn add(mut self, o: Dual<N>) -> Dual<N> {
         self.v += o.v;
         for (a, b) in self.d.iter_mut().zip(o.d) {
@@ -143,6 +146,7 @@ impl<const N: usize> Add for Dual<N> {
 
 impl<const N: usize> Sub for Dual<N> {
     type Output = Dual<N>;
+    #[inline(always)]
     fn sub(mut self, o: Dual<N>) -> Dual<N> {
         self.v -= o.v;
         for (a, b) in self.d.iter_mut().zip(o.d) {
@@ -154,6 +158,7 @@ impl<const N: usize> Sub for Dual<N> {
 
 impl<const N: usize> Mul for Dual<N> {
     type Output = Dual<N>;
+    #[inline(always)]
     fn mul(self, o: Dual<N>) -> Dual<N> {
         let mut d = [0.0; N];
         for (k, x) in d.iter_mut().enumerate() {
@@ -165,6 +170,7 @@ impl<const N: usize> Mul for Dual<N> {
 
 impl<const N: usize> Div for Dual<N> {
     type Output = Dual<N>;
+    #[inline(always)]
     fn div(self, o: Dual<N>) -> Dual<N> {
         let q = self.v / o.v;
         let mut d = [0.0; N];
@@ -177,6 +183,7 @@ impl<const N: usize> Div for Dual<N> {
 
 impl<const N: usize> Neg for Dual<N> {
     type Output = Dual<N>;
+    #[inline(always)]
     fn neg(self) -> Dual<N> {
         self.chain(-self.v, -1.0)
     }
@@ -184,6 +191,7 @@ impl<const N: usize> Neg for Dual<N> {
 
 impl<const N: usize> Add<f64> for Dual<N> {
     type Output = Dual<N>;
+    #[inline(always)]
     fn add(mut self, o: f64) -> Dual<N> {
         self.v += o;
         self
@@ -192,6 +200,7 @@ impl<const N: usize> Add<f64> for Dual<N> {
 
 impl<const N: usize> Sub<f64> for Dual<N> {
     type Output = Dual<N>;
+    #[inline(always)]
     fn sub(mut self, o: f64) -> Dual<N> {
         self.v -= o;
         self
@@ -200,6 +209,7 @@ impl<const N: usize> Sub<f64> for Dual<N> {
 
 impl<const N: usize> Mul<f64> for Dual<N> {
     type Output = Dual<N>;
+    #[inline(always)]
     fn mul(self, o: f64) -> Dual<N> {
         self.chain(self.v * o, o)
     }
@@ -207,6 +217,7 @@ impl<const N: usize> Mul<f64> for Dual<N> {
 
 impl<const N: usize> Div<f64> for Dual<N> {
     type Output = Dual<N>;
+    #[inline(always)]
     fn div(self, o: f64) -> Dual<N> {
         self.chain(self.v / o, 1.0 / o)
     }

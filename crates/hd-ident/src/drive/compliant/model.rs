@@ -194,6 +194,7 @@ impl<T: Scalar> Compliant<T> {
     }
 
     /// The Stribeck level G(v) [N·m] with its derivatives (the law's own).
+    #[inline]
     fn level(&self, v: T) -> T {
         use ix::*;
         let vr = v.re();
@@ -216,6 +217,7 @@ impl<T: Scalar> Compliant<T> {
     }
 
     /// The spring torque c·θ + b·θ² + a·θ³ [N·m] (hd-model's cubic spring, lifted).
+    #[inline]
     fn spring(&self, theta: T) -> T {
         use ix::*;
         let t = theta.re();
@@ -227,6 +229,7 @@ impl<T: Scalar> Compliant<T> {
     }
 
     /// The memory rate ż = A·θ̇ − B·z [N·m/s] (hd-model's fading memory, lifted).
+    #[inline]
     fn memory_rate(&self, theta_dot: T, z: T) -> T {
         use ix::*;
         let law = FadingMemory { a: self.p[MEM_A].re(), b: self.p[MEM_B].re() };
@@ -239,6 +242,7 @@ impl<T: Scalar> Compliant<T> {
 
     /// The Bouc–Wen element's deflection rate ḣ [rad/s] at deflection rate θ̇ and state h
     /// (hd-model's law, lifted; zero when its stiffness α is zero).
+    #[inline(never)]
     fn bouc_wen_rate(&self, theta_dot: T, h: T) -> T {
         use ix::*;
         let law = BoucWen {
@@ -291,6 +295,7 @@ impl<T: Scalar> Compliant<T> {
 
     /// The slip elements' torque Σ (ms_k/n)·clamp(θ + oᵢ, −δᵢ, δᵢ) [N·m] at deflection θ
     /// with offsets `o` (hd-model's `SlipSet::torque` for its even set).
+    #[inline(never)]
     fn slip_torque(&self, theta: T, o: &[T]) -> T {
         let count = o.len();
         let mut sum = T::cst(0.0);
@@ -303,6 +308,7 @@ impl<T: Scalar> Compliant<T> {
     /// Move the slip elements' offsets `o` along a step from `from` to `to`: each element's
     /// deflection follows the play operator over the step's deflection change (taken as
     /// monotone over a substep) and its offset becomes its new deflection less θ.
+    #[inline(never)]
     pub fn commit(&self, from: &State<T>, to: &State<T>, o: &mut [T]) {
         let count = o.len();
         for (i, oi) in o.iter_mut().enumerate() {
@@ -314,6 +320,7 @@ impl<T: Scalar> Compliant<T> {
     }
 
     /// The state's rates at voltage `u` [V], the slip elements (if any) at offsets `o`.
+    #[inline]
     pub fn rates(&self, y: &State<T>, u: f64, o: &[T]) -> State<T> {
         use ix::*;
         let p = &self.p;
@@ -347,6 +354,9 @@ impl<T: Scalar> Compliant<T> {
     /// ([`Compliant::step_by`] with the model's own rates), the slip elements' offsets `o`
     /// held over it and then committed ([`Compliant::commit`]).
     pub fn step(&self, y: &State<T>, o: &mut [T], u: [f64; 3], d: f64) -> State<T> {
+        if o.is_empty() {
+            return self.step_by(y, |s, at| self.rates(s, u[at], &[]), d);
+        }
         let next = self.step_by(y, |s, at| self.rates(s, u[at], o), d);
         self.commit(y, &next, o);
         next
