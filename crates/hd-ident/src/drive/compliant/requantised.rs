@@ -6,7 +6,8 @@
 //! 2–200 Hz chirp of the seed drive: σ0 at 2.9e4 ± 7.6e3, truth 1.2e5; the same record with
 //! white noise of the same RMS in place of the rounding leaves σ0 undetermined).
 //!
-//! The check redraws the rounding. The fitted drive is run on each voltage test, its
+//! The check redraws the rounding. The fitted drive is run on each record (in closed loop,
+//! its controller's output becomes the record's command), its
 //! encoder angles are rounded to the record's own count lattice at a random phase (where
 //! the record's readings lie on one; white noise of the encoder's level otherwise), the
 //! current gets fresh noise of its level, and the fit is run again from the fitted values
@@ -86,7 +87,8 @@ impl Draws {
 
 /// Record `rec` as the drive at `values` would log it, with the rounding redrawn: encoder
 /// angles rounded to the record's lattice at a random phase (or white noise of `spec`'s
-/// level), the current with fresh noise of its level.
+/// level), the current with fresh noise of its level, and in closed loop the command as
+/// the fitted drive's controller gives it, with fresh noise of its level.
 fn redrawn(
     spec: &CompliantSpec,
     values: &[f64; P],
@@ -115,12 +117,20 @@ fn redrawn(
         let sigma = level(Signal::Current).unwrap_or(0.0);
         sim.current.iter().map(|i| i + sigma * draws.normal()).collect()
     });
-    VoltageRecord { theta_m, theta_l, current, ..rec.clone() }
+    // In its loop the record's command is the controller's output: the fitted drive's,
+    // with fresh noise of the command's level where it is compared.
+    let u = if rec.closed.is_some() && !sim.command.is_empty() {
+        let sigma = level(Signal::Command).unwrap_or(0.0);
+        sim.command.iter().map(|c| c + sigma * draws.normal()).collect()
+    } else {
+        rec.u.clone()
+    };
+    VoltageRecord { theta_m, theta_l, current, u, ..rec.clone() }
 }
 
 /// The spread (standard deviation over [`REPLICATES`] refits on re-rounded records) of each
 /// parameter of `fit` ([`NAMES`] order; None where not free or where too few refits
-/// converged), or None when no record is a voltage test with a quantised encoder.
+/// converged), or None when no record has a quantised encoder.
 pub fn rounding_spread(
     spec: &CompliantSpec,
     fit: &CompliantFit,
@@ -128,7 +138,7 @@ pub fn rounding_spread(
 ) -> Option<[Option<f64>; P]> {
     let quantised =
         |r: &VoltageRecord| lattice(&r.theta_m).is_some() || lattice(&r.theta_l).is_some();
-    if records.iter().any(|r| r.closed.is_some()) || !records.iter().any(quantised) {
+    if !records.iter().any(quantised) {
         return None;
     }
     let mut free = spec.free;
