@@ -2,7 +2,7 @@
 //! fitted back (motor parameters free, the rest at the truth), its outputs, the params file
 //! `hdw simulate` runs, and the one-line errors of bad configurations.
 
-use crate::common::{assert_one_line_error, hdw, hdw_ok, json, scratch};
+use crate::common::{assert_one_line_error, hdw, hdw_ok, json, ok, scratch};
 
 /// The configuration of the tests, with `extra` appended to its top level and `fit` as its
 /// `[fit]` table.
@@ -15,6 +15,25 @@ fn config(dir: &std::path::Path, extra: &str, fit: &str) -> std::path::PathBuf {
     let path = dir.join("fit.toml");
     std::fs::write(&path, text).unwrap();
     path
+}
+
+/// The `[fit]` table of the tests that fit the motor: its four parameters free, the
+/// encoders' noise one count/√12 (4096 and 2^20 counts per turn).
+const MOTOR_FIT: &str =
+    "free = [\"R\", \"Ke\", \"Jj\", \"Cj\"]\nnoise = { motor = 4.43e-4, load = 1.73e-6 }";
+
+/// Run `hdw fit drive --config cfg --out out`.
+fn fit_drive(cfg: &std::path::Path, out: &std::path::Path) -> std::process::Output {
+    hdw(&["fit", "drive", "--config", cfg.to_str().unwrap(), "--out", out.to_str().unwrap()])
+}
+
+/// Run `hdw simulate` on the params.toml a fit wrote to `out`, into `sim` (it must run).
+fn simulates(out: &std::path::Path, sim: &std::path::Path) {
+    let params = out.join("params.toml");
+    let args = ["simulate", "--params", params.to_str().unwrap(), "--t-end", "0.05", "--out"];
+    let mut args = args.to_vec();
+    args.push(sim.to_str().unwrap());
+    hdw_ok(&args);
 }
 
 /// Motor parameters 20–30 % off, everything else the seed's (the truth of `synth drive`).
@@ -32,13 +51,9 @@ fn the_motor_is_fitted_back_from_a_voltage_test() {
     let rec = dir.join("chirp.csv");
     hdw_ok(&["synth", "drive", "--freq", "5", "--t-end", "2", "--out", rec.to_str().unwrap()]);
     start(&dir);
-    let cfg = config(
-        &dir,
-        "",
-        "free = [\"R\", \"Ke\", \"Jj\", \"Cj\"]\nnoise = { motor = 4.43e-4, load = 1.73e-6 }",
-    );
+    let cfg = config(&dir, "", MOTOR_FIT);
     let out = dir.join("out");
-    hdw_ok(&["fit", "drive", "--config", cfg.to_str().unwrap(), "--out", out.to_str().unwrap()]);
+    ok(&fit_drive(&cfg, &out));
     let doc: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(out.join("fit.json")).unwrap()).unwrap();
     assert_eq!(doc["transmission"], "compliant");
@@ -69,7 +84,7 @@ fn the_motor_is_fitted_back_from_a_voltage_test() {
     let text = std::fs::read_to_string(&cfg).unwrap().replace("current = \"i\"\n", "");
     std::fs::write(&cfg, text).unwrap();
     let bare = dir.join("bare");
-    hdw_ok(&["fit", "drive", "--config", cfg.to_str().unwrap(), "--out", bare.to_str().unwrap()]);
+    ok(&fit_drive(&cfg, &bare));
     let doc2 = json(&bare.join("fit.json"));
     for o in ["motor", "load"] {
         let r = doc2["experiments"]["chirp"][o]["rmse_over_noise"].as_f64().unwrap();
@@ -79,16 +94,7 @@ fn the_motor_is_fitted_back_from_a_voltage_test() {
         ["R", "Ke", "Jj", "Cj"].iter().filter(|n| doc2["parameters"][**n]["held"] == true).count();
     assert_eq!(held, 1, "{}", doc2["determination"]);
     // params.toml is a params file the simulator runs.
-    let sim = dir.join("sim");
-    hdw_ok(&[
-        "simulate",
-        "--params",
-        out.join("params.toml").to_str().unwrap(),
-        "--t-end",
-        "0.05",
-        "--out",
-        sim.to_str().unwrap(),
-    ]);
+    simulates(&out, &dir.join("sim"));
 }
 
 /// Drives whose gear is a Bouc–Wen element or Maxwell-slip elements (`stiffness = "…"` in
@@ -119,15 +125,9 @@ fn other_gear_laws_are_fitted_and_written_back() {
             ),
         )
         .unwrap();
-        let cfg = config(
-            &dir,
-            "",
-            "free = [\"R\", \"Ke\", \"Jj\", \"Cj\"]\nnoise = { motor = 4.43e-4, load = 1.73e-6 }",
-        );
+        let cfg = config(&dir, "", MOTOR_FIT);
         let out = dir.join("out");
-        let args =
-            ["fit", "drive", "--config", cfg.to_str().unwrap(), "--out", out.to_str().unwrap()];
-        hdw_ok(&args);
+        ok(&fit_drive(&cfg, &out));
         let doc = json(&out.join("fit.json"));
         assert_eq!(doc["stiffness"], law);
         assert!(doc["parameters"][own].is_object());
@@ -141,28 +141,12 @@ fn other_gear_laws_are_fitted_and_written_back() {
         assert!(params.contains(&format!("stiffness = \"{law}\"")), "{params}");
         assert!(params.contains(&format!("{own} = ")), "{params}");
         assert_eq!(params.contains("mem_A"), law == "memory", "{params}");
-        let sim = dir.join("sim");
-        hdw_ok(&[
-            "simulate",
-            "--params",
-            out.join("params.toml").to_str().unwrap(),
-            "--t-end",
-            "0.05",
-            "--out",
-            sim.to_str().unwrap(),
-        ]);
+        simulates(&out, &dir.join("sim"));
         if law == "memory" {
             continue;
         }
         let cfg = config(&dir, "", "free = [\"R\", \"mem_A\"]");
-        let o = hdw(&[
-            "fit",
-            "drive",
-            "--config",
-            cfg.to_str().unwrap(),
-            "--out",
-            out.to_str().unwrap(),
-        ]);
+        let o = fit_drive(&cfg, &out);
         assert_one_line_error(&o, &["[fit] free 'mem_A'", law]);
     }
 }
@@ -180,14 +164,7 @@ fn bad_compliant_configurations_get_one_line_errors() {
         let text = std::fs::read_to_string(&cfg).unwrap().replace("current = \"i\"", current_line);
         std::fs::write(&cfg, text).unwrap();
         let out = dir.join("out");
-        let o = hdw(&[
-            "fit",
-            "drive",
-            "--config",
-            cfg.to_str().unwrap(),
-            "--out",
-            out.to_str().unwrap(),
-        ]);
+        let o = fit_drive(&cfg, &out);
         assert!(!out.exists(), "a failed fit leaves no output folder");
         o
     };

@@ -170,7 +170,12 @@ fn stiffness_rule(
     }
     let names: Vec<&str> = free.iter().map(|&k| NAMES[k]).collect();
     let jz_seen = std_errors[ix::JZ].is_none() || determined[ix::JZ];
-    if law != HystLaw::Memory {
+    let what = format!(
+        "{} ({}) are determined only together",
+        stiffness_sentence(values),
+        names.join(", ")
+    );
+    let sentence = if law != HystLaw::Memory {
         // A rate-independent element's share of the stiffness depends on how far it is
         // deflected (it saturates, or its elements slip): no single resonance frequency
         // stands for the record, so none is given.
@@ -179,31 +184,25 @@ fn stiffness_rule(
         } else {
             " The load inertia Jz is not determined either, and the record sees the gear's stiffness only relative to it."
         };
-        added.push(format!(
-            "{} ({}) are determined only together: the element's share of the gear's stiffness depends on how far it is deflected, and this record does not separate it from the spring's.{tail}",
-            stiffness_sentence(values),
-            names.join(", "),
-        ));
-        for k in free {
-            determined[k] = false;
-        }
-        return;
-    }
-    let which = [ix::JJ, ix::JZ, ix::C, ix::MEM_A, ix::MEM_B];
-    let hz = |v: &[f64; P]| resonance(v, n).0 / std::f64::consts::TAU;
-    let stiffness = |v: &[f64; P]| resonance(v, n).1;
-    let (f, se_f) = (hz(values), delta_se(&hz, values, &which, std_errors, corr));
-    let (k, se_k) = (stiffness(values), delta_se(&stiffness, values, &which, std_errors, corr));
-    let tail = if jz_seen {
-        String::new()
+        format!(
+            "{what}: the element's share of the gear's stiffness depends on how far it is deflected, and this record does not separate it from the spring's.{tail}"
+        )
     } else {
-        " The load inertia Jz is not determined, and the record sees the stiffness only relative to it (the resonance): K holds at the fitted Jz, and scales with it.".to_string()
+        let which = [ix::JJ, ix::JZ, ix::C, ix::MEM_A, ix::MEM_B];
+        let hz = |v: &[f64; P]| resonance(v, n).0 / std::f64::consts::TAU;
+        let stiffness = |v: &[f64; P]| resonance(v, n).1;
+        let (f, se_f) = (hz(values), delta_se(&hz, values, &which, std_errors, corr));
+        let (k, se_k) = (stiffness(values), delta_se(&stiffness, values, &which, std_errors, corr));
+        let tail = if jz_seen {
+            ""
+        } else {
+            " The load inertia Jz is not determined, and the record sees the stiffness only relative to it (the resonance): K holds at the fitted Jz, and scales with it."
+        };
+        format!(
+            "{what}: the load resonates at {f:.2} ± {se_f:.2} Hz, where the gear's stiffness is K = c + A·ω²/(B² + ω²) = {k:.4e} ± {se_k:.2e} N·m/rad.{tail}"
+        )
     };
-    added.push(format!(
-        "{} ({}) are determined only together: the load resonates at {f:.2} ± {se_f:.2} Hz, where the gear's stiffness is K = c + A·ω²/(B² + ω²) = {k:.4e} ± {se_k:.2e} N·m/rad.{tail}",
-        stiffness_sentence(values),
-        names.join(", "),
-    ));
+    added.push(sentence);
     for k in free {
         determined[k] = false;
     }
