@@ -107,7 +107,7 @@ pub struct CompliantConfig {
     #[serde(default)]
     pub params: BTreeMap<String, f64>,
     /// Bounds `[lower, upper]` by parameter name; default start/1000 to start·1000 for a
-    /// positive start (bw_gamma: ±1000·|start|, as it may be negative).
+    /// positive start.
     #[serde(default)]
     pub bounds: BTreeMap<String, [f64; 2]>,
 }
@@ -324,13 +324,7 @@ impl CompliantConfig {
         let mut lower = [f64::NEG_INFINITY; P];
         let mut upper = [f64::INFINITY; P];
         for k in 0..NAMES.len() {
-            if k == ix::BW_GAMMA && start[k] != 0.0 {
-                // Bouc–Wen's γ may take either sign (the loop's shape; β ≥ |γ| keeps the
-                // dissipation non-negative), so it is bounded on both sides and fitted as
-                // it is, not by its logarithm.
-                lower[k] = -start[k].abs() * 1e3;
-                upper[k] = start[k].abs() * 1e3;
-            } else if start[k] > 0.0 {
+            if start[k] > 0.0 {
                 lower[k] = start[k] * 1e-3;
                 upper[k] = start[k] * 1e3;
             }
@@ -340,26 +334,5 @@ impl CompliantConfig {
             }
         }
         (start, lower, upper)
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    /// The default bounds: start/1000 to start·1000 for a positive start, fitted by its
-    /// logarithm; Bouc–Wen's γ, which may be negative, ± 1000 times its start.
-    #[test]
-    fn default_bounds_leave_bw_gamma_either_sign() {
-        let text = "transmission = \"compliant\"\n[[experiment]]\nname = \"a\"\nfile = \"a.csv\"\n\
-                    time = \"t\"\nvoltage = \"u\"\nmotor = \"m\"\nload = \"l\"\n";
-        let cfg = CompliantConfig::parse(text, "fit.toml").unwrap();
-        let mut base = [0.0; P];
-        base[ix::R] = 6.0;
-        base[ix::BW_GAMMA] = 5e4;
-        let (_, lower, upper) = cfg.start_and_bounds(&base);
-        assert_eq!((lower[ix::R], upper[ix::R]), (6e-3, 6e3));
-        assert_eq!((lower[ix::BW_GAMMA], upper[ix::BW_GAMMA]), (-5e7, 5e7));
-        assert!(lower[ix::JZ] == f64::NEG_INFINITY && upper[ix::JZ] == f64::INFINITY);
     }
 }
