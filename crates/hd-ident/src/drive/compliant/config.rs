@@ -336,3 +336,25 @@ impl CompliantConfig {
         (start, lower, upper)
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The default bounds: start/1000 to start·1000 for a positive start, none otherwise;
+    /// a `[bounds]` entry replaces them (a negative lower bound, for Bouc–Wen's γ, too).
+    #[test]
+    fn default_and_given_bounds() {
+        let text = "transmission = \"compliant\"\n[bounds]\nbw_gamma = [-1e6, 1e6]\n\
+                    [[experiment]]\nname = \"a\"\nfile = \"a.csv\"\n\
+                    time = \"t\"\nvoltage = \"u\"\nmotor = \"m\"\nload = \"l\"\n";
+        let cfg = CompliantConfig::parse(text, "fit.toml").unwrap();
+        let mut base = [0.0; P];
+        base[ix::R] = 6.0;
+        base[ix::BW_GAMMA] = 5e4;
+        let (_, lower, upper) = cfg.start_and_bounds(&base);
+        assert_eq!((lower[ix::R], upper[ix::R]), (6e-3, 6e3));
+        assert_eq!((lower[ix::BW_GAMMA], upper[ix::BW_GAMMA]), (-1e6, 1e6));
+        assert!(lower[ix::JZ] == f64::NEG_INFINITY && upper[ix::JZ] == f64::INFINITY);
+    }
+}
