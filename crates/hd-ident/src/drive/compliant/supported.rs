@@ -18,6 +18,12 @@ pub fn unsupported(p: &Params, law: Option<HystLaw>) -> Vec<String> {
             "stiffness = \"{law}\": the compliant fit's gear is the cubic spring with the fading memory (\"memory\"), a Bouc–Wen element (\"bouc-wen\") or Maxwell-slip elements (\"maxwell-slip\"); use one of those (a catalogue gear's curve comes from its data sheet, `hdw datasheet`, and its loop from a torsion test, `hdw fit hysteresis --law maxwell-slip`)"
         ));
     }
+    if law == Some(HystLaw::BoucWen) && !(p.bw_alpha > 0.0 && p.bw_a > 0.0 && p.bw_n > 0.0) {
+        out.push(format!(
+            "bw_alpha = {:e}, bw_A = {:e}, bw_n = {:e}: a Bouc–Wen gear needs a positive stiffness α, rate gain A and exponent n (α = 0 is the gear without the element: use the memory law with mem_A = 0)",
+            p.bw_alpha, p.bw_a, p.bw_n
+        ));
+    }
     if law == Some(HystLaw::MaxwellSlip) {
         if p.ms_elements.iter().any(|e| e.k > 0.0) {
             out.push(
@@ -66,6 +72,9 @@ mod tests {
         assert!(unsupported(&seed, Some(HystLaw::Memory)).is_empty());
         assert!(unsupported(&seed, Some(HystLaw::BoucWen)).is_empty());
         assert!(unsupported(&seed, Some(HystLaw::MaxwellSlip)).is_empty());
+        let flat = Params { bw_alpha: 0.0, ..Params::default() };
+        let found = unsupported(&flat, Some(HystLaw::BoucWen));
+        assert!(found.len() == 1 && found[0].starts_with("bw_alpha = 0"), "{found:?}");
         let odd = Params { ms_n: 2.5, ..Params::default() };
         let found = unsupported(&odd, Some(HystLaw::MaxwellSlip));
         assert!(found.len() == 1 && found[0].starts_with("ms_n = 2.5"), "{found:?}");
