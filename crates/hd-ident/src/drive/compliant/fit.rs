@@ -461,7 +461,9 @@ pub(super) fn fit_stage(
             (free_idx.iter().position(|&k| k == a)?, free_idx.iter().position(|&k| k == b)?);
         det.correlation[sa][sb]
     };
-    for (f, l) in spec.ties() {
+    // Km, shown beside Ke, carries Ke's verdict; the symmetric fit's negative-side levels are
+    // not reported, so they carry none and no rule below speaks of them.
+    for (f, l) in spec.ties().into_iter().filter(|&(f, _)| f == super::model::ix::KM) {
         std_errors[f] = std_errors[l];
         determined[f] = determined[l];
     }

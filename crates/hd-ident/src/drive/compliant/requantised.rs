@@ -170,7 +170,7 @@ pub fn rounding_spread(
     }
     let mut out = [None; P];
     for (k, slot) in out.iter_mut().enumerate().take(NAMES.len()) {
-        if !free[k] {
+        if !free[k] || spec.follows(k) {
             continue;
         }
         let m = ends.len() as f64;
@@ -196,6 +196,12 @@ pub fn widen_by_rounding(spec: &CompliantSpec, fit: &mut CompliantFit, records: 
             "{}'s estimate moves by ± {s:.3e} when the encoders' rounding and the noise are redrawn ({REPLICATES} refits), {:.1} times its linearised standard error {se:.3e}: the rounding, not the record's information, sets much of it; its standard error is taken as {s:.3e}.",
             NAMES[k], s / se
         ));
+    }
+    // A follower shown with its leader (Km with Ke) keeps its leader's standard error.
+    for (f, l) in spec.ties() {
+        if fit.std_errors[f].is_some() {
+            fit.std_errors[f] = fit.std_errors[l];
+        }
     }
 }
 
