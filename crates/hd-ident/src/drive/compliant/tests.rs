@@ -284,6 +284,9 @@ pub(super) fn fit_and_judge(
     }
     for s in &fit.determination.sentences {
         println!("{s}");
+        // A symmetric fit's negative-side levels follow Tc and Ts and are not reported.
+        let hidden = spec.symmetric_friction && (s.contains("Tc_neg") || s.contains("Ts_neg"));
+        assert!(!hidden, "a sentence about a level that is not reported: {s}");
     }
     for &k in free_idx {
         if let (true, Some(se)) = (fit.determined[k], fit.std_errors[k]) {
