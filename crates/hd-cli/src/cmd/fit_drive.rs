@@ -31,8 +31,10 @@ law(s), the outputs compared and the fixed parameters (docs/fit-drive.md). Outpu
   report.md    the same in words, with force.svg, position.svg, residuals.svg (and validation-*.svg)\n\
 With transmission = \"compliant\" the configuration fits the simulator's compliant drive to voltage tests\n\
 (motor and load encoders, current), or, with a [controller] and reference and command columns, to records\n\
-of its own position loop (the command is then an output too); params.toml is then a params file hdw\n\
-simulate runs, and the plots are motor.svg, load.svg, current.svg (command.svg) with their residuals.\n\n\
+of its own position loop (the command is then an output too). Its gear is the params file's stiffness\n\
+law (memory, bouc-wen or maxwell-slip); its friction levels differ by direction where the file sets\n\
+Tc_neg or Ts_neg. params.toml is then a params file hdw simulate runs, and the plots are motor.svg,\n\
+load.svg, current.svg (command.svg) with their residuals.\n\n\
 Example:\n  hdw fit drive --config data/emps/fit.toml --out out/emps"
 )]
 pub struct DriveArgs {
