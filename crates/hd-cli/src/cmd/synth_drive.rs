@@ -194,13 +194,8 @@ pub fn run(a: DriveSynthArgs) -> Result<()> {
     )?;
     let [t, u, mut i, theta_j, theta_z] = cols;
     add_noise(&mut i, &Noise { relative: a.current_noise, seed: a.seed });
-    let quantise = |x: &[f64], counts: u64| -> Vec<f64> {
-        let q = TAU / counts as f64;
-        // + 0.0 turns a rounded −0 into 0.
-        x.iter().map(|v| (v / q).round() * q + 0.0).collect()
-    };
-    let theta_m = quantise(&theta_j, a.motor_counts);
-    let theta_l = quantise(&theta_z, a.load_counts);
+    let theta_m = encoder(&theta_j, a.motor_counts);
+    let theta_l = encoder(&theta_z, a.load_counts);
     let names = ["t", "u", "i", "theta_m", "theta_l", "theta_j_true", "theta_z_true"];
     let rows = t.len();
     hd_io::write_columns(&a.out, &names, &[t, u, i, theta_m, theta_l, theta_j, theta_z])?;
@@ -213,4 +208,11 @@ pub fn run(a: DriveSynthArgs) -> Result<()> {
         a.out.display()
     );
     Ok(())
+}
+
+/// The readings of an encoder of `counts` per revolution following the angles `x` [rad]
+/// (hd-model's rounding to its count, 2π/counts).
+pub fn encoder(x: &[f64], counts: u64) -> Vec<f64> {
+    let q = TAU / counts as f64;
+    x.iter().map(|&v| hd_model::control::quantise(v, q)).collect()
 }

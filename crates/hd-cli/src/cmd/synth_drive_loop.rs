@@ -8,7 +8,7 @@
 use super::synth_drive::DriveSynthArgs;
 use anyhow::{Result, bail};
 use clap::Args;
-use hd_ident::drive::compliant::synth_loop::{LoopRun, quantise};
+use hd_ident::drive::compliant::synth_loop::LoopRun;
 use hd_ident::drive::compliant::{Amplifier, Feedback};
 use hd_ident::drive::controller::Controller;
 use hd_ident::synth::{Noise, add_noise};
@@ -146,8 +146,8 @@ fn run_loop(a: &DriveSynthArgs, cfg: &SimConfig) -> Result<(Vec<f64>, LoopRun)> 
 pub fn write(a: &DriveSynthArgs, cfg: &SimConfig) -> Result<()> {
     let (r, LoopRun { t, command: cmd, current: mut i, theta_j, theta_z }) = run_loop(a, cfg)?;
     add_noise(&mut i, &Noise { relative: a.current_noise, seed: a.seed });
-    let theta_m: Vec<f64> = theta_j.iter().map(|&x| quantise(x, a.motor_counts)).collect();
-    let theta_l: Vec<f64> = theta_z.iter().map(|&x| quantise(x, a.load_counts)).collect();
+    let theta_m = super::synth_drive::encoder(&theta_j, a.motor_counts);
+    let theta_l = super::synth_drive::encoder(&theta_z, a.load_counts);
     let names = ["t", "ref", "cmd", "i", "theta_m", "theta_l", "theta_j_true", "theta_z_true"];
     let rows = t.len();
     hd_io::write_columns(&a.out, &names, &[t, r, cmd, i, theta_m, theta_l, theta_j, theta_z])?;

@@ -12,7 +12,7 @@ mod sampled;
 
 pub use law::{Controller, CtlEval, CtlStates, Measured};
 pub use reference::Reference;
-pub use sampled::Hold;
+pub use sampled::{Hold, quantise};
 
 use crate::error::ConfigError;
 use crate::params::Params;

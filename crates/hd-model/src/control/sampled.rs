@@ -27,9 +27,10 @@ pub struct Hold {
     pub tf_hat: f64,
 }
 
-/// `x` rounded to a multiple of the resolution `res` (unchanged for `res = 0`) [rad].
+/// `x` rounded to a multiple of the resolution `res` (unchanged for `res = 0`) [rad]: an
+/// encoder's reading. A rounded −0 reads 0.
 pub fn quantise(x: f64, res: f64) -> f64 {
-    if res > 0.0 { (x / res).round() * res } else { x }
+    if res > 0.0 { (x / res).round() * res + 0.0 } else { x }
 }
 
 impl Controller {

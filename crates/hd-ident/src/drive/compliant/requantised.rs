@@ -228,14 +228,20 @@ mod tests {
     /// (within 10 %); two replicates round at different phases.
     #[test]
     fn redrawn_records_round_as_the_encoders_do() {
-        use super::super::tests::{chirp_reference, seed, test_spec};
+        use super::super::tests::{chirp_reference, quantise, seed, test_spec};
         use hd_model::Params;
         let [t, u, tj, tz, i] = chirp_reference(2.0, 1e-3, 12.0, 60.0);
         let (qm, ql) = (std::f64::consts::TAU / 4096.0, std::f64::consts::TAU / 1048576.0);
-        let round = |x: &[f64], q: f64| x.iter().map(|v| (v / q).round() * q).collect::<Vec<_>>();
-        let rec =
-            VoltageRecord::new("chirp", "test", t, u, round(&tj, qm), round(&tz, ql), Some(i))
-                .unwrap();
+        let rec = VoltageRecord::new(
+            "chirp",
+            "test",
+            t,
+            u,
+            quantise(&tj, qm),
+            quantise(&tz, ql),
+            Some(i),
+        )
+        .unwrap();
         let sigma_i = 0.02;
         let outputs = vec![
             (Signal::Motor, vec![qm / 12f64.sqrt()]),

@@ -6,6 +6,7 @@
 
 use super::closed_loop::{Amplifier, Feedback};
 use crate::drive::controller::Controller;
+use hd_model::control::quantise;
 use hd_model::state::{OMEGA_J, THETA_J};
 use hd_model::stepper::Stepper;
 use hd_model::{Input, SimConfig, SimError};
@@ -24,13 +25,6 @@ pub struct LoopRun {
     pub theta_j: Vec<f64>,
     /// True load angle θz [rad].
     pub theta_z: Vec<f64>,
-}
-
-/// `x` rounded to the encoder's count, 2π/`counts` [rad].
-pub fn quantise(x: f64, counts: u64) -> f64 {
-    let q = TAU / counts as f64;
-    // + 0.0 turns a rounded −0 into 0.
-    (x / q).round() * q + 0.0
 }
 
 /// Run the drive of `cfg` (open loop, checked; its input is replaced) from rest under the
@@ -62,7 +56,7 @@ pub fn run_loop(
             Feedback::Motor => theta_j,
             Feedback::Load => theta_z,
         };
-        read.push(quantise(angle, counts));
+        read.push(quantise(angle, TAU / counts as f64));
         computed.push(c.clamp(c.law(r[k], &read, k)));
         let command = if k >= c.delay { computed[k - c.delay] } else { 0.0 };
         let (volts, current) = match amplifier {

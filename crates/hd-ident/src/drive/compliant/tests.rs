@@ -212,9 +212,9 @@ pub(super) fn assert_jacobian_matches(
     }
 }
 
-/// Round to a quantum `q` (an encoder's count).
-fn quantise(x: &[f64], q: f64) -> Vec<f64> {
-    x.iter().map(|v| (v / q).round() * q).collect()
+/// Round to a quantum `q` (an encoder's count) with hd-model's rounding.
+pub(super) fn quantise(x: &[f64], q: f64) -> Vec<f64> {
+    x.iter().map(|&v| hd_model::control::quantise(v, q)).collect()
 }
 
 /// Fit the seed drive to a chirp record (2 Hz to `f_end`, 12 V, `t_end` seconds sampled

@@ -8,8 +8,8 @@ use super::model::{Compliant, NAMES, P, ix::*, on_law};
 use super::record::{Between, VoltageRecord};
 use super::simulate::simulate;
 use super::tests::{
-    assert_converging, assert_jacobian_matches, chirp_reference_of, fit_and_judge, record,
-    relative_differences, test_spec,
+    assert_converging, assert_jacobian_matches, chirp_reference_of, fit_and_judge, quantise,
+    record, relative_differences, test_spec,
 };
 use hd_model::{HystLaw, Params};
 use std::f64::consts::TAU;
@@ -134,13 +134,19 @@ fn fit_with(law: HystLaw, gear: &[usize]) -> CompliantFit {
     let (params, truth) = drive_of(law);
     let [t, u, tj, tz, i] = chirp_reference_of(&params, law, 1.0, h, 12.0, 450.0);
     let (qm, ql) = (TAU / 4096.0, TAU / (1u64 << 20) as f64);
-    let round = |x: &[f64], q: f64| x.iter().map(|v| (v / q).round() * q).collect::<Vec<_>>();
     let mut noisy = i.clone();
     let sigma_i =
         crate::synth::add_noise(&mut noisy, &crate::synth::Noise { relative: 0.01, seed: 11 });
-    let rec =
-        VoltageRecord::new("chirp", "test", t, u, round(&tj, qm), round(&tz, ql), Some(noisy))
-            .unwrap();
+    let rec = VoltageRecord::new(
+        "chirp",
+        "test",
+        t,
+        u,
+        quantise(&tj, qm),
+        quantise(&tz, ql),
+        Some(noisy),
+    )
+    .unwrap();
     let free_idx: Vec<usize> = [R, KE, JJ, JZ, CJ, CZ, C]
         .into_iter()
         .chain(gear.iter().copied())

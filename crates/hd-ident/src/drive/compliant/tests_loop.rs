@@ -8,8 +8,10 @@ use super::fit::{CompliantSpec, Signal, residuals_and_jacobian, substeps_for};
 use super::model::{NAMES, P, ix::*};
 use super::record::{Between, VoltageRecord};
 use super::simulate::simulate;
-use super::synth_loop::{quantise, run_loop};
-use super::tests::{assert_converging, fit_and_judge, relative_differences, rms, test_spec};
+use super::synth_loop::run_loop;
+use super::tests::{
+    assert_converging, fit_and_judge, quantise, relative_differences, rms, test_spec,
+};
 use crate::drive::controller::Controller;
 use hd_model::{Params, SimConfig, SolverOptions};
 use std::f64::consts::{PI, TAU};
@@ -64,8 +66,8 @@ fn record(
         Feedback::Load => load_counts,
     };
     let run = run_loop(&cfg, c, feedback, amplifier, r, counts).unwrap();
-    let tj = run.theta_j.iter().map(|&x| quantise(x, motor_counts)).collect();
-    let tz = run.theta_z.iter().map(|&x| quantise(x, load_counts)).collect();
+    let tj = quantise(&run.theta_j, TAU / motor_counts as f64);
+    let tz = quantise(&run.theta_z, TAU / load_counts as f64);
     VoltageRecord::new("loop", "test", run.t, run.command, tj, tz, Some(run.current))
         .unwrap()
         .in_loop(ClosedLoop { controller: c.clone(), feedback, amplifier, reference: r.to_vec() })
