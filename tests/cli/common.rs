@@ -95,3 +95,17 @@ pub fn simulate_params_file(params: &Path, out: &Path) -> Output {
         out.to_str().unwrap(),
     ])
 }
+
+/// Run `hdw fit drive --config cfg --out out`.
+pub fn fit_drive(cfg: &std::path::Path, out: &std::path::Path) -> std::process::Output {
+    hdw(&["fit", "drive", "--config", cfg.to_str().unwrap(), "--out", out.to_str().unwrap()])
+}
+
+/// Run `hdw simulate` on the params.toml a fit wrote to `out`, into `sim` (it must run).
+pub fn simulates(out: &std::path::Path, sim: &std::path::Path) {
+    let params = out.join("params.toml");
+    let args = ["simulate", "--params", params.to_str().unwrap(), "--t-end", "0.05", "--out"];
+    let mut args = args.to_vec();
+    args.push(sim.to_str().unwrap());
+    hdw_ok(&args);
+}

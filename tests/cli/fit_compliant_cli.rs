@@ -2,7 +2,7 @@
 //! fitted back (motor parameters free, the rest at the truth), its outputs, the params file
 //! `hdw simulate` runs, and the one-line errors of bad configurations.
 
-use crate::common::{assert_one_line_error, hdw, hdw_ok, json, ok, scratch};
+use crate::common::{assert_one_line_error, fit_drive, hdw_ok, json, ok, scratch, simulates};
 
 /// The configuration of the tests, with `extra` appended to its top level and `fit` as its
 /// `[fit]` table.
@@ -21,20 +21,6 @@ fn config(dir: &std::path::Path, extra: &str, fit: &str) -> std::path::PathBuf {
 /// encoders' noise one count/√12 (4096 and 2^20 counts per turn).
 const MOTOR_FIT: &str =
     "free = [\"R\", \"Ke\", \"Jj\", \"Cj\"]\nnoise = { motor = 4.43e-4, load = 1.73e-6 }";
-
-/// Run `hdw fit drive --config cfg --out out`.
-fn fit_drive(cfg: &std::path::Path, out: &std::path::Path) -> std::process::Output {
-    hdw(&["fit", "drive", "--config", cfg.to_str().unwrap(), "--out", out.to_str().unwrap()])
-}
-
-/// Run `hdw simulate` on the params.toml a fit wrote to `out`, into `sim` (it must run).
-fn simulates(out: &std::path::Path, sim: &std::path::Path) {
-    let params = out.join("params.toml");
-    let args = ["simulate", "--params", params.to_str().unwrap(), "--t-end", "0.05", "--out"];
-    let mut args = args.to_vec();
-    args.push(sim.to_str().unwrap());
-    hdw_ok(&args);
-}
 
 /// Motor parameters 20–30 % off, everything else the seed's (the truth of `synth drive`).
 fn start(dir: &std::path::Path) {

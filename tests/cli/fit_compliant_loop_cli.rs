@@ -3,7 +3,8 @@
 //! behind a current amplifier, the record names what it cannot separate; and the one-line
 //! errors of bad closed-loop configurations.
 
-use crate::common::{assert_one_line_error, hdw, hdw_ok, json, scratch};
+use crate::common::{assert_one_line_error, fit_drive, hdw, hdw_ok, json, ok, scratch, simulates};
+use std::path::Path;
 
 /// Motor parameters 20–30 % off, everything else the seed's (the truth of `synth drive`).
 fn start(dir: &std::path::Path) {
@@ -62,7 +63,7 @@ fn a_current_loop_is_fitted_back() {
         "free = [\"R\", \"Ke\", \"Jj\", \"Cj\"]\nnoise = { motor = 2.77e-5, load = 1.73e-6 }",
     );
     let out = dir.join("out");
-    hdw_ok(&["fit", "drive", "--config", &cfg, "--out", out.to_str().unwrap()]);
+    ok(&fit_drive(Path::new(&cfg), &out));
     let doc = json(&out.join("fit.json"));
     // The check finds the delay the record was made with: the law one sample late
     // reproduces the command exactly.
@@ -92,17 +93,7 @@ fn a_current_loop_is_fitted_back() {
     assert!(doc["experiments"]["steps"].get("current").is_none());
     assert!(out.join("command.svg").exists());
     // params.toml is a params file the simulator runs.
-    let sim = dir.join("sim");
-    let params = out.join("params.toml");
-    hdw_ok(&[
-        "simulate",
-        "--params",
-        params.to_str().unwrap(),
-        "--t-end",
-        "0.05",
-        "--out",
-        sim.to_str().unwrap(),
-    ]);
+    simulates(&out, &dir.join("sim"));
 }
 
 #[test]
@@ -168,7 +159,7 @@ fn bad_closed_loop_configurations_get_one_line_errors() {
     for (columns, controller, fit, expect) in cases {
         let cfg = config(&dir, columns, controller, fit);
         let out = dir.join("out");
-        let o = hdw(&["fit", "drive", "--config", &cfg, "--out", out.to_str().unwrap()]);
+        let o = fit_drive(Path::new(&cfg), &out);
         let mut needles = expect.to_vec();
         needles.push("fit.toml");
         assert_one_line_error(&o, &needles);
@@ -176,7 +167,7 @@ fn bad_closed_loop_configurations_get_one_line_errors() {
     }
     // A missing reference column names the file and the column.
     let cfg = config(&dir, "reference = \"setpoint\"\ncommand = \"cmd\"", Some(good), "");
-    let o = hdw(&["fit", "drive", "--config", &cfg, "--out", dir.join("out").to_str().unwrap()]);
+    let o = fit_drive(Path::new(&cfg), &dir.join("out"));
     assert_one_line_error(&o, &["setpoint", "loop.csv"]);
     // Closed-loop options of `synth drive` are checked too.
     let o = hdw(&[
