@@ -217,6 +217,24 @@ pub(super) fn quantise(x: &[f64], q: f64) -> Vec<f64> {
     x.iter().map(|&v| hd_model::control::quantise(v, q)).collect()
 }
 
+/// The reference columns `cols` (t, u, θj, θz, i) logged as a rig logs them: motor encoder
+/// 4096 counts per revolution, load encoder 2^20, current with noise of 1 % of its RMS
+/// (seeded by `seed`). Returns the record and the outputs with their noise levels (a count
+/// over √12 for the encoders).
+pub(super) fn rig_record(
+    cols: [Vec<f64>; 5],
+    seed: u64,
+) -> (VoltageRecord, Vec<(Signal, Vec<f64>)>) {
+    let [t, u, tj, tz, mut i] = cols;
+    let (qm, ql) = (TAU / 4096.0, TAU / (1u64 << 20) as f64);
+    let sigma_i = crate::synth::add_noise(&mut i, &crate::synth::Noise { relative: 0.01, seed });
+    let rec =
+        VoltageRecord::new("chirp", "test", t, u, quantise(&tj, qm), quantise(&tz, ql), Some(i))
+            .unwrap();
+    let noise = [qm / 12f64.sqrt(), ql / 12f64.sqrt(), sigma_i];
+    (rec, Signal::ALL.iter().zip(noise).map(|(s, v)| (*s, vec![v])).collect())
+}
+
 /// Fit the seed drive to a chirp record (2 Hz to `f_end`, 12 V, `t_end` seconds sampled
 /// every `h`) logged as a rig logs it: motor encoder 4096 counts per revolution, load
 /// encoder 2^20, current noise 1 % of its RMS (seeded). The fit starts 25–30 % off on
@@ -224,21 +242,7 @@ pub(super) fn quantise(x: &[f64], q: f64) -> Vec<f64> {
 /// noise (≤ 1.2×) and every parameter reported as determined within 3 standard errors of
 /// the truth. Returns the fit.
 fn fit_chirp(t_end: f64, h: f64, f_end: f64) -> super::fit::CompliantFit {
-    let [t, u, tj, tz, i] = chirp_reference(t_end, h, 12.0, f_end);
-    let (qm, ql) = (TAU / 4096.0, TAU / (1u64 << 20) as f64);
-    let mut noisy = i.clone();
-    let sigma_i =
-        crate::synth::add_noise(&mut noisy, &crate::synth::Noise { relative: 0.01, seed: 7 });
-    let rec = VoltageRecord::new(
-        "chirp",
-        "test",
-        t,
-        u,
-        quantise(&tj, qm),
-        quantise(&tz, ql),
-        Some(noisy),
-    )
-    .unwrap();
+    let (rec, outputs) = rig_record(chirp_reference(t_end, h, 12.0, f_end), 7);
     let truth = seed();
     let n = Params::default().n;
     use super::model::ix::*;
@@ -250,8 +254,6 @@ fn fit_chirp(t_end: f64, h: f64, f_end: f64) -> super::fit::CompliantFit {
         start[k] *= if j % 2 == 0 { 1.3 } else { 0.75 };
     }
     free[KM] = true;
-    let noise = [qm / 12f64.sqrt(), ql / 12f64.sqrt(), sigma_i];
-    let outputs = Signal::ALL.iter().zip(noise).map(|(s, v)| (*s, vec![v])).collect();
     let spec = CompliantSpec {
         free,
         lower: start.map(|v| v * 1e-3),

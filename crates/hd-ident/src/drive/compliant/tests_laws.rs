@@ -5,14 +5,13 @@
 
 use super::fit::{CompliantFit, CompliantSpec, Signal, substeps_for};
 use super::model::{Compliant, NAMES, P, ix::*, on_law};
-use super::record::{Between, VoltageRecord};
+use super::record::Between;
 use super::simulate::simulate;
 use super::tests::{
-    assert_converging, assert_jacobian_matches, chirp_reference_of, fit_and_judge, quantise,
-    record, relative_differences, test_spec,
+    assert_converging, assert_jacobian_matches, chirp_reference_of, fit_and_judge, record,
+    relative_differences, rig_record, test_spec,
 };
 use hd_model::{HystLaw, Params};
-use std::f64::consts::TAU;
 
 /// The seed drive with gear law `law` at hd-model's defaults (Bouc–Wen: α = 4e4 N·m/rad,
 /// A = 1, β = γ = 5e4 1/rad, n = 1, saturating at 1e-5 rad and 0.4 N·m; Maxwell-slip: 8
@@ -132,21 +131,7 @@ fn maxwell_slip_exact_derivatives() {
 fn fit_with(law: HystLaw, gear: &[usize]) -> CompliantFit {
     let h = 1e-3;
     let (params, truth) = drive_of(law);
-    let [t, u, tj, tz, i] = chirp_reference_of(&params, law, 1.0, h, 12.0, 450.0);
-    let (qm, ql) = (TAU / 4096.0, TAU / (1u64 << 20) as f64);
-    let mut noisy = i.clone();
-    let sigma_i =
-        crate::synth::add_noise(&mut noisy, &crate::synth::Noise { relative: 0.01, seed: 11 });
-    let rec = VoltageRecord::new(
-        "chirp",
-        "test",
-        t,
-        u,
-        quantise(&tj, qm),
-        quantise(&tz, ql),
-        Some(noisy),
-    )
-    .unwrap();
+    let (rec, outputs) = rig_record(chirp_reference_of(&params, law, 1.0, h, 12.0, 450.0), 11);
     let free_idx: Vec<usize> = [R, KE, JJ, JZ, CJ, CZ, C]
         .into_iter()
         .chain(gear.iter().copied())
@@ -165,8 +150,6 @@ fn fit_with(law: HystLaw, gear: &[usize]) -> CompliantFit {
         upper[k] = start[k] * 1e3;
     }
     free[KM] = true;
-    let noise = [qm / 12f64.sqrt(), ql / 12f64.sqrt(), sigma_i];
-    let outputs = Signal::ALL.iter().zip(noise).map(|(s, v)| (*s, vec![v])).collect();
     let m = substeps_for(&start, params.n, h);
     let spec = CompliantSpec {
         free,
