@@ -53,6 +53,18 @@ def test_bad_configuration_is_a_value_error(tmp_path):
         hdw.fit_drive(cfg, hdw=HDW)
 
 
+def fitted_both_ways(cfg, tmp_path):
+    """Fit `cfg` with the command and with hdw.fit_drive: the same fit.json but for the
+    wall time; returns the Python fit, whose motor resistance must be back at the seed's 6 Ω
+    and whose Km must follow Ke."""
+    run_cli("fit", "drive", "--config", cfg, "--out", tmp_path / "cli")
+    fit = hdw.fit_drive(cfg, hdw=HDW)
+    expected = read_json(tmp_path / "cli" / "fit.json")
+    assert without(fit.report, VARYING | {"wall_time_s"}) == without(expected, VARYING | {"wall_time_s"})
+    assert abs(fit.values["R"] - 6.0) < 0.05 and fit.values["Km"] == fit.values["Ke"]
+    return fit
+
+
 def test_fit_drive_takes_a_compliant_configuration(tmp_path):
     """A voltage test of the simulator's drive fitted back through hdw.fit_drive: the same
     fit.json as the command, the values and scores of the one model."""
@@ -66,12 +78,8 @@ def test_fit_drive_takes_a_compliant_configuration(tmp_path):
         'motor = "theta_m"\nload = "theta_l"\ncurrent = "i"\n'
         '[fit]\nfree = ["R", "Ke", "Jj", "Cj"]\n'
     )
-    run_cli("fit", "drive", "--config", cfg, "--out", tmp_path / "cli")
-    fit = hdw.fit_drive(cfg, hdw=HDW)
-    expected = read_json(tmp_path / "cli" / "fit.json")
-    assert without(fit.report, VARYING | {"wall_time_s"}) == without(expected, VARYING | {"wall_time_s"})
+    fit = fitted_both_ways(cfg, tmp_path)
     assert fit.best == "compliant" and fit.laws["compliant"] == fit.values
-    assert abs(fit.values["R"] - 6.0) < 0.05 and fit.values["Km"] == fit.values["Ke"]
     assert fit.scores()["chirp"]["current"]["rmse_over_noise"] < 1.2
 
 
@@ -91,10 +99,6 @@ def test_fit_drive_takes_a_closed_loop_compliant_configuration(tmp_path):
         '[controller]\nkp = 30.0\nkv = 0.5\n'
         '[fit]\nfree = ["R", "Ke", "Jj", "Cj"]\n'
     )
-    run_cli("fit", "drive", "--config", cfg, "--out", tmp_path / "cli")
-    fit = hdw.fit_drive(cfg, hdw=HDW)
-    expected = read_json(tmp_path / "cli" / "fit.json")
-    assert without(fit.report, VARYING | {"wall_time_s"}) == without(expected, VARYING | {"wall_time_s"})
+    fit = fitted_both_ways(cfg, tmp_path)
     assert fit.report["controller"]["delay"] == 0 and fit.report["controller"]["feedback"] == "motor"
-    assert abs(fit.values["R"] - 6.0) < 0.05 and fit.values["Km"] == fit.values["Ke"]
     assert fit.scores()["steps"]["command"]["rmse_over_noise"] < 1.2
