@@ -137,6 +137,54 @@ fn other_gear_laws_are_fitted_and_written_back() {
     }
 }
 
+/// A drive whose friction sits on the load (`--friction-velocity load`: levels of an output
+/// bearing, Tc = 8, Ts = 12 N·m) with a constant load torque TL = 0.6 N·m: the params file's
+/// `friction_velocity = "load"` carries the setting into the fit, TL is fitted from a start
+/// of 0 with the motor's parameters 20–30 % off, and params.toml carries both back to the
+/// simulator.
+#[test]
+fn friction_on_the_load_and_a_load_torque_are_fitted_and_written_back() {
+    let dir = scratch("fit-compliant-load-friction");
+    let rec = dir.join("chirp.csv");
+    let load = "Tc = 8.0\nTs = 12.0\nws = 0.02\nsigma0 = 5e5\nsigma1 = 50.0\n";
+    std::fs::write(
+        dir.join("truth.toml"),
+        format!("friction_velocity = \"load\"\n{load}TL = 0.6\n"),
+    )
+    .unwrap();
+    let truth = dir.join("truth.toml");
+    let synth = ["synth", "drive", "--params", truth.to_str().unwrap(), "--freq", "5"];
+    let mut synth = synth.to_vec();
+    synth.extend(["--t-end", "1", "--out", rec.to_str().unwrap()]);
+    hdw_ok(&synth);
+    std::fs::write(
+        dir.join("start.toml"),
+        format!(
+            "friction_velocity = \"load\"\n{load}R = 7.5\nKe = 0.4\nKm = 0.4\nJj = 8.5e-4\nCj = 0.0022\n"
+        ),
+    )
+    .unwrap();
+    let fit = "free = [\"R\", \"Ke\", \"Jj\", \"Cj\", \"TL\"]\nnoise = { motor = 4.43e-4, load = 1.73e-6 }";
+    let cfg = config(&dir, "", fit);
+    let out = dir.join("out");
+    ok(&fit_drive(&cfg, &out));
+    let doc = json(&out.join("fit.json"));
+    assert_eq!(doc["friction_velocity"], "load");
+    let tl = &doc["parameters"]["TL"];
+    let (v, se) = (tl["value"].as_f64().unwrap(), tl["std_error"].as_f64().unwrap());
+    assert!(tl["determined"].as_bool().unwrap() && (v - 0.6).abs() < 3.0 * se, "TL: {tl}");
+    for o in ["motor", "load", "current"] {
+        let r = doc["experiments"]["chirp"][o]["rmse_over_noise"].as_f64().unwrap();
+        assert!(r < 1.2, "{o}: {r}");
+    }
+    let params = std::fs::read_to_string(out.join("params.toml")).unwrap();
+    assert!(
+        params.contains("friction_velocity = \"load\"") && params.contains("TL = "),
+        "{params}"
+    );
+    simulates(&out, &dir.join("sim"));
+}
+
 #[test]
 fn bad_compliant_configurations_get_one_line_errors() {
     let dir = scratch("fit-compliant-bad");
@@ -165,6 +213,8 @@ fn bad_compliant_configurations_get_one_line_errors() {
         ("[params]\nbw_beta = 1.0\n", "", "[params] 'bw_beta'"),
         ("", "free = [\"R\", \"ms_n\"]", "[fit] free 'ms_n'"),
         ("", "free = [\"R\", \"Tc_neg\"]", "[fit] free 'Tc_neg'"),
+        ("friction_velocity = \"deflection\"\n", "", "friction_velocity"),
+        ("friction_velocity = \"wheel\"\n", "", "friction_velocity"),
     ];
     for (extra, fit, expect) in cases {
         // `[params]` and `[bounds]` tables must come after the top-level keys but before

@@ -83,6 +83,11 @@ pub struct Params {
     /// Load viscous damping Cz [N·m·s/rad]; default 0.005.
     #[serde(rename = "Cz")]
     pub cz: f64,
+    /// Constant load torque `TL` [N·m] acting against positive load motion (gravity on an
+    /// unbalanced arm, a spring preload, a process force), added to any time-varying load
+    /// torque of the run; default 0.
+    #[serde(rename = "TL")]
+    pub tl: f64,
     /// Gear ratio N [–]; default 100.
     #[serde(rename = "N")]
     pub n: f64,
@@ -172,6 +177,7 @@ impl Default for Params {
             jz: 2.4e-2,
             cj: 0.003,
             cz: 0.005,
+            tl: 0.0,
             n: 100.0,
             kbar: 7.8e5,
             c0bar: 0.16,

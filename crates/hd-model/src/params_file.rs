@@ -6,8 +6,9 @@
 //! ```
 //!
 //! Every key must be a registry name and every value a number inside the registry's range;
-//! errors name the file, the line and the key. Two keys are not numbers: `stiffness`, the
-//! law the file is for (`stiffness = "maxwell-slip"`), and the `[controller]` table.
+//! errors name the file, the line and the key. Three keys are not numbers: `stiffness`, the
+//! law the file is for (`stiffness = "maxwell-slip"`), `friction_velocity`, where the
+//! friction acts (`friction_velocity = "load"`), and the `[controller]` table.
 
 use crate::error::ParamError;
 use crate::params::Params;
@@ -19,6 +20,29 @@ use toml::Spanned;
 pub const CONTROLLER_KEY: &str = "controller";
 /// The key naming the stiffness law a params file is for (`stiffness = "catalogue"`).
 pub const STIFFNESS_KEY: &str = "stiffness";
+/// The key naming the speed the friction law sees (`friction_velocity = "load"`).
+pub const FRICTION_VELOCITY_KEY: &str = "friction_velocity";
+
+/// The friction speed a params file names with `friction_velocity = "…"`, if it names one.
+pub fn friction_velocity_from_toml(
+    text: &str,
+    file: &str,
+) -> Result<Option<crate::FrictionVelocity>, ParamError> {
+    let table = spanned_table(text, file)?;
+    let Some((key, value)) = table.iter().find(|(k, _)| k.get_ref() == FRICTION_VELOCITY_KEY)
+    else {
+        return Ok(None);
+    };
+    let at = |message: String| ParamError::File {
+        file: file.to_string(),
+        line: line_of(text, key.span().start),
+        message: format!("{FRICTION_VELOCITY_KEY} = {message}"),
+    };
+    match value.get_ref() {
+        toml::Value::String(name) => name.parse().map(Some).map_err(at),
+        other => Err(at(format!("{other}: expected a name (motor, deflection, load)"))),
+    }
+}
 
 /// The stiffness law a params file names with `stiffness = "…"`, if it names one.
 pub fn stiffness_from_toml(text: &str, file: &str) -> Result<Option<crate::HystLaw>, ParamError> {
@@ -83,7 +107,8 @@ pub fn apply_params_toml(base: &mut Params, text: &str, file: &str) -> Result<()
     // of the two values silently unused.
     let mut seen: BTreeMap<&str, &str> = BTreeMap::new();
     for (key, value) in &table {
-        if key.get_ref() == CONTROLLER_KEY || key.get_ref() == STIFFNESS_KEY {
+        if [CONTROLLER_KEY, STIFFNESS_KEY, FRICTION_VELOCITY_KEY].contains(&key.get_ref().as_str())
+        {
             continue;
         }
         let at = |message: String| ParamError::File {

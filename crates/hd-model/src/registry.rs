@@ -139,6 +139,7 @@ pub static REGISTRY: &[ParamInfo] = &[
     p!("Jz", jz, "kg·m²", 0.0, false, INF, "load inertia"),
     p!("Cj", cj, "N·m·s/rad", 0.0, true, INF, "motor viscous damping"),
     p!("Cz", cz, "N·m·s/rad", 0.0, true, INF, "load viscous damping"),
+    p!("TL", tl, "N·m", -INF, false, INF, "constant load torque against positive load motion"),
     p!("N", n, "-", 1.0, true, INF, "gear ratio"),
     p!("Kbar", kbar, "N·m/rad", 0.0, false, INF, "nominal gear stiffness (linear, damped)"),
     p!("C0bar", c0bar, "N·m·s/rad", 0.0, true, INF, "nominal viscous friction (damped)"),

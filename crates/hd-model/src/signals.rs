@@ -93,6 +93,7 @@ impl DriveSystem {
             let v_dot = match self.friction_velocity {
                 FrictionVelocity::Motor => d[OMEGA_J] / self.n,
                 FrictionVelocity::Deflection => d[OMEGA_J] / self.n - d[OMEGA_Z],
+                FrictionVelocity::Load => d[OMEGA_Z],
             };
             if v_dot.abs() > eps.v_dot {
                 let tb_rate = p.st.d_theta * p.theta_dot + p.st.d_z * p.st.z_rate;

@@ -25,6 +25,33 @@ pub enum FrictionVelocity {
     /// `v = θ̇ = ωj/N − ωz`: friction acts across the gear, on both sides (−Tf/N on
     /// the motor, +Tf on the load), so its power is `Tf·θ̇`.
     Deflection,
+    /// `v = ωz`: friction acts on the load only (−Tf on the load; the output bearing's or
+    /// the guide's friction), so its power is `Tf·ωz`.
+    Load,
+}
+
+impl FrictionVelocity {
+    /// Every setting, by its name in study files, params files and on the command line.
+    pub const NAMES: [(&'static str, FrictionVelocity); 3] = [
+        ("motor", FrictionVelocity::Motor),
+        ("deflection", FrictionVelocity::Deflection),
+        ("load", FrictionVelocity::Load),
+    ];
+
+    /// The setting's name (`motor`, `deflection`, `load`).
+    pub fn name(self) -> &'static str {
+        Self::NAMES.iter().find(|(_, v)| *v == self).map_or("motor", |(n, _)| n)
+    }
+}
+
+impl std::str::FromStr for FrictionVelocity {
+    type Err = String;
+
+    fn from_str(s: &str) -> Result<Self, String> {
+        Self::NAMES.iter().find(|(n, _)| *n == s).map(|(_, v)| *v).ok_or_else(|| {
+            format!("'{s}': expected one of {}", Self::NAMES.map(|(n, _)| n).join(", "))
+        })
+    }
 }
 
 /// The motor–gear–load system.
@@ -61,6 +88,8 @@ pub struct DriveSystem {
     pub cj: f64,
     /// Load damping Cz [N·m·s/rad].
     pub cz: f64,
+    /// Constant load torque TL [N·m], added to `load`'s.
+    pub tl: f64,
 }
 
 /// The controller's states in `y`: integrator, derivative filter, observer, pre-filter.
@@ -86,7 +115,8 @@ pub struct Parts {
     pub fr: FrictionEval,
     /// Torque on the load from the gear [N·m].
     pub t_out: f64,
-    /// Torque on the wave generator `Ta = (Tb + Tf)/N` [N·m].
+    /// Torque on the wave generator `Ta = (Tb + Tf)/N` (`Tb/N` with the friction on the
+    /// load alone) [N·m].
     pub ta: f64,
     /// External load torque T_L [N·m].
     pub tl: f64,
@@ -121,6 +151,7 @@ impl DriveSystem {
             jz: p.jz,
             cj: p.cj,
             cz: p.cz,
+            tl: p.tl,
         })
     }
 
@@ -157,12 +188,20 @@ impl DriveSystem {
         match self.friction_velocity {
             FrictionVelocity::Motor => (self.inv_n, 0.0),
             FrictionVelocity::Deflection => (self.inv_n, -1.0),
+            FrictionVelocity::Load => (0.0, 1.0),
         }
     }
 
-    /// Whether friction also acts on the load.
-    fn friction_on_load(&self) -> bool {
-        self.friction_velocity == FrictionVelocity::Deflection
+    /// The share of the friction torque Tf the load feels (+1 across the gear, −1 on the
+    /// load alone) and the share the gear passes to the wave generator (1, or 0 when the
+    /// friction is on the load alone).
+    #[inline(always)]
+    fn friction_shares(&self) -> (f64, f64) {
+        match self.friction_velocity {
+            FrictionVelocity::Motor => (0.0, 1.0),
+            FrictionVelocity::Deflection => (1.0, 1.0),
+            FrictionVelocity::Load => (-1.0, 0.0),
+        }
     }
 
     /// Evaluate the laws at (t, y).
@@ -200,7 +239,7 @@ impl DriveSystem {
         let st = self.stiffness.eval(y[THETA], theta_dot, y[Z], slots(y));
         let fr = friction(v, st.torque);
         let (t_out, ta) = self.gear_torques(st.torque, fr.torque);
-        Parts { u, i, theta_dot, v, st, fr, t_out, ta, tl: self.load.value(t), ctl }
+        Parts { u, i, theta_dot, v, st, fr, t_out, ta, tl: self.load.value(t) + self.tl, ctl }
     }
 
     /// The stiffness torque Tb and the friction torque Tf [N·m] in state y with rates
@@ -224,8 +263,8 @@ impl DriveSystem {
     /// Tb and the friction torque Tf [N·m].
     #[inline]
     fn gear_torques(&self, tb: f64, tf: f64) -> (f64, f64) {
-        let t_out = tb + if self.friction_on_load() { tf } else { 0.0 };
-        (t_out, fmadd(tf, self.inv_n, tb * self.inv_n))
+        let (on_load, on_motor) = self.friction_shares();
+        (fmadd(on_load, tf, tb), fmadd(on_motor * tf, self.inv_n, tb * self.inv_n))
     }
 
     /// The state rates from the laws' values `p` at (t, y).
@@ -362,8 +401,9 @@ impl OdeSystem<DIM> for DriveSystem {
         let g_tb = p.st.d_theta * unit(THETA) + p.st.d_z * unit(Z);
         let g_tf = p.fr.d_v * g_v + p.fr.d_w * unit(W) + p.fr.d_tb * g_tb;
         let g_i = if inductive { unit(CURRENT) } else { (g_u - m.ke * unit(OMEGA_J)) / m.r };
-        let g_out = if self.friction_on_load() { g_tb + g_tf } else { g_tb };
-        let g_ta = (g_tb + g_tf) / self.n;
+        let (on_load, on_motor) = self.friction_shares();
+        let g_out = g_tb + on_load * g_tf;
+        let g_ta = (g_tb + on_motor * g_tf) / self.n;
         // ∂(u-dependent terms)/∂t: only the current depends on u directly.
         let di_dt = if inductive { 0.0 } else { du / m.r };
 

@@ -50,21 +50,26 @@ fn linear_variant_free_oscillation_has_the_two_inertia_frequency() {
 
 #[test]
 fn energy_balance_closes_over_the_seed_case() {
-    for fv in [FrictionVelocity::Motor, FrictionVelocity::Deflection] {
+    for fv in [FrictionVelocity::Motor, FrictionVelocity::Deflection, FrictionVelocity::Load] {
+        // With the friction on the load, a constant load torque TL too (its work is Q_LOAD).
+        let tl = if fv == FrictionVelocity::Load { 0.4 } else { 0.0 };
         let cfg = SimConfig {
+            params: Params { tl, ..Params::default() },
             friction_velocity: fv,
             record_trace: false,
-            solver: SolverOptions { rtol: 1e-9, atol: 1e-12, ..Default::default() },
+            solver: SolverOptions { rtol: 1e-11, atol: 1e-12, ..Default::default() },
             ..SimConfig::default()
         };
         let out = simulate(&cfg).unwrap();
         let sys = cfg.system().unwrap();
         let y = out.final_state;
         let e_in = y[Q_ELEC];
-        let accounted = sys.stored_energy(&y) + y[Q_DISS] + y[Q_FRIC];
+        let accounted = sys.stored_energy(&y) + y[Q_DISS] + y[Q_FRIC] + y[Q_LOAD];
         let rel = (e_in - accounted).abs() / e_in.abs();
         eprintln!("energy balance, {fv:?}: {e_in:.6} J in, residual {rel:.2e}");
-        // Measured 6e-15 and 9e-15.
+        // Measured at rtol 1e-11: 4.5e-15, 3.9e-16 and 7.8e-16 (load, with TL). At rtol
+        // 1e-9 the first two close as well but the load case only to 2.1e-12: there the
+        // balance follows the tolerance, so this test holds the solve tight.
         assert!(
             e_in > 0.0 && rel < 1e-13,
             "{fv:?}: in {e_in} J, accounted {accounted} J, rel {rel:e}"
@@ -148,6 +153,8 @@ fn analytic_jacobian_matches_finite_differences() {
         (StiffnessKind::Hysteretic, FrictionKind::Lugre, FrictionVelocity::Deflection, 0.0, -3.0),
         (StiffnessKind::Linear, FrictionKind::Viscous, FrictionVelocity::Motor, 0.0, 0.2),
         (StiffnessKind::Cubic, FrictionKind::None, FrictionVelocity::Deflection, 1e-3, 0.2),
+        (StiffnessKind::Hysteretic, FrictionKind::Lugre, FrictionVelocity::Load, 1e-3, 0.2),
+        (StiffnessKind::Hysteretic, FrictionKind::Lugre, FrictionVelocity::Load, 0.0, -3.0),
         // Bouc–Wen inside (w = 5e-6 rad) and beyond (−7.5e-5 rad) its saturation.
         (StiffnessKind::BoucWen, FrictionKind::Lugre, FrictionVelocity::Motor, 0.0, 0.2),
         (StiffnessKind::BoucWen, FrictionKind::Lugre, FrictionVelocity::Deflection, 1e-3, -3.0),
@@ -403,7 +410,7 @@ fn the_switching_functions_rate_is_its_derivative_along_the_solution() {
     // The drive's exact rate of the sliding speed (used to land on a reversal a hair
     // ahead) against a central difference of the switching function along f.
     let p = Params::default();
-    for fv in [FrictionVelocity::Motor, FrictionVelocity::Deflection] {
+    for fv in [FrictionVelocity::Motor, FrictionVelocity::Deflection, FrictionVelocity::Load] {
         let sys = DriveSystem::new(
             &p,
             StiffnessKind::Hysteretic,

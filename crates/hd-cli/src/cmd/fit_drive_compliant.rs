@@ -11,7 +11,7 @@ use hd_ident::drive::compliant::config::VoltageExperimentConfig;
 use hd_ident::drive::compliant::fit::{CompliantSpec, score_records};
 use hd_ident::drive::compliant::model::{P, on_law};
 use hd_ident::drive::compliant::{
-    Amplifier, CompliantConfig, NAMES, Signal, VoltageRecord, fit_compliant, substeps_for,
+    Amplifier, CompliantConfig, NAMES, Signal, VoltageRecord, fit_compliant, substeps_of,
 };
 use hd_ident::drive::fit::noise_level;
 use hd_ident::drive::lm::LmSettings;
@@ -108,13 +108,25 @@ fn moving_at_start(r: &VoltageRecord) -> Option<String> {
     })
 }
 
-/// The start values of the params file named in the configuration (or the seed's), in
-/// [`NAMES`] order, the gear ratio N and the gear law (the file's `stiffness`, default the
-/// memory); the other law's hysteretic parameters are zero. The last value says whether the
-/// file sets direction-dependent friction levels (Tc_neg or Ts_neg).
-fn base_params(cfg: &CompliantConfig, base: &Path) -> Result<([f64; P], f64, HystLaw, bool)> {
+/// What the params file named in the configuration (or the seed's) gives the fit.
+struct Base {
+    /// Start values in [`NAMES`] order; the other gear laws' hysteretic parameters zero.
+    values: [f64; P],
+    /// Gear ratio N [–].
+    n: f64,
+    /// The gear law (the file's `stiffness`, default the memory).
+    law: HystLaw,
+    /// Whether the file sets direction-dependent friction levels (Tc_neg or Ts_neg).
+    sets_negative: bool,
+    /// The file's `friction_velocity`, if it names one.
+    friction_velocity: Option<hd_model::FrictionVelocity>,
+}
+
+/// The params file named in the configuration, read (the seed's without one).
+fn base_params(cfg: &CompliantConfig, base: &Path) -> Result<Base> {
     let mut p = hd_model::Params::default();
     let mut law = HystLaw::Memory;
+    let mut friction_velocity = None;
     if let Some(f) = &cfg.params_file {
         let path = base.join(f);
         let text = std::fs::read_to_string(&path)
@@ -126,13 +138,15 @@ fn base_params(cfg: &CompliantConfig, base: &Path) -> Result<([f64; P], f64, Hys
             anyhow::bail!("{name}: {why}");
         }
         law = found.unwrap_or(HystLaw::Memory);
+        friction_velocity = hd_model::params_file::friction_velocity_from_toml(&text, &name)?;
     }
     let mut out = [0.0; P];
     for (k, n) in NAMES.iter().enumerate() {
         out[k] = p.get(n)?;
     }
     on_law(&mut out, law);
-    Ok((out, p.n, law, p.tc_neg.is_some() || p.ts_neg.is_some()))
+    let sets_negative = p.tc_neg.is_some() || p.ts_neg.is_some();
+    Ok(Base { values: out, n: p.n, law, sets_negative, friction_velocity })
 }
 
 /// Run `hdw fit drive` on a compliant-drive configuration `text` of `args.config`.
@@ -158,8 +172,10 @@ pub fn run(args: &DriveArgs, text: &str) -> Result<()> {
         }
     }
     let between = cfg.between(&file)?;
-    let (params, n, law, sets_negative) = base_params(&cfg, base)?;
+    let Base { values: params, n, law, sets_negative, friction_velocity } =
+        base_params(&cfg, base)?;
     let directional = cfg.directional_friction.unwrap_or(sets_negative);
+    let friction_on_load = cfg.friction_on_load(&file, friction_velocity)?;
     let free = cfg.free(&file, Some(law), directional)?;
     cfg.check_law(&file, law)?;
     for r in records.iter().chain(&validation) {
@@ -205,7 +221,9 @@ pub fn run(args: &DriveArgs, text: &str) -> Result<()> {
     }
     let h = records[0].h;
     let floor = cfg.substeps.unwrap_or_else(|| {
-        substeps_for(&start, n, h) * if controller.is_some() { LOOP_SUBSTEPS } else { 1 }
+        let d = hd_ident::drive::compliant::Compliant::new(start, n)
+            .with_friction_on_load(friction_on_load);
+        substeps_of(&d, h) * if controller.is_some() { LOOP_SUBSTEPS } else { 1 }
     });
     let noise_estimated =
         outputs.iter().map(|(o, _)| !cfg.fit.noise.contains_key(o.name())).collect();
@@ -220,6 +238,7 @@ pub fn run(args: &DriveArgs, text: &str) -> Result<()> {
         outputs,
         km_is_ke: cfg.km_equals_ke.unwrap_or(true),
         symmetric_friction: !directional,
+        friction_on_load,
         current_offset: cfg.fit.current_offset.unwrap_or(true),
         substeps: floor,
         settings: LmSettings {

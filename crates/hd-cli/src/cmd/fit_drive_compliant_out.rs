@@ -8,7 +8,7 @@ use anyhow::Result;
 use hd_ident::drive::compliant::fit::{CompliantSpec, RecordScore, Signal, simulate_on_zeros};
 use hd_ident::drive::compliant::model::ix::{TC_NEG, TS_NEG};
 use hd_ident::drive::compliant::model::{gear_law, in_law};
-use hd_ident::drive::compliant::{Compliant, CompliantFit, NAMES, VoltageRecord};
+use hd_ident::drive::compliant::{CompliantFit, NAMES, VoltageRecord};
 use serde_json::{Map, Value, json};
 use std::fmt::Write as _;
 use std::path::Path;
@@ -94,7 +94,7 @@ fn fmt_score(s: &RecordScore, ctl: Option<&LoopInfo>) -> String {
 /// Measured against simulated, and the residuals, of every compared output of `r`, as
 /// `prefix<output>.svg` and `prefix residuals-<output>.svg`.
 fn plots(dir: &Path, o: &Outcome, r: &VoltageRecord, prefix: &str) -> Result<Vec<String>> {
-    let (sim, _, _) = simulate_on_zeros(&o.spec, &Compliant::new(o.fit.values, o.spec.n), r);
+    let (sim, _, _) = simulate_on_zeros(&o.spec, &o.spec.drive(o.fit.values), r);
     let mut files = Vec::new();
     for (s, _) in &o.spec.outputs {
         let Some(meas) = s.measured(r) else { continue };
@@ -142,6 +142,7 @@ fn write_all(dir: &Path, o: &Outcome) -> Result<()> {
         "substeps": sp.substeps,
         "km_equals_ke": sp.km_is_ke,
         "directional_friction": !sp.symmetric_friction,
+        "friction_velocity": if sp.friction_on_load { "load" } else { "motor" },
         "wall_time_s": o.secs,
         "starts": f.starts,
         "iterations": f.iterations,
@@ -160,10 +161,11 @@ fn write_all(dir: &Path, o: &Outcome) -> Result<()> {
 
     // params.toml: a params file of `hdw simulate` (variant full, the fitted gear law).
     let mut params = format!(
-        "# Compliant drive fitted by `hdw fit drive --config {}`.\n# A params file for `hdw simulate --params` (variant full, stiffness law {}).\n# Parameters the records do not determine are listed in fit.json and report.md.\n\nstiffness = \"{}\"\nN = {:e}\n",
+        "# Compliant drive fitted by `hdw fit drive --config {}`.\n# A params file for `hdw simulate --params` (variant full, stiffness law {}).\n# Parameters the records do not determine are listed in fit.json and report.md.\n\nstiffness = \"{}\"\nfriction_velocity = \"{}\"\nN = {:e}\n",
         o.config,
         law.name(),
         law.name(),
+        if sp.friction_on_load { "load" } else { "motor" },
         sp.n
     );
     for (k, n) in NAMES.iter().enumerate().filter(|(k, _)| shown(*k)) {

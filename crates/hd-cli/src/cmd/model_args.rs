@@ -24,9 +24,11 @@ pub struct ModelArgs {
     /// [default: the params file's `stiffness = "…"`, else memory].
     #[arg(long)]
     pub stiffness: Option<StiffnessArg>,
-    /// Speed seen by the friction law: motor (ωj/N, the seed's) or deflection (θ̇).
-    #[arg(long, default_value = "motor")]
-    pub friction_velocity: FrictionVelocityArg,
+    /// Where the friction acts and the speed it sees: motor (ωj/N, the seed's), deflection
+    /// (θ̇, across the gear) or load (ωz, on the load alone) [default: the params file's
+    /// `friction_velocity = "…"`, else motor].
+    #[arg(long)]
+    pub friction_velocity: Option<FrictionVelocityArg>,
     /// Relative tolerance.
     #[arg(long, default_value_t = 1e-6)]
     pub rtol: f64,
@@ -124,6 +126,8 @@ pub enum FrictionVelocityArg {
     Motor,
     /// v = θ̇.
     Deflection,
+    /// v = ωz.
+    Load,
 }
 
 impl From<FrictionVelocityArg> for FrictionVelocity {
@@ -131,6 +135,7 @@ impl From<FrictionVelocityArg> for FrictionVelocity {
         match v {
             FrictionVelocityArg::Motor => FrictionVelocity::Motor,
             FrictionVelocityArg::Deflection => FrictionVelocity::Deflection,
+            FrictionVelocityArg::Load => FrictionVelocity::Load,
         }
     }
 }

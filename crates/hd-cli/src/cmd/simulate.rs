@@ -11,7 +11,9 @@ use super::sim_progress::SimProgress;
 use anyhow::{Context, Result};
 use clap::Args;
 use hd_io::atomic::Staged;
-use hd_model::params_file::{controller_from_toml, stiffness_from_toml};
+use hd_model::params_file::{
+    controller_from_toml, friction_velocity_from_toml, stiffness_from_toml,
+};
 use hd_model::signals::Sample;
 use hd_model::simulate::input_from_kind;
 use hd_model::{HystLaw, Input, MetricSettings, SimConfig, SolverOptions};
@@ -82,13 +84,17 @@ pub fn config(args: &SimulateArgs) -> Result<SimConfig> {
     let m = &args.model;
     let params = load_params(m.params.as_deref(), &m.set)?;
     let input = parse_input(&args.input, args.voltage, args.freq)?;
-    let (from_file, law_in_file) = match &m.params {
+    let (from_file, law_in_file, fv_in_file) = match &m.params {
         Some(path) => {
             let text = read_params_text(path)?;
             let name = path.display().to_string();
-            (controller_from_toml(&text, &name)?, stiffness_from_toml(&text, &name)?)
+            (
+                controller_from_toml(&text, &name)?,
+                stiffness_from_toml(&text, &name)?,
+                friction_velocity_from_toml(&text, &name)?,
+            )
         }
-        None => (None, None),
+        None => (None, None, None),
     };
     let stiffness = m.stiffness.map(HystLaw::from).or(law_in_file).unwrap_or_default();
     let cfg = SimConfig {
@@ -104,7 +110,7 @@ pub fn config(args: &SimulateArgs) -> Result<SimConfig> {
             atol: m.atol,
             ..Default::default()
         },
-        friction_velocity: m.friction_velocity.into(),
+        friction_velocity: m.friction_velocity.map(Into::into).or(fv_in_file).unwrap_or_default(),
         metrics: MetricSettings { cycles: args.cycles, ..Default::default() },
         record_trace: !args.no_trace,
         load_torque: args.control.load_torque(),

@@ -202,17 +202,10 @@ impl Checker<'_> {
             cfg.t_end = *t.get_ref();
         }
         if let Some(fv) = &b.friction_velocity {
-            cfg.friction_velocity = match fv.get_ref().as_str() {
-                "motor" => FrictionVelocity::Motor,
-                "deflection" => FrictionVelocity::Deflection,
-                other => {
-                    return Err(self.err(
-                        fv.span().start,
-                        "base.friction_velocity",
-                        format!("'{other}': expected motor or deflection"),
-                    ));
-                }
-            };
+            cfg.friction_velocity = fv
+                .get_ref()
+                .parse::<FrictionVelocity>()
+                .map_err(|e| self.err(fv.span().start, "base.friction_velocity", e))?;
         }
         Ok(())
     }

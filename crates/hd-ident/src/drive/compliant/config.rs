@@ -65,7 +65,7 @@ pub struct CompliantFitConfig {
     /// Noise level per output [rad or A]; estimated from each record where absent.
     #[serde(default)]
     pub noise: BTreeMap<String, f64>,
-    /// The free parameters; default all but a, b, sigma2, bw_A, bw_n and ms_n, and the
+    /// The free parameters; default all but a, b, sigma2, bw_A, bw_n, ms_n and TL, and the
     /// other gear laws' (Km follows Ke unless `km_equals_ke = false`).
     pub free: Option<Vec<String>>,
     /// Parameters removed from the free ones.
@@ -93,6 +93,9 @@ pub struct CompliantConfig {
     /// Whether the friction levels differ by direction (Tc_neg, Ts_neg their own
     /// parameters); default: whether the params file sets Tc_neg or Ts_neg.
     pub directional_friction: Option<bool>,
+    /// Where the friction acts: `motor` (on the wave generator, v = ωj/N) or `load` (on the
+    /// load alone, v = ωz); default the params file's `friction_velocity`, else `motor`.
+    pub friction_velocity: Option<String>,
     /// Runge–Kutta substeps per sample; default from the start's fastest rate.
     pub substeps: Option<usize>,
     /// The records fitted jointly (voltage tests, or closed-loop records with a
@@ -178,10 +181,38 @@ impl CompliantConfig {
                 ));
             }
         }
+        c.friction_on_load(file, None)?;
         if c.substeps == Some(0) {
             return Err(DriveError::config(format!("{file}, substeps"), "0; expected at least 1"));
         }
         Ok(c)
+    }
+
+    /// Whether the friction acts on the load alone: the configuration's
+    /// `friction_velocity`, else the params file's (`in_params`), else the motor's side.
+    pub fn friction_on_load(
+        &self,
+        file: &str,
+        in_params: Option<hd_model::FrictionVelocity>,
+    ) -> Result<bool, DriveError> {
+        use hd_model::FrictionVelocity as Fv;
+        let chosen = match &self.friction_velocity {
+            Some(s) => s.parse::<Fv>().map_err(|e| {
+                DriveError::config(
+                    format!("{file}, friction_velocity"),
+                    e.replace("one of motor, deflection, load", "motor or load"),
+                )
+            })?,
+            None => in_params.unwrap_or_default(),
+        };
+        match chosen {
+            Fv::Motor => Ok(false),
+            Fv::Load => Ok(true),
+            Fv::Deflection => Err(DriveError::config(
+                format!("{file}, friction_velocity"),
+                "'deflection': the compliant fit takes friction on the motor's side or on the load's (motor or load)",
+            )),
+        }
     }
 
     /// How the voltage runs between samples.
@@ -220,8 +251,9 @@ impl CompliantConfig {
 
     /// Which parameters are free ([`NAMES`] order) for gear law `law` (None: any law's
     /// parameters may be named; the check of a configuration before its params file is
-    /// read). The default frees all but a, b, sigma2, bw_A, bw_n and ms_n, and never the
-    /// other laws' hysteretic parameters; naming one of those is an error.
+    /// read). The default frees all but a, b, sigma2, bw_A, bw_n, ms_n and TL (a horizontal
+    /// axis has no load torque; a user whose load has one names it), and never the other
+    /// laws' hysteretic parameters; naming one of those is an error.
     ///
     /// With `directional` false, Tc_neg and Ts_neg follow Tc and Ts (naming them is an
     /// error); with it true they are free by default.
@@ -258,7 +290,7 @@ impl CompliantConfig {
             }
             None => {
                 free = [true; P];
-                for k in [ix::A, ix::B, ix::SIGMA2, ix::BW_A, ix::BW_N, ix::MS_N] {
+                for k in [ix::A, ix::B, ix::SIGMA2, ix::BW_A, ix::BW_N, ix::MS_N, ix::TL] {
                     free[k] = false;
                 }
                 for &k in &other {

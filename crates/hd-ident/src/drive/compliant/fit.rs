@@ -138,6 +138,8 @@ pub struct CompliantSpec {
     /// Whether each record's current sensor offset is fitted as a constant (projected out
     /// of the current's residuals, as the encoder zeros are).
     pub current_offset: bool,
+    /// Whether the friction acts on the load alone ([`Compliant::friction_on_load`]).
+    pub friction_on_load: bool,
     /// Runge–Kutta substeps per sample (fixed for the whole fit, so the objective is smooth).
     pub substeps: usize,
     /// Optimiser settings.
@@ -161,6 +163,11 @@ impl CompliantSpec {
         t
     }
 
+    /// The drive at parameters `p` ([`NAMES`] order; followers take their leaders' values).
+    pub fn drive<T: Scalar>(&self, p: [T; P]) -> Compliant<T> {
+        Compliant::new(self.tied(p), self.n).with_friction_on_load(self.friction_on_load)
+    }
+
     /// Whether parameter `k` follows another ([`CompliantSpec::ties`]).
     pub fn follows(&self, k: usize) -> bool {
         self.ties().iter().any(|&(f, _)| f == k)
@@ -178,8 +185,12 @@ impl CompliantSpec {
 /// Substeps per sample of `h` [s] for the drive at `p`: enough that its fastest non-stiff
 /// rate times the substep stays below [`RATE_STEP`], at least 2, at most 512.
 pub fn substeps_for(p: &[f64; P], n: f64, h: f64) -> usize {
-    let rate = Compliant::new(*p, n).fastest_rate();
-    ((rate * h / RATE_STEP).ceil() as usize).clamp(2, 512)
+    substeps_of(&Compliant::new(*p, n), h)
+}
+
+/// [`substeps_for`] of drive `d`.
+pub fn substeps_of(d: &Compliant<f64>, h: f64) -> usize {
+    ((d.fastest_rate() * h / RATE_STEP).ceil() as usize).clamp(2, 512)
 }
 
 /// Scores of one record.
@@ -259,7 +270,7 @@ pub fn score_records(
     records: &[VoltageRecord],
     noise_of: &(dyn Fn(Signal, usize) -> f64 + Sync),
 ) -> Vec<RecordScore> {
-    let d = Compliant::new(spec.tied(*p), spec.n);
+    let d = spec.drive(*p);
     records
         .par_iter()
         .enumerate()
@@ -287,7 +298,7 @@ fn residuals_of<T: Scalar + Send + Sync>(
     p: [T; P],
     records: &[VoltageRecord],
 ) -> Vec<T> {
-    let d = Compliant::new(spec.tied(p), spec.n);
+    let d = spec.drive(p);
     let parts: Vec<Vec<T>> = records
         .par_iter()
         .enumerate()

@@ -26,11 +26,13 @@ mod tests;
 #[cfg(test)]
 mod tests_laws;
 #[cfg(test)]
+mod tests_load;
+#[cfg(test)]
 mod tests_loop;
 
 pub use closed_loop::{Amplifier, ClosedLoop, Feedback};
 pub use config::CompliantConfig;
-pub use fit::{CompliantFit, CompliantSpec, RecordScore, Signal, substeps_for};
+pub use fit::{CompliantFit, CompliantSpec, RecordScore, Signal, substeps_for, substeps_of};
 pub use model::{Compliant, NAMES};
 pub use record::{Between, VoltageRecord};
 pub use simulate::{Outputs, on_encoder_zeros, simulate};

@@ -1,16 +1,21 @@
 //! The compliant drive that `hdw fit drive` identifies from a voltage test: the simulator's
 //! `full` variant (docs/model.md §2): a DC motor (algebraic current), a gear with a cubic
 //! spring and a hysteretic term (the fading memory, a Bouc–Wen element, or Maxwell-slip
-//! elements), LuGre friction on the wave generator's speed, and an inertial load.
+//! elements), LuGre friction on the wave generator's speed (or on the load's), and an
+//! inertial load with a constant load torque TL.
 //!
 //! ```text
 //! i = (u − Ke·ωj)/R
-//! Jj·ω̇j = Km·i − Cj·ωj − (Tb + Tf)/N        Jz·ω̇z = Tb − Cz·ωz
+//! Jj·ω̇j = Km·i − Cj·ωj − (Tb + Tf)/N        Jz·ω̇z = Tb − Cz·ωz − TL
 //! θ̇ = ωj/N − ωz                Tb = c·θ + b·θ² + a·θ³ + z + α·h,  ż = A·θ̇ − B·z
 //! ḣ = θ̇·(A_bw − |h|ⁿ·(β·sgn(θ̇·h) + γ))       (Bouc–Wen deflection h [rad])
 //! or Tb = c·θ + b·θ² + a·θ³ + Σ (ms_k/n)·clamp(θ + oᵢ, ±δᵢ),  δᵢ = ms_delta·i/n (slip)
 //! v = ωj/N,  ṡ = v − |v|·w/G(v),  ẇ = σ0·ṡ,  Tf = w + σ1·ṡ + σ2·v
 //! ```
+//!
+//! With the friction on the load (`friction_velocity = "load"`: an output bearing's or a
+//! guide's friction), v = ωz and Tf moves from the motor's equation to the load's:
+//! `Jj·ω̇j = Km·i − Cj·ωj − Tb/N`, `Jz·ω̇z = Tb − Tf − Cz·ωz − TL`.
 //!
 //! Which hysteretic term a drive has is which of its parameters is non-zero ([`gear_law`]):
 //! the fit holds the others' at zero, and a run skips a term whose constant is zero. The
@@ -32,14 +37,14 @@ use hd_model::laws::slip_set::MAX_SLIP;
 use hd_model::laws::stiffness::{CubicSpring, FadingMemory};
 
 /// Number of parameters of the compliant drive.
-pub const P: usize = 28;
+pub const P: usize = 29;
 
 /// The parameters of the compliant drive, in the order of a parameter vector (hd-model's
 /// registry names, so a fitted set is a params file `hdw simulate` reads).
 pub const NAMES: [&str; P] = [
     "R", "Km", "Ke", "Jj", "Jz", "Cj", "Cz", "c", "a", "b", "mem_A", "mem_B", "sigma0", "sigma1",
     "sigma2", "Tc", "Ts", "ws", "bw_alpha", "bw_A", "bw_beta", "bw_gamma", "bw_n", "ms_k",
-    "ms_delta", "ms_n", "Tc_neg", "Ts_neg",
+    "ms_delta", "ms_n", "Tc_neg", "Ts_neg", "TL",
 ];
 
 /// The gear laws of the compliant drive.
@@ -114,6 +119,7 @@ pub mod ix {
     pub const MS_N: usize = 25;
     pub const TC_NEG: usize = 26;
     pub const TS_NEG: usize = 27;
+    pub const TL: usize = 28;
 }
 
 /// The state: motor angle θj [rad] and speed ωj [rad/s], gear deflection θ [rad] (θz =
@@ -165,6 +171,9 @@ pub struct Compliant<T> {
     pub p: [T; P],
     /// Gear ratio N [–] (known from the gear's data, never fitted).
     pub n: f64,
+    /// Whether the friction acts on the load alone (v = ωz, −Tf on the load; hd-model's
+    /// `friction_velocity = "load"`) instead of on the wave generator (v = ωj/N).
+    pub friction_on_load: bool,
     /// The LuGre law at the current values (f64: its level and slope are lifted).
     law: LuGre,
 }
@@ -185,7 +194,20 @@ impl<T: Scalar> Compliant<T> {
                 p[WS].re(),
             )
         };
-        Compliant { p, n, law }
+        Compliant { p, n, friction_on_load: false, law }
+    }
+
+    /// The same drive with its friction on the load alone (`true`) or on the wave
+    /// generator (`false`).
+    pub fn with_friction_on_load(self, on_load: bool) -> Self {
+        Compliant { friction_on_load: on_load, ..self }
+    }
+
+    /// The friction law's sliding speed v [rad/s] in state `y`: ωj/N on the wave
+    /// generator, ωz on the load.
+    #[inline(always)]
+    pub fn sliding_speed(&self, y: &State<T>) -> T {
+        if self.friction_on_load { y.omega_z } else { y.omega_j * (1.0 / self.n) }
     }
 
     /// Armature current at voltage `u` [V] and motor speed ωj [A].
@@ -276,7 +298,7 @@ impl<T: Scalar> Compliant<T> {
     /// The bristle's relaxation rate λ = σ0·|v|/G(v) [1/s] at state `y`: the stiff part of
     /// the bristle equation, ẇ = λ·(sign(v)·G − w).
     pub fn relaxation(&self, y: &State<T>) -> T {
-        let v = y.omega_j / self.n;
+        let v = self.sliding_speed(y);
         self.p[ix::SIGMA0] * v.abs() / self.level(v)
     }
 
@@ -325,8 +347,8 @@ impl<T: Scalar> Compliant<T> {
         use ix::*;
         let p = &self.p;
         let inv_n = 1.0 / self.n;
-        let v = y.omega_j * inv_n;
-        let theta_dot = v - y.omega_z;
+        let theta_dot = y.omega_j * inv_n - y.omega_z;
+        let v = self.sliding_speed(y);
         let bouc_wen = p[BW_ALPHA].re() != 0.0;
         let mut tb = self.spring(y.theta) + y.z;
         if bouc_wen {
@@ -339,11 +361,13 @@ impl<T: Scalar> Compliant<T> {
         let s_rate = v - v.abs() * y.w / g;
         let tf = y.w + p[SIGMA1] * s_rate + p[SIGMA2] * v;
         let i = self.current(u, y.omega_j);
+        // The friction torque acts on the wave generator through the gear, or on the load.
+        let (on_motor, on_load) = if self.friction_on_load { (tb, tb - tf) } else { (tb + tf, tb) };
         State {
             theta_j: y.omega_j,
-            omega_j: (p[KM] * i - p[CJ] * y.omega_j - (tb + tf) * inv_n) / p[JJ],
+            omega_j: (p[KM] * i - p[CJ] * y.omega_j - on_motor * inv_n) / p[JJ],
             theta: theta_dot,
-            omega_z: (tb - p[CZ] * y.omega_z) / p[JZ],
+            omega_z: (on_load - p[CZ] * y.omega_z - p[TL]) / p[JZ],
             z: self.memory_rate(theta_dot, y.z),
             w: p[SIGMA0] * s_rate,
             h: if bouc_wen { self.bouc_wen_rate(theta_dot, y.h) } else { T::cst(0.0) },
@@ -414,13 +438,15 @@ impl<T: Scalar> Compliant<T> {
         let k_gear = r(C) + r(MEM_A) + r(BW_ALPHA) * r(BW_A) + r(MS_K);
         let j_motor = r(JJ) * n2; // the motor inertia seen from the load
         let j_red = r(JZ) * j_motor / (r(JZ) + j_motor);
+        // The inertia the bristle and its damping move, seen from the load.
+        let j_fric = if self.friction_on_load { r(JZ) } else { j_motor };
         [
             (k_gear / j_red).sqrt(),
-            (r(SIGMA0) / j_motor).sqrt(),
+            (r(SIGMA0) / j_fric).sqrt(),
             r(MEM_B),
             r(CJ) / r(JJ),
             r(CZ) / r(JZ),
-            (r(SIGMA1) + r(SIGMA2)) / j_motor,
+            (r(SIGMA1) + r(SIGMA2)) / j_fric,
             r(KE) * r(KM) / (r(R) * r(JJ)),
         ]
         .into_iter()

@@ -17,7 +17,7 @@
 //! its standard error, and a sentence says so.
 
 use super::fit::{CompliantFit, CompliantSpec, Signal, fit_stage, simulate_on_zeros};
-use super::model::{Compliant, NAMES, P};
+use super::model::{NAMES, P};
 use super::record::VoltageRecord;
 use crate::drive::lm::LmSettings;
 use rayon::prelude::*;
@@ -96,7 +96,7 @@ fn redrawn(
     k: usize,
     draws: &mut Draws,
 ) -> VoltageRecord {
-    let d = Compliant::new(spec.tied(*values), spec.n);
+    let d = spec.drive(*values);
     let (sim, _, _) = simulate_on_zeros(spec, &d, rec);
     let level = |s: Signal| spec.outputs.iter().find(|(o, _)| *o == s).map(|(_, n)| n[k]);
     let mut encoder = |sim: &[f64], measured: &[f64], s: Signal| -> Vec<f64> {
@@ -250,7 +250,7 @@ mod tests {
         ];
         let n = Params::default().n;
         let spec = test_spec(n, seed(), outputs, 40);
-        let (sim, _, _) = simulate_on_zeros(&spec, &Compliant::new(seed(), n), &rec);
+        let (sim, _, _) = simulate_on_zeros(&spec, &spec.drive(seed()), &rec);
         let mut draws = Draws(1);
         let a = redrawn(&spec, &seed(), &rec, 0, &mut draws);
         let b = redrawn(&spec, &seed(), &rec, 0, &mut draws);

@@ -3,8 +3,9 @@
 //! 1. **Motor pass.** The motor's own parameters (R, Km, Ke, Jj, Cj; with direction-dependent
 //!    friction, the two Coulomb levels too) fitted to the current and the motor encoder. These see the motor without the gear's ringing (the current alone
 //!    would leave the speed's scale free: Ke·s, Jj·s², Cj·s² give the same current).
-//! 2. **Load pass.** The load's and the gear's parameters (Cz, c, mem_A, mem_B or bw_*; Jz too when
-//!    the stiffness is fixed) fitted to the load encoder, the motor's held. The load's
+//! 2. **Load pass.** The load's and the gear's parameters (Cz, TL, c, mem_A, mem_B or bw_*; Jz
+//!    too when the stiffness is fixed; the friction's when it acts on the load) fitted to the
+//!    load encoder, the motor's held. The load's
 //!    ringing makes this cost many-valleyed in the resonance frequency, so it starts from
 //!    the spring and memory stiffness scaled by [`STIFFNESS_SCALES`] (in parallel); ends
 //!    that predict the same load motion count once.
@@ -214,7 +215,9 @@ fn staged_starts(
     // multisine with Tc_neg, Ts_neg 30 % off then ended with the load's resonance at half
     // its frequency): the motor pass fits the two Coulomb levels too. A symmetric level's
     // error is absorbed without harm, and fitting it there only costs time.
-    let motor_set: &[usize] = if spec.symmetric_friction {
+    // Friction on the load is the load pass's, with the constant load torque.
+    let levels = !spec.symmetric_friction;
+    let motor_set: &[usize] = if !levels || spec.friction_on_load {
         &[R, KM, KE, JJ, CJ]
     } else {
         &[R, KM, KE, JJ, CJ, TC, TC_NEG]
@@ -228,8 +231,16 @@ fn staged_starts(
     // that scale (through the motor), and the load pass does not crawl along it.
     let stiffness_free = [C, MEM_A, BW_ALPHA, MS_K].iter().any(|&k| spec.free[k]);
     let gear = [C, MEM_A, MEM_B, BW_ALPHA, BW_A, BW_BETA, BW_GAMMA, BW_N, MS_K, MS_DELTA];
-    let load_set: Vec<usize> =
-        if stiffness_free { vec![CZ] } else { vec![JZ, CZ] }.into_iter().chain(gear).collect();
+    // Friction on the load is the load's to explain: its levels are the load pass's (held
+    // at a wrong start, the gear's constants absorb them). Its bristle and Stribeck speed
+    // wait for the full fit: freed here, they trade against the gear's stiffness.
+    let on_load: &[usize] =
+        if spec.friction_on_load { &[TL, TC, TS, TC_NEG, TS_NEG] } else { &[TL] };
+    let load_set: Vec<usize> = if stiffness_free { vec![CZ] } else { vec![JZ, CZ] }
+        .into_iter()
+        .chain(gear)
+        .chain(on_load.iter().copied())
+        .collect();
     let load = pass(spec, &load_set, load_outputs, values);
     if !load.free.iter().any(|&f| f) {
         return vec![values];

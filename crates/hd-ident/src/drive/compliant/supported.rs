@@ -1,8 +1,9 @@
 //! What the compliant model can stand for. Its drive is the simulator's `full` variant with
 //! the cubic spring plus the fading memory (`memory`, the seed's law), a Bouc–Wen element
 //! (`bouc-wen`) or `ms_n` evenly spread Maxwell-slip elements (`maxwell-slip`), an
-//! algebraic current and LuGre friction (its levels may differ by direction) that does not
-//! grow with the transmitted torque. A params file
+//! algebraic current, LuGre friction (its levels may differ by direction) that does not
+//! grow with the transmitted torque, on the motor's side or on the load's, and a constant
+//! load torque TL. A params file
 //! that asks for more would be fitted as something it is not and written back as a params
 //! file `hdw simulate` runs differently, so each such setting is refused, named.
 

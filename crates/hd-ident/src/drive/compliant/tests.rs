@@ -7,7 +7,9 @@ use super::record::{Between, VoltageRecord};
 use super::simulate::simulate;
 use super::stages::fit_compliant;
 use crate::drive::lm::LmSettings;
-use hd_model::{HystLaw, Input, Params, Profile, SimConfig, SolverOptions, simulate_streaming};
+use hd_model::{
+    FrictionVelocity, HystLaw, Input, Params, Profile, SimConfig, SolverOptions, simulate_streaming,
+};
 use std::f64::consts::TAU;
 
 /// The seed drive's parameters in [`NAMES`] order.
@@ -38,6 +40,19 @@ pub(super) fn chirp_reference_of(
     volts: f64,
     f_end: f64,
 ) -> [Vec<f64>; 5] {
+    chirp_reference_with(params, law, FrictionVelocity::Motor, t_end, h, volts, f_end)
+}
+
+/// [`chirp_reference_of`] with the friction where `fv` puts it.
+pub(super) fn chirp_reference_with(
+    params: &Params,
+    law: HystLaw,
+    fv: FrictionVelocity,
+    t_end: f64,
+    h: f64,
+    volts: f64,
+    f_end: f64,
+) -> [Vec<f64>; 5] {
     let n = (t_end / h).round() as usize + 1;
     let t: Vec<f64> = (0..n).map(|k| k as f64 * h).collect();
     // A chirp from 2 Hz to f_end, starting at zero.
@@ -52,6 +67,7 @@ pub(super) fn chirp_reference_of(
         solver: SolverOptions { rtol: 1e-11, atol: 1e-14, ..SolverOptions::default() },
         params: params.clone(),
         stiffness: law,
+        friction_velocity: fv,
         ..SimConfig::default()
     };
     let mut cols: [Vec<f64>; 5] = Default::default();
@@ -127,6 +143,7 @@ pub(super) fn test_spec(
         noise_estimated: Vec::new(),
         km_is_ke: true,
         symmetric_friction: true,
+        friction_on_load: false,
         current_offset: false,
         substeps,
         settings: LmSettings { max_iterations: 300, cost_tolerance: 1e-8, geodesic: true },

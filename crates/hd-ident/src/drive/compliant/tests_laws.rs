@@ -102,6 +102,7 @@ fn exact_derivatives_at(
         free: [true; P],
         km_is_ke: false,
         symmetric_friction: symmetric,
+        friction_on_load: false,
         ..test_spec(params.n, start, outputs, 8)
     };
     assert_jacobian_matches(&spec, &start, free_idx, &rec, tolerance);
