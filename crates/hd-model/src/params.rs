@@ -85,8 +85,9 @@ pub struct Params {
     pub cz: f64,
     /// Constant load torque `TL` [N·m] acting against positive load motion (gravity on an
     /// unbalanced arm, a spring preload, a process force), added to any time-varying load
-    /// torque of the run; default 0.
-    #[serde(rename = "TL")]
+    /// torque of the run; default 0. Left out of the JSON form at 0, so configurations
+    /// without it keep the run identifiers they had before it existed.
+    #[serde(rename = "TL", skip_serializing_if = "is_zero")]
     pub tl: f64,
     /// Gear ratio N [–]; default 100.
     #[serde(rename = "N")]
@@ -199,4 +200,9 @@ impl Default for Params {
             cat_rated: 108.0,
         }
     }
+}
+
+/// Whether `v` is zero (serde's test for leaving a parameter out).
+fn is_zero(v: &f64) -> bool {
+    *v == 0.0
 }
