@@ -4,8 +4,8 @@
 //!    friction, the two Coulomb levels too) fitted to the current and the motor encoder. These see the motor without the gear's ringing (the current alone
 //!    would leave the speed's scale free: Ke·s, Jj·s², Cj·s² give the same current).
 //! 2. **Load pass.** The load's and the gear's parameters (Cz, TL, c, mem_A, mem_B or bw_*; Jz
-//!    too when the stiffness is fixed; the friction's when it acts on the load) fitted to the
-//!    load encoder, the motor's held. The load's
+//!    too when the stiffness is fixed) fitted to the load encoder, the motor's held. With the
+//!    friction on the load, twice: once with its levels, once with its whole law and Jz. The load's
 //!    ringing makes this cost many-valleyed in the resonance frequency, so it starts from
 //!    the spring and memory stiffness scaled by [`STIFFNESS_SCALES`] (in parallel); ends
 //!    that predict the same load motion count once.
@@ -231,20 +231,44 @@ fn staged_starts(
     // that scale (through the motor), and the load pass does not crawl along it.
     let stiffness_free = [C, MEM_A, BW_ALPHA, MS_K].iter().any(|&k| spec.free[k]);
     let gear = [C, MEM_A, MEM_B, BW_ALPHA, BW_A, BW_BETA, BW_GAMMA, BW_N, MS_K, MS_DELTA];
-    // Friction on the load is the load's to explain: its levels are the load pass's (held
-    // at a wrong start, the gear's constants absorb them). Its bristle and Stribeck speed
-    // wait for the full fit: freed here, they trade against the gear's stiffness.
-    let on_load: &[usize] =
-        if spec.friction_on_load { &[TL, TC, TS, TC_NEG, TS_NEG] } else { &[TL] };
-    let load_set: Vec<usize> = if stiffness_free { vec![CZ] } else { vec![JZ, CZ] }
-        .into_iter()
-        .chain(gear)
-        .chain(on_load.iter().copied())
-        .collect();
-    let load = pass(spec, &load_set, load_outputs, values);
-    if !load.free.iter().any(|&f| f) {
+    // Friction on the load is the load's to explain: held at a wrong start, the gear's
+    // constants absorb it. How much of it the load pass should take has no one answer: on
+    // one 2–200 Hz chirp only its levels (Jz waiting, as above) led the full fit to the
+    // truth, on another only the whole law with Jz did, each variant ending at 7–10 times
+    // the noise-level cost where the other succeeded. Both are run, and the better ends of
+    // each go on to full fits.
+    let base: Vec<usize> = if stiffness_free { vec![CZ] } else { vec![JZ, CZ] };
+    let variants: Vec<Vec<usize>> = if spec.friction_on_load {
+        let levels = base.iter().copied().chain(gear).chain([TL, TC, TS, TC_NEG, TS_NEG]);
+        let whole = [JZ, CZ].into_iter().chain(gear).chain([TL, TC, TS, WS, SIGMA0, SIGMA1]);
+        vec![levels.collect(), whole.chain([SIGMA2, TC_NEG, TS_NEG]).collect()]
+    } else {
+        vec![base.into_iter().chain(gear).chain([TL]).collect()]
+    };
+    let mut kept: Vec<([f64; P], Option<Vec<f64>>)> = Vec::new();
+    for load_set in &variants {
+        let load = pass(spec, load_set, load_outputs.clone(), values);
+        if !load.free.iter().any(|&f| f) {
+            continue;
+        }
+        kept_ends(&load, values, records, &mut kept);
+    }
+    if kept.is_empty() {
         return vec![values];
     }
+    kept.into_iter().map(|(v, _)| v).collect()
+}
+
+/// Run the load pass `load` from `values` with the stiffness scaled by each of
+/// [`STIFFNESS_SCALES`] (in parallel), and add to `kept` each end whose cost is within
+/// [`LOAD_COST_FACTOR`] of the best one's and whose load prediction differs from every end
+/// kept so far (with its predicted load residuals).
+fn kept_ends(
+    load: &CompliantSpec,
+    values: [f64; P],
+    records: &[VoltageRecord],
+    kept: &mut Vec<([f64; P], Option<Vec<f64>>)>,
+) {
     let scaled = [C, MEM_A, BW_ALPHA, MS_K];
     let scales: &[f64] =
         if scaled.iter().any(|&k| load.free[k]) { &STIFFNESS_SCALES } else { &[1.0] };
@@ -261,13 +285,12 @@ fn staged_starts(
         })
         .collect();
     tried.sort_by(|a, b| a.0.total_cmp(&b.0));
-    let Some(&(lowest, _)) = tried.first() else { return vec![values] };
+    let Some(&(lowest, _)) = tried.first() else { return };
     // Starts that ended in the same place would give the same full fit: one of them is
     // kept. The same place is the same prediction: load residuals that differ by less
     // than SAME_PREDICTION of the noise, RMS over the samples (in a valley the parameters
     // of two such ends can still differ in their last digits).
-    let predicted = |v: &[f64; P]| super::fit::residuals_at(&load, v, records);
-    let mut kept: Vec<([f64; P], Option<Vec<f64>>)> = Vec::new();
+    let predicted = |v: &[f64; P]| super::fit::residuals_at(load, v, records);
     for (cost, v) in tried {
         if cost > LOAD_COST_FACTOR * lowest {
             continue;
@@ -284,7 +307,6 @@ fn staged_starts(
             kept.push((v, r));
         }
     }
-    kept.into_iter().map(|(v, _)| v).collect()
 }
 
 /// `spec` with only `which` (where `spec` frees them) free, comparing `outputs`, from `start`.
