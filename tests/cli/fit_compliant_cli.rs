@@ -185,6 +185,36 @@ fn friction_on_the_load_and_a_load_torque_are_fitted_and_written_back() {
     simulates(&out, &dir.join("sim"));
 }
 
+/// `axis = "linear"` (a ball screw, a belt): the same fit, its outputs in the load's
+/// translation units: Jz in kg, the stiffness in N/m, the load encoder in m, the ratio in
+/// rad/m; the motor's own parameters and encoder keep theirs.
+#[test]
+fn a_linear_axis_carries_its_units_into_every_output() {
+    let dir = scratch("fit-compliant-linear");
+    let rec = dir.join("chirp.csv");
+    hdw_ok(&["synth", "drive", "--freq", "5", "--t-end", "0.5", "--out", rec.to_str().unwrap()]);
+    start(&dir);
+    let cfg = config(&dir, "axis = \"linear\"", "free = [\"R\"]");
+    let out = dir.join("out");
+    ok(&fit_drive(&cfg, &out));
+    let doc = json(&out.join("fit.json"));
+    assert_eq!(doc["axis"], "linear");
+    let p = &doc["parameters"];
+    for (name, unit) in [("Jz", "kg"), ("c", "N/m"), ("Tc", "N"), ("TL", "N"), ("Jj", "kg·m²")] {
+        assert_eq!(p[name]["unit"], unit, "{name}");
+    }
+    let chirp = &doc["experiments"]["chirp"];
+    assert_eq!(
+        (chirp["load"]["unit"].as_str(), chirp["motor"]["unit"].as_str()),
+        (Some("m"), Some("rad"))
+    );
+    let report = std::fs::read_to_string(out.join("report.md")).unwrap();
+    assert!(report.contains("rad/m") && report.contains("| Jz |"), "{report}");
+    let params = std::fs::read_to_string(out.join("params.toml")).unwrap();
+    assert!(params.contains("# A linear axis"), "{params}");
+    simulates(&out, &dir.join("sim"));
+}
+
 #[test]
 fn bad_compliant_configurations_get_one_line_errors() {
     let dir = scratch("fit-compliant-bad");
@@ -215,6 +245,7 @@ fn bad_compliant_configurations_get_one_line_errors() {
         ("", "free = [\"R\", \"Tc_neg\"]", "[fit] free 'Tc_neg'"),
         ("friction_velocity = \"deflection\"\n", "", "friction_velocity"),
         ("friction_velocity = \"wheel\"\n", "", "friction_velocity"),
+        ("axis = \"circular\"\n", "", "axis"),
     ];
     for (extra, fit, expect) in cases {
         // `[params]` and `[bounds]` tables must come after the top-level keys but before

@@ -176,6 +176,7 @@ pub fn run(args: &DriveArgs, text: &str) -> Result<()> {
         base_params(&cfg, base)?;
     let directional = cfg.directional_friction.unwrap_or(sets_negative);
     let friction_on_load = cfg.friction_on_load(&file, friction_velocity)?;
+    let axis = cfg.axis(&file)?;
     let free = cfg.free(&file, Some(law), directional)?;
     cfg.check_law(&file, law)?;
     for r in records.iter().chain(&validation) {
@@ -293,6 +294,7 @@ pub fn run(args: &DriveArgs, text: &str) -> Result<()> {
         start_scores,
         validation_scores,
         controller,
+        axis,
     };
     write_outputs(&dir, &outcome)
 }

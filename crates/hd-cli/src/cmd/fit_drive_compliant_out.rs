@@ -8,7 +8,9 @@ use anyhow::Result;
 use hd_ident::drive::compliant::fit::{CompliantSpec, RecordScore, Signal, simulate_on_zeros};
 use hd_ident::drive::compliant::model::ix::{TC_NEG, TS_NEG};
 use hd_ident::drive::compliant::model::{gear_law, in_law};
+use hd_ident::drive::compliant::units::{parameter_unit, signal_unit};
 use hd_ident::drive::compliant::{CompliantFit, NAMES, VoltageRecord};
+use hd_ident::drive::model::Axis;
 use serde_json::{Map, Value, json};
 use std::fmt::Write as _;
 use std::path::Path;
@@ -33,27 +35,24 @@ pub struct Outcome {
     pub validation_scores: Option<RecordScore>,
     /// The loop of closed-loop records (None for voltage tests).
     pub controller: Option<LoopInfo>,
+    /// The axis, whose units the outputs carry.
+    pub axis: Axis,
 }
 
-/// The unit of a parameter, from hd-model's registry.
-fn unit(name: &str) -> &'static str {
-    hd_model::registry::lookup(name).map_or("", |i| i.unit)
-}
-
-/// The unit of output `o`: the command's is the amplifier's (V or A).
-fn unit_of(o: Signal, ctl: Option<&LoopInfo>) -> &'static str {
+/// The unit of output `o` on `axis`: the command's is the amplifier's (V or A).
+fn unit_of(o: Signal, ctl: Option<&LoopInfo>, axis: Axis) -> &'static str {
     match (o, ctl) {
         (Signal::Command, Some(c)) => c.amplifier.unit(),
-        _ => o.unit(),
+        _ => signal_unit(o, axis),
     }
 }
 
-fn scores_json(s: &RecordScore, ctl: Option<&LoopInfo>) -> Value {
+fn scores_json(s: &RecordScore, ctl: Option<&LoopInfo>, axis: Axis) -> Value {
     let mut m = Map::new();
     for (o, sc, noise, ratio) in &s.outputs {
         let mut v = json!({"rel_error": sc.rel_error, "rmse": sc.rmse,
                            "fit_percent": sc.fit_percent, "noise": noise,
-                           "rmse_over_noise": ratio, "unit": unit_of(*o, ctl)});
+                           "rmse_over_noise": ratio, "unit": unit_of(*o, ctl, axis)});
         let offset = match o {
             Signal::Motor => Some(s.encoder_offsets[0]),
             Signal::Load => Some(s.encoder_offsets[1]),
@@ -71,11 +70,11 @@ fn scores_json(s: &RecordScore, ctl: Option<&LoopInfo>) -> Value {
 }
 
 /// `{record name: {output: scores}}`, as the rigid fit's fit.json has them.
-fn records_json(v: &[RecordScore], ctl: Option<&LoopInfo>) -> Value {
-    Value::Object(v.iter().map(|s| (s.name.clone(), scores_json(s, ctl))).collect())
+fn records_json(v: &[RecordScore], ctl: Option<&LoopInfo>, axis: Axis) -> Value {
+    Value::Object(v.iter().map(|s| (s.name.clone(), scores_json(s, ctl, axis))).collect())
 }
 
-fn fmt_score(s: &RecordScore, ctl: Option<&LoopInfo>) -> String {
+fn fmt_score(s: &RecordScore, ctl: Option<&LoopInfo>, axis: Axis) -> String {
     s.outputs
         .iter()
         .map(|(o, sc, noise, ratio)| {
@@ -83,7 +82,7 @@ fn fmt_score(s: &RecordScore, ctl: Option<&LoopInfo>) -> String {
                 "{} rmse {:.3e} {} ({ratio:.2}× the noise {noise:.2e}), fit {:.2} %",
                 o.name(),
                 sc.rmse,
-                unit_of(*o, ctl),
+                unit_of(*o, ctl, axis),
                 sc.fit_percent
             )
         })
@@ -98,8 +97,12 @@ fn plots(dir: &Path, o: &Outcome, r: &VoltageRecord, prefix: &str) -> Result<Vec
     let mut files = Vec::new();
     for (s, _) in &o.spec.outputs {
         let Some(meas) = s.measured(r) else { continue };
-        let what =
-            (r.name.as_str(), s.name(), unit_of(*s, o.controller.as_ref()), "compliant drive");
+        let what = (
+            r.name.as_str(),
+            s.name(),
+            unit_of(*s, o.controller.as_ref(), o.axis),
+            "compliant drive",
+        );
         files.extend(pair_plots(dir, prefix, what, &r.t, meas, s.simulated(&sim))?);
     }
     Ok(files)
@@ -129,7 +132,7 @@ fn write_all(dir: &Path, o: &Outcome) -> Result<()> {
                 n.to_string(),
                 json!({"value": f.values[k], "std_error": f.std_errors[k], "free": f.free[k],
                        "held": f.held.contains(&k), "determined": f.determined[k],
-                       "start": sp.start[k], "unit": unit(n)}),
+                       "start": sp.start[k], "unit": parameter_unit(n, o.axis)}),
             )
         })
         .collect();
@@ -138,6 +141,7 @@ fn write_all(dir: &Path, o: &Outcome) -> Result<()> {
         "transmission": "compliant",
         "stiffness": law.name(),
         "N": sp.n,
+        "axis": if o.axis == Axis::Linear { "linear" } else { "rotary" },
         "voltage_between": if ctl.is_some() { "hold" } else { sp.between.name() },
         "substeps": sp.substeps,
         "km_equals_ke": sp.km_is_ke,
@@ -153,9 +157,9 @@ fn write_all(dir: &Path, o: &Outcome) -> Result<()> {
         "parameters": parameters,
         "determination": f.determination.sentences,
         "best": "compliant",
-        "experiments": records_json(&f.scores, ctl),
-        "start_scores": records_json(&o.start_scores, ctl),
-        "validation": o.validation_scores.as_ref().map(|s| scores_json(s, ctl)),
+        "experiments": records_json(&f.scores, ctl, o.axis),
+        "start_scores": records_json(&o.start_scores, ctl, o.axis),
+        "validation": o.validation_scores.as_ref().map(|s| scores_json(s, ctl, o.axis)),
         "controller": o.controller.as_ref().map(|c| c.json()),
     });
 
@@ -168,6 +172,12 @@ fn write_all(dir: &Path, o: &Outcome) -> Result<()> {
         if sp.friction_on_load { "load" } else { "motor" },
         sp.n
     );
+    if o.axis == Axis::Linear {
+        params.insert_str(
+            params.find("\n\n").unwrap_or(0),
+            "\n# A linear axis: past the gear, positions in m, forces in N, the load's mass in kg and\n# N in rad/m (the simulator's own labels, rad and N·m, stand for them).",
+        );
+    }
     for (k, n) in NAMES.iter().enumerate().filter(|(k, _)| shown(*k)) {
         let _ = writeln!(params, "{n} = {:e}", f.values[k]);
     }
@@ -202,6 +212,13 @@ fn write_all(dir: &Path, o: &Outcome) -> Result<()> {
         }
         let _ = writeln!(r);
     }
+    if o.axis == Axis::Linear {
+        let _ = writeln!(
+            r,
+            "A linear axis: the load's position in m, forces past the gear in N, its mass in kg, N = {:e} rad/m.\n",
+            sp.n
+        );
+    }
     let _ = writeln!(r, "| parameter | start | value | std. error | determined | unit |");
     let _ = writeln!(r, "|---|---:|---:|---:|---|---|");
     for (k, n) in NAMES.iter().enumerate().filter(|(k, _)| shown(*k)) {
@@ -223,7 +240,7 @@ fn write_all(dir: &Path, o: &Outcome) -> Result<()> {
             "| {n} | {:.4e} | {:.4e} | {se} | {det} | {} |",
             sp.start[k],
             f.values[k],
-            unit(n)
+            parameter_unit(n, o.axis)
         );
     }
     let _ = writeln!(r, "\n## What the records determine\n");
@@ -232,11 +249,11 @@ fn write_all(dir: &Path, o: &Outcome) -> Result<()> {
     }
     let _ = writeln!(r, "\n## Scores\n");
     for (s, s0) in f.scores.iter().zip(&o.start_scores) {
-        let _ = writeln!(r, "- {} (fitted): {}", s.name, fmt_score(s, ctl));
-        let _ = writeln!(r, "- {} (start): {}", s0.name, fmt_score(s0, ctl));
+        let _ = writeln!(r, "- {} (fitted): {}", s.name, fmt_score(s, ctl, o.axis));
+        let _ = writeln!(r, "- {} (start): {}", s0.name, fmt_score(s0, ctl, o.axis));
     }
     if let Some(v) = &o.validation_scores {
-        let _ = writeln!(r, "- validation: {}", fmt_score(v, ctl));
+        let _ = writeln!(r, "- validation: {}", fmt_score(v, ctl, o.axis));
     }
     let _ = writeln!(r, "\n## Plots\n");
     for fig in &figs {

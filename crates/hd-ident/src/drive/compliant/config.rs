@@ -35,7 +35,7 @@ pub struct VoltageExperimentConfig {
     /// Factor to rad of the motor encoder column (e.g. 2π/4096 for counts); default 1.
     #[serde(default = "one")]
     pub motor_scale: f64,
-    /// Factor to rad of the load encoder column; default 1.
+    /// Factor to rad (m on a linear axis) of the load encoder column; default 1.
     #[serde(default = "one")]
     pub load_scale: f64,
     /// Factor to A of the current column; default 1.
@@ -93,6 +93,9 @@ pub struct CompliantConfig {
     /// Whether the friction levels differ by direction (Tc_neg, Ts_neg their own
     /// parameters); default: whether the params file sets Tc_neg or Ts_neg.
     pub directional_friction: Option<bool>,
+    /// `rotary` (default) or `linear` (a ball screw, a belt: the load's position in m, its
+    /// forces in N, its mass in kg, N in rad/m; only the units of the outputs change).
+    pub axis: Option<String>,
     /// Where the friction acts: `motor` (on the wave generator, v = ωj/N) or `load` (on the
     /// load alone, v = ωz); default the params file's `friction_velocity`, else `motor`.
     pub friction_velocity: Option<String>,
@@ -182,6 +185,7 @@ impl CompliantConfig {
             }
         }
         c.friction_on_load(file, None)?;
+        c.axis(file)?;
         if c.substeps == Some(0) {
             return Err(DriveError::config(format!("{file}, substeps"), "0; expected at least 1"));
         }
@@ -212,6 +216,20 @@ impl CompliantConfig {
                 format!("{file}, friction_velocity"),
                 "'deflection': the compliant fit takes friction on the motor's side or on the load's (motor or load)",
             )),
+        }
+    }
+
+    /// The axis: rotary unless `axis = "linear"`.
+    pub fn axis(&self, file: &str) -> Result<crate::drive::model::Axis, DriveError> {
+        use crate::drive::model::Axis;
+        match self.axis.as_deref() {
+            None => Ok(Axis::Rotary),
+            Some(s) => Axis::parse(s).ok_or_else(|| {
+                DriveError::config(
+                    format!("{file}, axis"),
+                    format!("'{s}'; expected \"rotary\" or \"linear\""),
+                )
+            }),
         }
     }
 

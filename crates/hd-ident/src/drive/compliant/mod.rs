@@ -20,6 +20,7 @@ pub mod simulate;
 pub mod stages;
 pub mod supported;
 pub mod synth_loop;
+pub mod units;
 
 #[cfg(test)]
 mod tests;
