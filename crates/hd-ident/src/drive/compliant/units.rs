@@ -49,7 +49,7 @@ mod tests {
             ("sigma1", "N·s/m"),
             ("Tc", "N"),
             ("ws", "m/s"),
-            ("bw_beta", "1/m"),
+            ("bw_beta", "m^-n"),
             ("ms_delta", "m"),
             ("TL", "N"),
             ("N", "rad/m"),
