@@ -71,6 +71,7 @@ fn a_current_loop_is_fitted_back() {
     assert_eq!(c["delay"], 1, "{c}");
     assert_eq!(c["delay_from"], "check");
     assert_eq!(c["amplifier"], "current");
+    assert_eq!(c["position_unit"], "rad", "a rotary axis: the fed-back positions are in rad");
     assert_eq!(c["check"][1]["rms"].as_f64().unwrap(), 0.0, "{c}");
     assert!(c["check"][0]["percent"].as_f64().unwrap() > 1.0, "{c}");
     // Behind a current amplifier R acts on nothing: it is not fitted. The torque is Km × the

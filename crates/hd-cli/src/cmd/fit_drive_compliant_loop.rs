@@ -26,6 +26,8 @@ pub struct LoopInfo {
     pub checks: Vec<Reproduction>,
     /// Whether the configuration fixed the delay (else the check chose it).
     pub fixed: bool,
+    /// The unit of the fed-back position: m for a linear axis's load encoder, else rad.
+    pub position_unit: &'static str,
 }
 
 impl LoopInfo {
@@ -37,7 +39,7 @@ impl LoopInfo {
             "sample_period": c.h, "delay": c.delay,
             "delay_from": if self.fixed { "configuration" } else { "check" },
             "feedback": self.feedback.name(), "amplifier": self.amplifier.name(),
-            "command_unit": self.amplifier.unit(),
+            "command_unit": self.amplifier.unit(), "position_unit": self.position_unit,
             "check": self.checks.iter()
                 .map(|r| json!({"delay": r.delay, "rms": r.rms, "percent": r.percent}))
                 .collect::<Vec<_>>(),
@@ -49,9 +51,10 @@ impl LoopInfo {
         let c = &self.controller;
         let u = self.amplifier.unit();
         let mut out = vec![format!(
-            "The controller (kp {} 1/s, kv {} {u}·s/rad, saturation ±{} {u}, speed filter {:?}, feedback on the {} encoder, {} amplifier) applied to the recorded encoder and reference reproduces the recorded command with:",
+            "The controller (kp {} 1/s, kv {} {u}·s/{}, saturation ±{} {u}, speed filter {:?}, feedback on the {} encoder, {} amplifier) applied to the recorded encoder and reference reproduces the recorded command with:",
             c.kp,
             c.kv,
+            self.position_unit,
             c.saturation,
             c.speed_filter,
             self.feedback.name(),
@@ -125,7 +128,10 @@ pub fn attach(
         })
         .collect();
     let validation = validation.map(|v| bind(v, &controller)).transpose()?;
-    let info = LoopInfo { controller, feedback, amplifier, checks, fixed: fixed.is_some() };
+    let linear = cfg.axis(file)? == hd_ident::drive::model::Axis::Linear;
+    let position_unit = if linear && feedback == Feedback::Load { "m" } else { "rad" };
+    let fixed = fixed.is_some();
+    let info = LoopInfo { controller, feedback, amplifier, checks, fixed, position_unit };
     for l in info.lines() {
         eprintln!("{l}");
     }
