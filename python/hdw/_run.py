@@ -138,7 +138,8 @@ def simulate(
             e.g. ``{"kp": 2000, "ki": 2e4, "kd": 0, "feedback": "load", "reference":
             {"kind": "sine", "amplitude": 1e-3, "freq": 0.2}}``; None for open loop.
         method: ``"auto"``, ``"dopri5"``, ``"dop853"``, ``"rodas4"``, ``"imex"`` or ``"imex5"``.
-        friction_velocity: speed seen by the friction law, ``"motor"`` or ``"deflection"``.
+        friction_velocity: where the friction acts and the speed it sees: ``"motor"``,
+            ``"deflection"`` or ``"load"`` (the load alone, v = ωz).
         cycles: whole drive cycles at the end of the run used for the periodic metrics.
         load_torque: a constant external load torque on the load side [N·m].
         max_steps: step budget of the integrator (default 50 million).

@@ -211,15 +211,9 @@ pub fn config_from_options(
             )));
         }
     };
-    let friction_velocity = match text_option(opts, "friction_velocity", "motor")?.as_str() {
-        "motor" => FrictionVelocity::Motor,
-        "deflection" => FrictionVelocity::Deflection,
-        other => {
-            return Err(value_error(format!(
-                "friction_velocity = '{other}': expected motor or deflection"
-            )));
-        }
-    };
+    let friction_velocity = text_option(opts, "friction_velocity", "motor")?
+        .parse::<FrictionVelocity>()
+        .map_err(|e| value_error(format!("friction_velocity = {e}")))?;
     let defaults = SolverOptions::default();
     let cycles = match opts.get_item("cycles")? {
         Some(v) if !v.is_none() => v

@@ -38,6 +38,17 @@ def test_step_input_and_variant_match_the_cli(tmp_path):
     assert r.config["variant"] == "damped"
 
 
+def test_friction_on_the_load_with_a_load_torque_matches_the_cli(tmp_path):
+    run_cli("simulate", "--friction-velocity", "load", "--set", "Tc=8", "--set", "Ts=12",
+            "--set", "TL=0.4", "--t-end", "0.05", "--out", tmp_path)
+    doc = read_json(tmp_path / "metrics.json")
+    r = hdw.simulate({"Tc": 8.0, "Ts": 12.0, "TL": 0.4}, friction_velocity="load", t_end=0.05)
+    assert doc["friction_velocity"] == "load" and r.parameters["TL"] == 0.4
+    for name, value in doc["metrics"].items():
+        assert same_number(value, r.metrics[name]), name
+    assert r.metrics["energy_residual"] < 1e-8
+
+
 def test_recorded_input_from_arrays_follows_the_samples():
     # A recorded ramp is linear between samples: u(t) on the trace is the ramp itself.
     t = np.array([0.0, 0.01, 0.02])
@@ -77,6 +88,7 @@ def test_aliases_and_registry():
         ({"rtol": 2.0}, ["rtol = 2", "[1e-14, 1)"]),
         ({"controller": {"kp": 1.0, "gain": 2}}, ["controller", "gain"]),
         ({"method": "euler"}, ["method = 'euler'", "dopri5"]),
+        ({"friction_velocity": "wheel"}, ["friction_velocity = 'wheel'", "motor, deflection, load"]),
     ],
 )
 def test_bad_input_is_a_value_error_naming_the_field(kwargs, words):
