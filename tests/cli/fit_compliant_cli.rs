@@ -31,12 +31,19 @@ fn start(dir: &std::path::Path) {
     .unwrap();
 }
 
+/// A scratch folder `name` holding a `hdw synth drive` record of the seed drive (5 Hz centre,
+/// `t_end` seconds) as chirp.csv and the start values of [`start`].
+fn recorded(name: &str, t_end: &str) -> std::path::PathBuf {
+    let dir = scratch(name);
+    let rec = dir.join("chirp.csv");
+    hdw_ok(&["synth", "drive", "--freq", "5", "--t-end", t_end, "--out", rec.to_str().unwrap()]);
+    start(&dir);
+    dir
+}
+
 #[test]
 fn the_motor_is_fitted_back_from_a_voltage_test() {
-    let dir = scratch("fit-compliant");
-    let rec = dir.join("chirp.csv");
-    hdw_ok(&["synth", "drive", "--freq", "5", "--t-end", "2", "--out", rec.to_str().unwrap()]);
-    start(&dir);
+    let dir = recorded("fit-compliant", "2");
     let cfg = config(&dir, "", MOTOR_FIT);
     let out = dir.join("out");
     ok(&fit_drive(&cfg, &out));
@@ -190,10 +197,7 @@ fn friction_on_the_load_and_a_load_torque_are_fitted_and_written_back() {
 /// rad/m; the motor's own parameters and encoder keep theirs.
 #[test]
 fn a_linear_axis_carries_its_units_into_every_output() {
-    let dir = scratch("fit-compliant-linear");
-    let rec = dir.join("chirp.csv");
-    hdw_ok(&["synth", "drive", "--freq", "5", "--t-end", "0.5", "--out", rec.to_str().unwrap()]);
-    start(&dir);
+    let dir = recorded("fit-compliant-linear", "0.5");
     let cfg = config(&dir, "axis = \"linear\"", "free = [\"R\"]");
     let out = dir.join("out");
     ok(&fit_drive(&cfg, &out));
@@ -217,10 +221,7 @@ fn a_linear_axis_carries_its_units_into_every_output() {
 
 #[test]
 fn bad_compliant_configurations_get_one_line_errors() {
-    let dir = scratch("fit-compliant-bad");
-    let rec = dir.join("chirp.csv");
-    hdw_ok(&["synth", "drive", "--freq", "5", "--t-end", "0.1", "--out", rec.to_str().unwrap()]);
-    start(&dir);
+    let dir = recorded("fit-compliant-bad", "0.1");
     // The configuration with `extra` and `fit`, each experiment line `current = "i"`
     // replaced by `current_line`, run; a failed fit must leave no output folder.
     let run_with = |extra: &str, fit: &str, current_line: &str| {
