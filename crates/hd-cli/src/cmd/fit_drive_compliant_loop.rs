@@ -5,8 +5,10 @@
 
 use super::fit_drive::resolve;
 use anyhow::{Result, anyhow};
+use hd_ident::drive::compliant::fit::Signal;
 use hd_ident::drive::compliant::loop_config::check_delays;
 use hd_ident::drive::compliant::model::{P, ix};
+use hd_ident::drive::compliant::units::signal_unit;
 use hd_ident::drive::compliant::{Amplifier, ClosedLoop, CompliantConfig, Feedback, VoltageRecord};
 use hd_ident::drive::config::DelayChoice;
 use hd_ident::drive::controller::{Controller, Reproduction};
@@ -128,8 +130,8 @@ pub fn attach(
         })
         .collect();
     let validation = validation.map(|v| bind(v, &controller)).transpose()?;
-    let linear = cfg.axis(file)? == hd_ident::drive::model::Axis::Linear;
-    let position_unit = if linear && feedback == Feedback::Load { "m" } else { "rad" };
+    let fed_back = if feedback == Feedback::Load { Signal::Load } else { Signal::Motor };
+    let position_unit = signal_unit(fed_back, cfg.axis(file)?);
     let fixed = fixed.is_some();
     let info = LoopInfo { controller, feedback, amplifier, checks, fixed, position_unit };
     for l in info.lines() {

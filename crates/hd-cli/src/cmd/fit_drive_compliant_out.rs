@@ -141,12 +141,12 @@ fn write_all(dir: &Path, o: &Outcome) -> Result<()> {
         "transmission": "compliant",
         "stiffness": law.name(),
         "N": sp.n,
-        "axis": if o.axis == Axis::Linear { "linear" } else { "rotary" },
+        "axis": o.axis.name(),
         "voltage_between": if ctl.is_some() { "hold" } else { sp.between.name() },
         "substeps": sp.substeps,
         "km_equals_ke": sp.km_is_ke,
         "directional_friction": !sp.symmetric_friction,
-        "friction_velocity": if sp.friction_on_load { "load" } else { "motor" },
+        "friction_velocity": sp.friction_velocity().name(),
         "wall_time_s": o.secs,
         "starts": f.starts,
         "iterations": f.iterations,
@@ -169,7 +169,7 @@ fn write_all(dir: &Path, o: &Outcome) -> Result<()> {
         o.config,
         law.name(),
         law.name(),
-        if sp.friction_on_load { "load" } else { "motor" },
+        sp.friction_velocity().name(),
         sp.n
     );
     if o.axis == Axis::Linear {

@@ -214,7 +214,7 @@ fn write_all(dir: &Path, o: &Outcome) -> Result<()> {
     let best_json = &laws[0];
     let doc = json!({
         "config": o.config,
-        "axis": if o.axis == Axis::Linear { "linear" } else { "rotary" },
+        "axis": o.axis.name(),
         "gain": o.gain,
         "controller": {
             "kp": o.controller.kp, "kv": o.controller.kv, "saturation": o.controller.saturation,

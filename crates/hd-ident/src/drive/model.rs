@@ -28,10 +28,14 @@ pub enum Axis {
 impl Axis {
     /// Parse `linear` or `rotary`.
     pub fn parse(s: &str) -> Option<Axis> {
-        match s {
-            "linear" => Some(Axis::Linear),
-            "rotary" => Some(Axis::Rotary),
-            _ => None,
+        [Axis::Linear, Axis::Rotary].into_iter().find(|a| a.name() == s)
+    }
+
+    /// The name used in configurations and reports (`linear`, `rotary`).
+    pub fn name(self) -> &'static str {
+        match self {
+            Axis::Linear => "linear",
+            Axis::Rotary => "rotary",
         }
     }
 

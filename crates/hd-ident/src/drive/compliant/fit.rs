@@ -168,6 +168,15 @@ impl CompliantSpec {
         Compliant::new(self.tied(p), self.n).with_friction_on_load(self.friction_on_load)
     }
 
+    /// Where the friction acts, as hd-model names it (`motor` or `load`).
+    pub fn friction_velocity(&self) -> hd_model::FrictionVelocity {
+        if self.friction_on_load {
+            hd_model::FrictionVelocity::Load
+        } else {
+            hd_model::FrictionVelocity::Motor
+        }
+    }
+
     /// Whether parameter `k` follows another ([`CompliantSpec::ties`]).
     pub fn follows(&self, k: usize) -> bool {
         self.ties().iter().any(|&(f, _)| f == k)

@@ -1,7 +1,7 @@
 //! The compliant drive against hd-model's own solver, its exact derivatives against
 //! central differences, and a fit that recovers the drive from a record of it.
 
-use super::fit::{CompliantSpec, Signal, residuals_and_jacobian, substeps_for};
+use super::fit::{CompliantSpec, Signal, residuals_and_jacobian, substeps_for, substeps_of};
 use super::model::{Compliant, NAMES, P};
 use super::record::{Between, VoltageRecord};
 use super::simulate::simulate;
@@ -160,11 +160,22 @@ fn matches_the_simulator() {
     let h = 1e-3;
     let cols = reference(0.4, h, 12.0);
     let rec = record(&cols, "ref");
-    let p = seed();
-    let n = Params::default().n;
-    let m = substeps_for(&p, n, h);
+    assert_matches_reference(&Compliant::new(seed(), Params::default().n), &rec, 1e-3, 4.0);
+}
+
+/// Assert that drive `d` run on the voltage of reference record `rec` (read linearly
+/// between samples) reproduces its motor angle, load angle and current: each within
+/// `largest` of its RMS at the substeps the fit picks ([`substeps_of`]), and twice as
+/// many substeps cutting every difference by more than `factor`.
+pub(super) fn assert_matches_reference(
+    d: &Compliant<f64>,
+    rec: &VoltageRecord,
+    largest: f64,
+    factor: f64,
+) {
+    let m = substeps_of(d, rec.h);
     let differences = |m: usize| {
-        let sim = simulate(&Compliant::new(p, n), &rec, Between::Linear, m);
+        let sim = simulate(d, rec, Between::Linear, m);
         relative_differences([
             (&sim.theta_m, &rec.theta_m),
             (&sim.theta_l, &rec.theta_l),
@@ -172,7 +183,7 @@ fn matches_the_simulator() {
         ])
     };
     let (coarse, fine) = (differences(m), differences(2 * m));
-    assert_converging(&["motor", "load", "current"], &coarse, &fine, m, 1e-3, 4.0);
+    assert_converging(&["motor", "load", "current"], &coarse, &fine, m, largest, factor);
 }
 
 /// The Jacobian from dual numbers equals central differences of the plain simulation on

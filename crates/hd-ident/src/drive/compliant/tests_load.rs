@@ -6,10 +6,9 @@
 use super::fit::{CompliantFit, CompliantSpec, Signal, substeps_of};
 use super::model::{Compliant, NAMES, P, ix::*, on_law};
 use super::record::Between;
-use super::simulate::simulate;
 use super::tests::{
-    assert_converging, assert_jacobian_matches, chirp_reference_with, fit_and_judge, record,
-    relative_differences, rig_record, test_spec,
+    assert_jacobian_matches, assert_matches_reference, chirp_reference_with, fit_and_judge, record,
+    rig_record, test_spec,
 };
 use hd_model::{FrictionVelocity, HystLaw, Params};
 
@@ -51,17 +50,7 @@ fn load_friction_matches_the_simulator() {
     let (params, v) = load_side();
     let rec = record(&reference(0.4, 12.0, 60.0), "ref");
     let d = Compliant::new(v, params.n).with_friction_on_load(true);
-    let m = substeps_of(&d, 1e-3);
-    let differences = |m: usize| {
-        let sim = simulate(&d, &rec, Between::Linear, m);
-        relative_differences([
-            (&sim.theta_m, &rec.theta_m),
-            (&sim.theta_l, &rec.theta_l),
-            (&sim.current, rec.current.as_ref().unwrap()),
-        ])
-    };
-    let (coarse, fine) = (differences(m), differences(2 * m));
-    assert_converging(&["motor", "load", "current"], &coarse, &fine, m, 1e-5, 4.0);
+    assert_matches_reference(&d, &rec, 1e-5, 4.0);
 }
 
 /// The specification of these tests for the load-side drive at `start`.
