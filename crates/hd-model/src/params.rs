@@ -89,6 +89,29 @@ pub struct Params {
     /// without it keep the run identifiers they had before it existed.
     #[serde(rename = "TL", skip_serializing_if = "is_zero")]
     pub tl: f64,
+    /// Load-side LuGre law (`*_load`, docs/model.md §2.6): a second friction law on the
+    /// load's speed ωz, beside the gear's own, present when its Coulomb or static level is
+    /// above 0. Coulomb level `Tc_load` [N·m]; default 0 (no load-side law). Each `*_load`
+    /// field is left out of the JSON form at 0, so run identifiers are unchanged without it.
+    #[serde(rename = "Tc_load", skip_serializing_if = "is_zero")]
+    pub tc_load: f64,
+    /// Static level of the load-side law `Ts_load` [N·m]; default 0.
+    #[serde(rename = "Ts_load", skip_serializing_if = "is_zero")]
+    pub ts_load: f64,
+    /// Stribeck velocity of the load-side law `ws_load` [rad/s]; default 0 (must be set
+    /// when the law is present).
+    #[serde(skip_serializing_if = "is_zero")]
+    pub ws_load: f64,
+    /// Bristle stiffness of the load-side law `sigma0_load` [N·m/rad]; default 0 (must be
+    /// set when the law is present).
+    #[serde(skip_serializing_if = "is_zero")]
+    pub sigma0_load: f64,
+    /// Bristle damping of the load-side law `sigma1_load` [N·m·s/rad]; default 0.
+    #[serde(skip_serializing_if = "is_zero")]
+    pub sigma1_load: f64,
+    /// Viscous coefficient of the load-side law `sigma2_load` [N·m·s/rad]; default 0.
+    #[serde(skip_serializing_if = "is_zero")]
+    pub sigma2_load: f64,
     /// Gear ratio N [–]; default 100.
     #[serde(rename = "N")]
     pub n: f64,
@@ -179,6 +202,12 @@ impl Default for Params {
             cj: 0.003,
             cz: 0.005,
             tl: 0.0,
+            tc_load: 0.0,
+            ts_load: 0.0,
+            ws_load: 0.0,
+            sigma0_load: 0.0,
+            sigma1_load: 0.0,
+            sigma2_load: 0.0,
             n: 100.0,
             kbar: 7.8e5,
             c0bar: 0.16,

@@ -3,6 +3,7 @@
 
 use crate::control::{Controller, CtlEval, Hold};
 use crate::fma::fmadd;
+use crate::laws::friction::LuGre;
 use crate::laws::friction::{Friction, FrictionEval, FrictionLaw};
 use crate::laws::input::Input;
 use crate::laws::load::LoadTorque;
@@ -11,7 +12,7 @@ use crate::laws::stiffness::{Stiffness, StiffnessEval};
 use crate::params::Params;
 use crate::solver::OdeSystem;
 use crate::state::*;
-use crate::variant::{FrictionKind, StiffnessKind, friction_law, stiffness_law};
+use crate::variant::{FrictionKind, StiffnessKind, friction_law, load_friction_law, stiffness_law};
 use nalgebra::{SMatrix, SVector};
 use serde::{Deserialize, Serialize};
 
@@ -73,6 +74,9 @@ pub struct DriveSystem {
     pub hold: Hold,
     /// Speed seen by the friction law.
     pub friction_velocity: FrictionVelocity,
+    /// A second LuGre law on the load's speed ωz (the `*_load` parameters), beside the
+    /// gear's own; its bristle is the state `W_LOAD`.
+    pub friction_load: Option<LuGre>,
     /// Gear ratio N [–] (read-only after [`DriveSystem::new`], which derives 1/N).
     pub n: f64,
     /// Motor inertia Jj [kg·m²] (read-only after `new`, which derives 1/Jj).
@@ -113,6 +117,8 @@ pub struct Parts {
     pub st: StiffnessEval,
     /// Friction law output.
     pub fr: FrictionEval,
+    /// The load-side law's output at v = ωz (zero without that law).
+    pub fr_load: FrictionEval,
     /// Torque on the load from the gear [N·m].
     pub t_out: f64,
     /// Torque on the wave generator `Ta = (Tb + Tf)/N` (`Tb/N` with the friction on the
@@ -143,6 +149,7 @@ impl DriveSystem {
             ctl: None,
             hold: Hold::default(),
             friction_velocity,
+            friction_load: load_friction_law(p, friction_velocity)?,
             n: p.n,
             inv_n: 1.0 / p.n,
             inv_jj: 1.0 / p.jj,
@@ -160,13 +167,16 @@ impl DriveSystem {
     /// no friction observer).
     pub fn split_covers_stiffness(&self) -> bool {
         let observer = self.ctl.as_ref().is_some_and(|c| c.friction.has_state());
-        !self.motor.has_inductance() && !observer
+        !self.motor.has_inductance() && !observer && self.friction_load.is_none()
     }
 
     /// Whether the system has a stiff part that calls for the implicit method.
     pub fn is_stiff(&self) -> bool {
         let observer = self.ctl.as_ref().is_some_and(|c| c.friction.has_state());
-        matches!(self.friction, Friction::LuGre(_)) || self.motor.has_inductance() || observer
+        matches!(self.friction, Friction::LuGre(_))
+            || self.motor.has_inductance()
+            || observer
+            || self.friction_load.is_some()
     }
 
     /// The frequency of the periodic drive [Hz]: the reference's in closed loop, the
@@ -238,8 +248,19 @@ impl DriveSystem {
         let (theta_dot, v) = self.gear_speeds(y);
         let st = self.stiffness.eval(y[THETA], theta_dot, y[Z], slots(y));
         let fr = friction(v, st.torque);
+        let fr_load = self.load_friction(y);
         let (t_out, ta) = self.gear_torques(st.torque, fr.torque);
-        Parts { u, i, theta_dot, v, st, fr, t_out, ta, tl: self.load.value(t) + self.tl, ctl }
+        let t_out = t_out - fr_load.torque;
+        let tl = self.load.value(t) + self.tl;
+        Parts { u, i, theta_dot, v, st, fr, fr_load, t_out, ta, tl, ctl }
+    }
+
+    /// The load-side law's output in state y (v = ωz, bristle `W_LOAD`); zero without it.
+    #[inline(always)]
+    fn load_friction(&self, y: &State) -> FrictionEval {
+        self.friction_load
+            .as_ref()
+            .map_or_else(FrictionEval::default, |l| l.eval(y[OMEGA_Z], y[W_LOAD]))
     }
 
     /// The stiffness torque Tb and the friction torque Tf [N·m] in state y with rates
@@ -288,6 +309,7 @@ impl DriveSystem {
         d[OMEGA_Z] = fmadd(p.t_out, self.inv_jz, -fmadd(self.cz, wz, p.tl) * self.inv_jz);
         d[Z] = p.st.z_rate;
         d[W] = p.fr.w_rate;
+        d[W_LOAD] = p.fr_load.w_rate;
         if m.has_inductance() {
             d[CURRENT] = m.current_rate(p.u, p.i, wj);
         }
@@ -299,7 +321,7 @@ impl DriveSystem {
         }
         d[Q_LOAD] = p.tl * wz;
         d[Q_HYST] = p.st.hyst * p.theta_dot;
-        d[Q_FRIC] = p.fr.torque * p.v;
+        d[Q_FRIC] = fmadd(p.fr_load.torque, wz, p.fr.torque * p.v);
         d[Q_OUT] = (p.t_out * wz).max(0.0);
         d[Q_IN] = (p.ta * wj).max(0.0);
         d[Q_ELEC] = p.u * p.i;
@@ -338,7 +360,7 @@ impl OdeSystem<DIM> for DriveSystem {
     const COUPLED_LEAD: usize = PLANT + 1;
 
     fn coupled(&self) -> usize {
-        if self.ctl.is_some() { COUPLED } else { PLANT }
+        if self.ctl.is_some() || self.friction_load.is_some() { COUPLED } else { PLANT }
     }
 
     fn live(&self) -> usize {
@@ -402,7 +424,8 @@ impl OdeSystem<DIM> for DriveSystem {
         let g_tf = p.fr.d_v * g_v + p.fr.d_w * unit(W) + p.fr.d_tb * g_tb;
         let g_i = if inductive { unit(CURRENT) } else { (g_u - m.ke * unit(OMEGA_J)) / m.r };
         let (on_load, on_motor) = self.friction_shares();
-        let g_out = g_tb + on_load * g_tf;
+        let g_tf_load = p.fr_load.d_v * unit(OMEGA_Z) + p.fr_load.d_w * unit(W_LOAD);
+        let g_out = g_tb + on_load * g_tf - g_tf_load;
         let g_ta = (g_tb + on_motor * g_tf) / self.n;
         // ∂(u-dependent terms)/∂t: only the current depends on u directly.
         let di_dt = if inductive { 0.0 } else { du / m.r };
@@ -417,6 +440,10 @@ impl OdeSystem<DIM> for DriveSystem {
         dfdt[OMEGA_Z] = -self.load.rate(t) / self.jz;
         rows[Z] = p.st.z_rate_d_thetadot * g_thd + p.st.z_rate_d_z * unit(Z);
         rows[W] = p.fr.w_rate_d_v * g_v + p.fr.w_rate_d_w * unit(W) + p.fr.w_rate_d_tb * g_tb;
+        if self.friction_load.is_some() {
+            rows[W_LOAD] =
+                p.fr_load.w_rate_d_v * unit(OMEGA_Z) + p.fr_load.w_rate_d_w * unit(W_LOAD);
+        }
         if inductive {
             rows[CURRENT] = (g_u - m.r * unit(CURRENT) - m.ke * unit(OMEGA_J)) / m.l;
             dfdt[CURRENT] = du / m.l;
@@ -426,7 +453,8 @@ impl OdeSystem<DIM> for DriveSystem {
         let curve_slope = self.stiffness.curve.torque_slope(y[THETA]).1;
         let g_hyst = (p.st.d_theta - curve_slope) * unit(THETA) + p.st.d_z * unit(Z);
         rows[Q_HYST] = p.st.hyst * g_thd + p.theta_dot * g_hyst;
-        rows[Q_FRIC] = p.v * g_tf + p.fr.torque * g_v;
+        rows[Q_FRIC] =
+            p.v * g_tf + p.fr.torque * g_v + wz * g_tf_load + p.fr_load.torque * unit(OMEGA_Z);
         if p.t_out * wz > 0.0 {
             rows[Q_OUT] = wz * g_out + p.t_out * unit(OMEGA_Z);
         }
@@ -468,11 +496,16 @@ impl OdeSystem<DIM> for DriveSystem {
     }
 
     fn switch_value(&self, _t: f64, y: &State) -> Option<f64> {
-        // LuGre's bristle rate has |v| in it: a kink where the sliding speed reverses.
-        if !self.friction.has_state() {
+        // LuGre's bristle rate has |v| in it: a kink where the sliding speed reverses. With
+        // only the load-side law, that is where the load reverses; with both, the gear law's
+        // kink is located and the load law's is left to error control.
+        let (a, b) = if self.friction.has_state() {
+            self.v_coeffs()
+        } else if self.friction_load.is_some() {
+            (0.0, 1.0)
+        } else {
             return None;
-        }
-        let (a, b) = self.v_coeffs();
+        };
         Some(a * y[OMEGA_J] + b * y[OMEGA_Z])
     }
 

@@ -221,6 +221,48 @@ fn catalogue(p: &Params) -> Result<Stiffness, ConfigError> {
 }
 
 /// Build the friction law of the given kind from the parameters.
+/// The load-side LuGre law of `p` (the `*_load` parameters, docs/model.md §2.6): `None`
+/// when its Coulomb and static levels are both 0; an error naming the field when the law
+/// is present without a bristle stiffness or a Stribeck velocity above 0, or when the
+/// gear's own law already acts on the load (`friction_velocity = "load"`).
+pub fn load_friction_law(
+    p: &Params,
+    friction_velocity: crate::system::FrictionVelocity,
+) -> Result<Option<LuGre>, ConfigError> {
+    if p.tc_load == 0.0 && p.ts_load == 0.0 {
+        return Ok(None);
+    }
+    let invalid = |field: &str, value: String, expected: &str| ConfigError::Invalid {
+        field: field.to_string(),
+        value,
+        expected: expected.to_string(),
+    };
+    for (name, v) in [("sigma0_load", p.sigma0_load), ("ws_load", p.ws_load)] {
+        if !(v.is_finite() && v > 0.0) {
+            return Err(invalid(
+                name,
+                v.to_string(),
+                "a value > 0 when the load-side friction law is present (Tc_load or Ts_load > 0)",
+            ));
+        }
+    }
+    if friction_velocity == crate::system::FrictionVelocity::Load {
+        return Err(invalid(
+            "friction_velocity",
+            "\"load\"".to_string(),
+            "\"motor\" or \"deflection\" beside a load-side law (Tc_load, Ts_load): the gear's own law already acts on the load; put its levels in Tc and Ts instead",
+        ));
+    }
+    Ok(Some(LuGre::symmetric(
+        p.sigma0_load,
+        p.sigma1_load,
+        p.sigma2_load,
+        p.tc_load,
+        p.ts_load,
+        p.ws_load,
+    )))
+}
+
 pub fn friction_law(kind: FrictionKind, p: &Params) -> Friction {
     match kind {
         FrictionKind::None => Friction::None(NoFriction),

@@ -50,11 +50,30 @@ fn linear_variant_free_oscillation_has_the_two_inertia_frequency() {
 
 #[test]
 fn energy_balance_closes_over_the_seed_case() {
-    for fv in [FrictionVelocity::Motor, FrictionVelocity::Deflection, FrictionVelocity::Load] {
-        // With the friction on the load, a constant load torque TL too (its work is Q_LOAD).
-        let tl = if fv == FrictionVelocity::Load { 0.4 } else { 0.0 };
+    use FrictionVelocity::{Deflection, Load, Motor};
+    // With the friction on the load, a constant load torque TL too (its work is Q_LOAD);
+    // the last two runs add a second LuGre law on the load beside the gear's.
+    for (fv, tl, load_law) in [
+        (Motor, 0.0, false),
+        (Deflection, 0.0, false),
+        (Load, 0.4, false),
+        (Motor, 0.4, true),
+        (Deflection, 0.0, true),
+    ] {
+        let mut params = Params { tl, ..Params::default() };
+        if load_law {
+            params = Params {
+                tc_load: 0.8,
+                ts_load: 1.2,
+                ws_load: 0.02,
+                sigma0_load: 2e4,
+                sigma1_load: 5.0,
+                sigma2_load: 0.05,
+                ..params
+            };
+        }
         let cfg = SimConfig {
-            params: Params { tl, ..Params::default() },
+            params,
             friction_velocity: fv,
             record_trace: false,
             solver: SolverOptions { rtol: 1e-11, atol: 1e-12, ..Default::default() },
@@ -62,11 +81,14 @@ fn energy_balance_closes_over_the_seed_case() {
         };
         let out = simulate(&cfg).unwrap();
         let sys = cfg.system().unwrap();
+        assert_eq!(sys.friction_load.is_some(), load_law);
         let y = out.final_state;
         let e_in = y[Q_ELEC];
         let accounted = sys.stored_energy(&y) + y[Q_DISS] + y[Q_FRIC] + y[Q_LOAD];
         let rel = (e_in - accounted).abs() / e_in.abs();
-        eprintln!("energy balance, {fv:?}: {e_in:.6} J in, residual {rel:.2e}");
+        eprintln!(
+            "energy balance, {fv:?}, load-side law {load_law}: {e_in:.6} J in, residual {rel:.2e}"
+        );
         // Measured at rtol 1e-11: 4.5e-15, 3.9e-16 and 7.8e-16 (load, with TL). At rtol
         // 1e-9 the first two close as well but the load case only to 2.1e-12: there the
         // balance follows the tolerance, so this test holds the solve tight.
@@ -145,24 +167,59 @@ fn analytic_jacobian_matches_finite_differences() {
         mu_s_back: 0.09,
         ..Params::default()
     };
-    for (sk, fk, fv, l, z) in [
+    for (sk, fk, fv, l, z, load_law) in [
         // z = 0.2 N·m: Tb ≈ 1.2 N·m, forward; z = −3 N·m: Tb ≈ −2 N·m, back-driven.
-        (StiffnessKind::Hysteretic, FrictionKind::Lugre, FrictionVelocity::Motor, 0.0, 0.2),
-        (StiffnessKind::Hysteretic, FrictionKind::Lugre, FrictionVelocity::Motor, 0.0, -3.0),
-        (StiffnessKind::Hysteretic, FrictionKind::Lugre, FrictionVelocity::Deflection, 1e-3, 0.2),
-        (StiffnessKind::Hysteretic, FrictionKind::Lugre, FrictionVelocity::Deflection, 0.0, -3.0),
-        (StiffnessKind::Linear, FrictionKind::Viscous, FrictionVelocity::Motor, 0.0, 0.2),
-        (StiffnessKind::Cubic, FrictionKind::None, FrictionVelocity::Deflection, 1e-3, 0.2),
-        (StiffnessKind::Hysteretic, FrictionKind::Lugre, FrictionVelocity::Load, 1e-3, 0.2),
-        (StiffnessKind::Hysteretic, FrictionKind::Lugre, FrictionVelocity::Load, 0.0, -3.0),
+        (StiffnessKind::Hysteretic, FrictionKind::Lugre, FrictionVelocity::Motor, 0.0, 0.2, false),
+        (StiffnessKind::Hysteretic, FrictionKind::Lugre, FrictionVelocity::Motor, 0.0, -3.0, false),
+        (
+            StiffnessKind::Hysteretic,
+            FrictionKind::Lugre,
+            FrictionVelocity::Deflection,
+            1e-3,
+            0.2,
+            false,
+        ),
+        (
+            StiffnessKind::Hysteretic,
+            FrictionKind::Lugre,
+            FrictionVelocity::Deflection,
+            0.0,
+            -3.0,
+            false,
+        ),
+        (StiffnessKind::Linear, FrictionKind::Viscous, FrictionVelocity::Motor, 0.0, 0.2, false),
+        (StiffnessKind::Cubic, FrictionKind::None, FrictionVelocity::Deflection, 1e-3, 0.2, false),
+        (StiffnessKind::Hysteretic, FrictionKind::Lugre, FrictionVelocity::Load, 1e-3, 0.2, false),
+        (StiffnessKind::Hysteretic, FrictionKind::Lugre, FrictionVelocity::Load, 0.0, -3.0, false),
         // Bouc–Wen inside (w = 5e-6 rad) and beyond (−7.5e-5 rad) its saturation.
-        (StiffnessKind::BoucWen, FrictionKind::Lugre, FrictionVelocity::Motor, 0.0, 0.2),
-        (StiffnessKind::BoucWen, FrictionKind::Lugre, FrictionVelocity::Deflection, 1e-3, -3.0),
-        (StiffnessKind::MaxwellSlip, FrictionKind::Lugre, FrictionVelocity::Motor, 0.0, 0.0),
-        (StiffnessKind::Catalogue, FrictionKind::Lugre, FrictionVelocity::Motor, 1e-3, 0.0),
+        (StiffnessKind::BoucWen, FrictionKind::Lugre, FrictionVelocity::Motor, 0.0, 0.2, false),
+        (
+            StiffnessKind::BoucWen,
+            FrictionKind::Lugre,
+            FrictionVelocity::Deflection,
+            1e-3,
+            -3.0,
+            false,
+        ),
+        (StiffnessKind::MaxwellSlip, FrictionKind::Lugre, FrictionVelocity::Motor, 0.0, 0.0, false),
+        (StiffnessKind::Catalogue, FrictionKind::Lugre, FrictionVelocity::Motor, 1e-3, 0.0, false),
+        // A second LuGre law on the load, beside the gear's on the motor or across it.
+        (StiffnessKind::Hysteretic, FrictionKind::Lugre, FrictionVelocity::Motor, 0.0, 0.2, true),
+        (
+            StiffnessKind::Hysteretic,
+            FrictionKind::Lugre,
+            FrictionVelocity::Deflection,
+            1e-3,
+            -3.0,
+            true,
+        ),
+        (StiffnessKind::Linear, FrictionKind::Viscous, FrictionVelocity::Motor, 0.0, 0.2, true),
     ] {
         p.l = l;
         p.cat_loss = 2e-4;
+        (p.tc_load, p.ts_load, p.ws_load) =
+            if load_law { (0.8, 1.2, 0.05) } else { (0.0, 0.0, 0.0) };
+        (p.sigma0_load, p.sigma1_load, p.sigma2_load) = (3e4, 4.0, 0.07);
         let input = Input::Sine { amplitude: 24.0, freq: 50.0 };
         let sys = DriveSystem::new(&p, sk, fk, input, fv).unwrap();
         let mut y = State::zeros();
@@ -170,6 +227,7 @@ fn analytic_jacobian_matches_finite_differences() {
         for (k, v) in vals.iter().enumerate() {
             y[k] = *v;
         }
+        y[W_LOAD] = if load_law { -0.3 } else { 0.0 };
         // Slip elements: every other one sticking half-way to its yield deflection, the
         // rest slipping (θ = 2e-5 rad lies beyond their yield deflections).
         if let Some(set) = sys.stiffness.slips() {
