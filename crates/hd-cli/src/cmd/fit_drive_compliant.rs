@@ -9,7 +9,8 @@ use anyhow::{Context, Result};
 use hd_ident::drive::compliant::accuracy::accurate_substeps;
 use hd_ident::drive::compliant::config::VoltageExperimentConfig;
 use hd_ident::drive::compliant::fit::{CompliantSpec, score_records};
-use hd_ident::drive::compliant::model::{P, on_law};
+use hd_ident::drive::compliant::model::{P, has_load_law, on_law};
+use hd_ident::drive::compliant::supported::load_law_problem;
 use hd_ident::drive::compliant::{
     Amplifier, CompliantConfig, NAMES, Signal, VoltageRecord, fit_compliant, substeps_of,
 };
@@ -177,14 +178,19 @@ pub fn run(args: &DriveArgs, text: &str) -> Result<()> {
     let directional = cfg.directional_friction.unwrap_or(sets_negative);
     let friction_on_load = cfg.friction_on_load(&file, friction_velocity)?;
     let axis = cfg.axis(&file)?;
-    let free = cfg.free(&file, Some(law), directional)?;
+    let (start, lower, upper) = cfg.start_and_bounds(&params);
+    // A load-side friction law (Tc_load, Ts_load) from the params file or [params].
+    let load_law = has_load_law(&start);
+    if let Some(why) = load_law_problem(&start, friction_on_load) {
+        anyhow::bail!("{file}: the load-side friction law: {why}");
+    }
+    let free = cfg.free(&file, Some(law), directional, load_law)?;
     cfg.check_law(&file, law)?;
     for r in records.iter().chain(&validation) {
         if let Some(why) = hd_ident::drive::compliant::ratio_check::check_ratio(r, n) {
             anyhow::bail!("{why}");
         }
     }
-    let (start, lower, upper) = cfg.start_and_bounds(&params);
     let has_current = records.iter().all(|r| r.current.is_some());
     let current_amplifier = controller.as_ref().is_some_and(|c| c.amplifier == Amplifier::Current);
     let mut free = free;

@@ -7,7 +7,7 @@ use super::fit_drive_out::pair_plots;
 use anyhow::Result;
 use hd_ident::drive::compliant::fit::{CompliantSpec, RecordScore, Signal, simulate_on_zeros};
 use hd_ident::drive::compliant::model::ix::{TC_NEG, TS_NEG};
-use hd_ident::drive::compliant::model::{gear_law, in_law};
+use hd_ident::drive::compliant::model::{gear_law, in_drive};
 use hd_ident::drive::compliant::units::{parameter_unit, signal_unit};
 use hd_ident::drive::compliant::{CompliantFit, NAMES, VoltageRecord};
 use hd_ident::drive::model::Axis;
@@ -119,10 +119,12 @@ fn write_all(dir: &Path, o: &Outcome) -> Result<()> {
     let sp = &o.spec;
     let ctl = o.controller.as_ref();
     let law = gear_law(&f.values);
-    // The gear law's parameters; the negative-side friction levels only where they are
-    // the drive's own (a symmetric fit's follow Tc and Ts).
-    let shown =
-        |k: usize| in_law(k, law) && !(sp.symmetric_friction && [TC_NEG, TS_NEG].contains(&k));
+    // The gear law's parameters (and the load-side law's where the drive has one); the
+    // negative-side friction levels only where they are the drive's own (a symmetric fit's
+    // follow Tc and Ts).
+    let shown = |k: usize| {
+        in_drive(k, &f.values) && !(sp.symmetric_friction && [TC_NEG, TS_NEG].contains(&k))
+    };
     let parameters: Map<String, Value> = NAMES
         .iter()
         .enumerate()

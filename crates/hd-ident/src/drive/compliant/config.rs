@@ -3,7 +3,7 @@
 //! check names the file and the key.
 
 use super::fit::Signal;
-use super::model::{NAMES, P, hysteresis_of, in_law, ix};
+use super::model::{LOAD_LAW, NAMES, P, hysteresis_of, in_law, ix};
 use super::record::Between;
 use crate::drive::error::DriveError;
 use hd_model::HystLaw;
@@ -163,7 +163,7 @@ impl CompliantConfig {
         c.between(file)?;
         c.outputs(file)?;
         super::loop_config::check(&c, file)?;
-        c.free(file, None, true)?;
+        c.free(file, None, true, true)?;
         for k in c.params.keys() {
             index(k, file, "[params]")?;
         }
@@ -274,12 +274,15 @@ impl CompliantConfig {
     /// laws' hysteretic parameters; naming one of those is an error.
     ///
     /// With `directional` false, Tc_neg and Ts_neg follow Tc and Ts (naming them is an
-    /// error); with it true they are free by default.
+    /// error); with it true they are free by default. The load-side law's parameters are
+    /// free by default (but sigma2_load) when the drive has that law (`load_law`), and
+    /// naming one without it is an error.
     pub fn free(
         &self,
         file: &str,
         law: Option<HystLaw>,
         directional: bool,
+        load_law: bool,
     ) -> Result<[bool; P], DriveError> {
         let mut free = [false; P];
         let other: Vec<usize> = match law {
@@ -303,6 +306,12 @@ impl CompliantConfig {
                             "the friction is symmetric here, so Tc_neg and Ts_neg follow Tc and Ts; set `directional_friction = true` to fit them apart",
                         ));
                     }
+                    if !load_law && LOAD_LAW.contains(&k) {
+                        return Err(DriveError::config(
+                            format!("{file}, [fit] free '{n}'"),
+                            "the drive has no load-side friction law; set Tc_load or Ts_load (with sigma0_load and ws_load) in the params file or [params] to add one",
+                        ));
+                    }
                     free[k] = true;
                 }
             }
@@ -310,6 +319,12 @@ impl CompliantConfig {
                 free = [true; P];
                 for k in [ix::A, ix::B, ix::SIGMA2, ix::BW_A, ix::BW_N, ix::MS_N, ix::TL] {
                     free[k] = false;
+                }
+                free[ix::SIGMA2_L] = false;
+                if !load_law {
+                    for k in LOAD_LAW {
+                        free[k] = false;
+                    }
                 }
                 for &k in &other {
                     free[k] = false;

@@ -18,7 +18,7 @@ use rayon::prelude::*;
 pub type Progress<'a> = &'a (dyn Fn(usize, f64) + Sync);
 
 /// Largest number of free parameters.
-pub const MAX_FREE: usize = 16;
+pub const MAX_FREE: usize = 24;
 
 /// Largest (fastest rate × substep) the substep count allows [–].
 const RATE_STEP: f64 = 0.1;
@@ -370,6 +370,7 @@ pub fn residuals_and_jacobian(
         k if k <= 4 => jacobian::<4>(spec, p, free_idx, records),
         k if k <= 8 => jacobian::<8>(spec, p, free_idx, records),
         k if k <= 12 => jacobian::<12>(spec, p, free_idx, records),
+        k if k <= 16 => jacobian::<16>(spec, p, free_idx, records),
         _ => jacobian::<MAX_FREE>(spec, p, free_idx, records),
     }
 }

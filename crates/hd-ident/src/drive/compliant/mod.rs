@@ -25,6 +25,8 @@ pub mod units;
 #[cfg(test)]
 mod tests;
 #[cfg(test)]
+mod tests_both;
+#[cfg(test)]
 mod tests_laws;
 #[cfg(test)]
 mod tests_load;

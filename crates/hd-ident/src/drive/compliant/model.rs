@@ -17,6 +17,11 @@
 //! guide's friction), v = ωz and Tf moves from the motor's equation to the load's:
 //! `Jj·ω̇j = Km·i − Cj·ωj − Tb/N`, `Jz·ω̇z = Tb − Tf − Cz·ωz − TL`.
 //!
+//! Friction on both sides: hd-model's load-side law (the `*_load` parameters, present when
+//! Tc_load or Ts_load is non-zero, [`has_load_law`]) is a second, symmetric LuGre law on
+//! v_L = ωz with its own bristle w_L, beside the gear's on the motor's side:
+//! `Jz·ω̇z = Tb − Tf_L − Cz·ωz − TL`, `Tf_L = w_L + σ1_L·ṡ_L + σ2_L·ωz`.
+//!
 //! Which hysteretic term a drive has is which of its parameters is non-zero ([`gear_law`]):
 //! the fit holds the others' at zero, and a run skips a term whose constant is zero. The
 //! slip elements (`ms_n` of them, evenly spread as hd-model's `maxwell-slip` law spreads
@@ -37,15 +42,62 @@ use hd_model::laws::slip_set::MAX_SLIP;
 use hd_model::laws::stiffness::{CubicSpring, FadingMemory};
 
 /// Number of parameters of the compliant drive.
-pub const P: usize = 29;
+pub const P: usize = 35;
 
 /// The parameters of the compliant drive, in the order of a parameter vector (hd-model's
 /// registry names, so a fitted set is a params file `hdw simulate` reads).
 pub const NAMES: [&str; P] = [
-    "R", "Km", "Ke", "Jj", "Jz", "Cj", "Cz", "c", "a", "b", "mem_A", "mem_B", "sigma0", "sigma1",
-    "sigma2", "Tc", "Ts", "ws", "bw_alpha", "bw_A", "bw_beta", "bw_gamma", "bw_n", "ms_k",
-    "ms_delta", "ms_n", "Tc_neg", "Ts_neg", "TL",
+    "R",
+    "Km",
+    "Ke",
+    "Jj",
+    "Jz",
+    "Cj",
+    "Cz",
+    "c",
+    "a",
+    "b",
+    "mem_A",
+    "mem_B",
+    "sigma0",
+    "sigma1",
+    "sigma2",
+    "Tc",
+    "Ts",
+    "ws",
+    "bw_alpha",
+    "bw_A",
+    "bw_beta",
+    "bw_gamma",
+    "bw_n",
+    "ms_k",
+    "ms_delta",
+    "ms_n",
+    "Tc_neg",
+    "Ts_neg",
+    "TL",
+    "Tc_load",
+    "Ts_load",
+    "ws_load",
+    "sigma0_load",
+    "sigma1_load",
+    "sigma2_load",
 ];
+
+/// The load-side law's parameters ([`has_load_law`]).
+pub const LOAD_LAW: [usize; 6] =
+    [ix::TC_L, ix::TS_L, ix::WS_L, ix::SIGMA0_L, ix::SIGMA1_L, ix::SIGMA2_L];
+
+/// Whether parameters `p` have hd-model's load-side friction law: Tc_load or Ts_load ≠ 0.
+pub fn has_load_law(p: &[f64; P]) -> bool {
+    p[ix::TC_L] != 0.0 || p[ix::TS_L] != 0.0
+}
+
+/// Whether parameter `k` belongs to the drive of parameters `p`: its gear law's
+/// ([`in_law`]), and the load-side law's only when it has one.
+pub fn in_drive(k: usize, p: &[f64; P]) -> bool {
+    in_law(k, gear_law(p)) && (has_load_law(p) || !LOAD_LAW.contains(&k))
+}
 
 /// The gear laws of the compliant drive.
 pub const LAWS: [HystLaw; 3] = [HystLaw::Memory, HystLaw::BoucWen, HystLaw::MaxwellSlip];
@@ -120,11 +172,18 @@ pub mod ix {
     pub const TC_NEG: usize = 26;
     pub const TS_NEG: usize = 27;
     pub const TL: usize = 28;
+    pub const TC_L: usize = 29;
+    pub const TS_L: usize = 30;
+    pub const WS_L: usize = 31;
+    pub const SIGMA0_L: usize = 32;
+    pub const SIGMA1_L: usize = 33;
+    pub const SIGMA2_L: usize = 34;
 }
 
 /// The state: motor angle θj [rad] and speed ωj [rad/s], gear deflection θ [rad] (θz =
 /// θj/N − θ), load speed ωz [rad/s], memory torque z [N·m], bristle torque w = σ0·s
-/// [N·m] and the Bouc–Wen element's deflection h [rad].
+/// [N·m], the Bouc–Wen element's deflection h [rad] and the load-side law's bristle
+/// torque w_L [N·m].
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct State<T> {
     /// Motor angle θj [rad].
@@ -141,13 +200,24 @@ pub struct State<T> {
     pub w: T,
     /// Bouc–Wen deflection h [rad] (its torque is α·h).
     pub h: T,
+    /// Bristle torque of the load-side law w_L [N·m] (zero without that law).
+    pub w_load: T,
 }
 
 impl<T: Scalar> State<T> {
     /// At rest at motor angle `theta_j` [rad], gear unloaded.
     pub fn rest(theta_j: f64) -> Self {
         let o = T::cst(0.0);
-        State { theta_j: T::cst(theta_j), omega_j: o, theta: o, omega_z: o, z: o, w: o, h: o }
+        State {
+            theta_j: T::cst(theta_j),
+            omega_j: o,
+            theta: o,
+            omega_z: o,
+            z: o,
+            w: o,
+            h: o,
+            w_load: o,
+        }
     }
 
     /// `self + k·h`.
@@ -160,6 +230,7 @@ impl<T: Scalar> State<T> {
             z: self.z + k.z * h,
             w: self.w + k.w * h,
             h: self.h + k.h * h,
+            w_load: self.w_load + k.w_load * h,
         }
     }
 }
@@ -176,6 +247,8 @@ pub struct Compliant<T> {
     pub friction_on_load: bool,
     /// The LuGre law at the current values (f64: its level and slope are lifted).
     law: LuGre,
+    /// The load-side law at the current values, when the drive has one ([`has_load_law`]).
+    law_load: Option<LuGre>,
 }
 
 impl<T: Scalar> Compliant<T> {
@@ -194,7 +267,17 @@ impl<T: Scalar> Compliant<T> {
                 p[WS].re(),
             )
         };
-        Compliant { p, n, friction_on_load: false, law }
+        let law_load = has_load_law(&p.map(|x| x.re())).then(|| {
+            LuGre::symmetric(
+                p[SIGMA0_L].re(),
+                p[SIGMA1_L].re(),
+                p[SIGMA2_L].re(),
+                p[TC_L].re(),
+                p[TS_L].re(),
+                p[WS_L].re(),
+            )
+        });
+        Compliant { p, n, friction_on_load: false, law, law_load }
     }
 
     /// The same drive with its friction on the load alone (`true`) or on the wave
@@ -236,6 +319,48 @@ impl<T: Scalar> Compliant<T> {
                 (g[5], self.p[TS_NEG]),
             ],
         )
+    }
+
+    /// The load-side law's Stribeck level G_L(v) [N·m] with its derivatives (hd-model's
+    /// law, lifted; symmetric, so the negative side's derivatives are Tc_load's and
+    /// Ts_load's too).
+    #[inline]
+    fn level_load(&self, law: &LuGre, v: T) -> T {
+        use ix::*;
+        let vr = v.re();
+        let lg = law.level_grad(vr);
+        let (_, slope) = law.stribeck(vr);
+        let g = lg.grad;
+        T::lift(
+            lg.level,
+            &[
+                (slope, v),
+                (g[0] + g[4], self.p[TC_L]),
+                (g[1] + g[5], self.p[TS_L]),
+                (g[2], self.p[WS_L]),
+            ],
+        )
+    }
+
+    /// The load-side law's bristle rate ẇ_L and torque Tf_L [N·m] at load speed ωz and
+    /// bristle torque w_L (zero without the law).
+    #[inline]
+    fn load_friction(&self, omega_z: T, w_load: T) -> (T, T) {
+        use ix::*;
+        let Some(law) = &self.law_load else { return (T::cst(0.0), T::cst(0.0)) };
+        let p = &self.p;
+        let g = self.level_load(law, omega_z);
+        let s_rate = omega_z - omega_z.abs() * w_load / g;
+        (p[SIGMA0_L] * s_rate, w_load + p[SIGMA1_L] * s_rate + p[SIGMA2_L] * omega_z)
+    }
+
+    /// The load-side bristle's relaxation rate λ_L = σ0_L·|ωz|/G_L(ωz) [1/s] (0 without
+    /// the law).
+    pub fn relaxation_load(&self, y: &State<T>) -> T {
+        match &self.law_load {
+            Some(law) => self.p[ix::SIGMA0_L] * y.omega_z.abs() / self.level_load(law, y.omega_z),
+            None => T::cst(0.0),
+        }
     }
 
     /// The spring torque c·θ + b·θ² + a·θ³ [N·m] (hd-model's cubic spring, lifted).
@@ -361,8 +486,11 @@ impl<T: Scalar> Compliant<T> {
         let s_rate = v - v.abs() * y.w / g;
         let tf = y.w + p[SIGMA1] * s_rate + p[SIGMA2] * v;
         let i = self.current(u, y.omega_j);
-        // The friction torque acts on the wave generator through the gear, or on the load.
+        let (w_load_rate, tf_load) = self.load_friction(y.omega_z, y.w_load);
+        // The friction torque acts on the wave generator through the gear, or on the load;
+        // the load-side law's on the load.
         let (on_motor, on_load) = if self.friction_on_load { (tb, tb - tf) } else { (tb + tf, tb) };
+        let on_load = on_load - tf_load;
         State {
             theta_j: y.omega_j,
             omega_j: (p[KM] * i - p[CJ] * y.omega_j - on_motor * inv_n) / p[JJ],
@@ -371,6 +499,7 @@ impl<T: Scalar> Compliant<T> {
             z: self.memory_rate(theta_dot, y.z),
             w: p[SIGMA0] * s_rate,
             h: if bouc_wen { self.bouc_wen_rate(theta_dot, y.h) } else { T::cst(0.0) },
+            w_load: w_load_rate,
         }
     }
 
@@ -399,20 +528,39 @@ impl<T: Scalar> Compliant<T> {
         rates: impl Fn(&State<T>, usize) -> State<T>,
         d: f64,
     ) -> State<T> {
+        // Each bristle (the gear law's w; the load-side law's w_L) carried by its own factor.
         let l0 = self.relaxation(y);
         let e_half = (-(l0 * (0.5 * d))).exp();
         let e_full = e_half * e_half;
-        // The bristle's rate less its stiff part, g = ẇ + λ0·w, drives the transformed state.
-        let with_g = |k: State<T>, at: &State<T>| State { w: k.w + l0 * at.w, ..k };
+        let load_law = self.law_load.is_some();
+        let l_load = self.relaxation_load(y);
+        let f_half = if load_law { (-(l_load * (0.5 * d))).exp() } else { T::cst(1.0) };
+        let f_full = f_half * f_half;
+        // The bristles' rates less their stiff parts, g = ẇ + λ0·w, drive the transformed
+        // states.
+        let with_g = |k: State<T>, at: &State<T>| State {
+            w: k.w + l0 * at.w,
+            w_load: if load_law { k.w_load + l_load * at.w_load } else { k.w_load },
+            ..k
+        };
         let k1 = with_g(rates(y, 0), y);
         let mut y2 = y.add(&k1, 0.5 * d);
         y2.w = e_half * (y.w + k1.w * (0.5 * d));
+        if load_law {
+            y2.w_load = f_half * (y.w_load + k1.w_load * (0.5 * d));
+        }
         let k2 = with_g(rates(&y2, 1), &y2);
         let mut y3 = y.add(&k2, 0.5 * d);
         y3.w = e_half * y.w + k2.w * (0.5 * d);
+        if load_law {
+            y3.w_load = f_half * y.w_load + k2.w_load * (0.5 * d);
+        }
         let k3 = with_g(rates(&y3, 1), &y3);
         let mut y4 = y.add(&k3, d);
         y4.w = e_full * y.w + e_half * k3.w * d;
+        if load_law {
+            y4.w_load = f_full * y.w_load + f_half * k3.w_load * d;
+        }
         let k4 = with_g(rates(&y4, 2), &y4);
         let sixth = d / 6.0;
         let comb = |a: T, b: T, c: T, e: T| (a + (b + c) * 2.0 + e) * sixth;
@@ -424,6 +572,13 @@ impl<T: Scalar> Compliant<T> {
             z: y.z + comb(k1.z, k2.z, k3.z, k4.z),
             w: e_full * y.w + (e_full * k1.w + e_half * (k2.w + k3.w) * 2.0 + k4.w) * sixth,
             h: y.h + comb(k1.h, k2.h, k3.h, k4.h),
+            w_load: if load_law {
+                f_full * y.w_load
+                    + (f_full * k1.w_load + f_half * (k2.w_load + k3.w_load) * 2.0 + k4.w_load)
+                        * sixth
+            } else {
+                y.w_load
+            },
         }
     }
 
@@ -440,7 +595,11 @@ impl<T: Scalar> Compliant<T> {
         let j_red = r(JZ) * j_motor / (r(JZ) + j_motor);
         // The inertia the bristle and its damping move, seen from the load.
         let j_fric = if self.friction_on_load { r(JZ) } else { j_motor };
+        let load_law = self.law_load.is_some();
+        let if_load = |x: f64| if load_law { x } else { 0.0 };
         [
+            if_load((r(SIGMA0_L) / r(JZ)).sqrt()),
+            if_load((r(SIGMA1_L) + r(SIGMA2_L)) / r(JZ)),
             (k_gear / j_red).sqrt(),
             (r(SIGMA0) / j_fric).sqrt(),
             r(MEM_B),

@@ -25,7 +25,7 @@
 
 use super::determined::{not_determined_by_agreement, refine_fit};
 use super::fit::{CompliantFit, CompliantSpec, Progress, Signal, cost_at, fit_stage};
-use super::model::{NAMES, P, ix::*};
+use super::model::{NAMES, P, has_load_law, ix::*};
 use super::record::VoltageRecord;
 use rayon::prelude::*;
 
@@ -237,11 +237,19 @@ fn staged_starts(
     // truth, on another only the whole law with Jz did, each variant ending at 7–10 times
     // the noise-level cost where the other succeeded. Both are run, and the better ends of
     // each go on to full fits.
+    // The load-side law beside the gear's (friction on both sides) is the load's too, in
+    // the same two variants.
     let base: Vec<usize> = if stiffness_free { vec![CZ] } else { vec![JZ, CZ] };
-    let variants: Vec<Vec<usize>> = if spec.friction_on_load {
-        let levels = base.iter().copied().chain(gear).chain([TL, TC, TS, TC_NEG, TS_NEG]);
-        let whole = [JZ, CZ].into_iter().chain(gear).chain([TL, TC, TS, WS, SIGMA0, SIGMA1]);
-        vec![levels.collect(), whole.chain([SIGMA2, TC_NEG, TS_NEG]).collect()]
+    let load_law = has_load_law(&spec.start);
+    let variants: Vec<Vec<usize>> = if spec.friction_on_load || load_law {
+        let (level_set, law_set): (&[usize], &[usize]) = if spec.friction_on_load {
+            (&[TC, TS, TC_NEG, TS_NEG], &[TC, TS, WS, SIGMA0, SIGMA1, SIGMA2, TC_NEG, TS_NEG])
+        } else {
+            (&[TC_L, TS_L], &[TC_L, TS_L, WS_L, SIGMA0_L, SIGMA1_L, SIGMA2_L])
+        };
+        let levels = base.iter().copied().chain(gear).chain([TL]).chain(level_set.iter().copied());
+        let whole = [JZ, CZ].into_iter().chain(gear).chain([TL]).chain(law_set.iter().copied());
+        vec![levels.collect(), whole.collect()]
     } else {
         vec![base.into_iter().chain(gear).chain([TL]).collect()]
     };

@@ -2,11 +2,12 @@
 //! the cubic spring plus the fading memory (`memory`, the seed's law), a Bouc–Wen element
 //! (`bouc-wen`) or `ms_n` evenly spread Maxwell-slip elements (`maxwell-slip`), an
 //! algebraic current, LuGre friction (its levels may differ by direction) that does not
-//! grow with the transmitted torque, on the motor's side or on the load's, and a constant
-//! load torque TL. A params file
+//! grow with the transmitted torque, on the motor's side or on the load's (or a second,
+//! symmetric law on the load beside the motor's), and a constant load torque TL. A params file
 //! that asks for more would be fitted as something it is not and written back as a params
 //! file `hdw simulate` runs differently, so each such setting is refused, named.
 
+use super::model::P;
 use hd_model::laws::slip_set::MAX_SLIP;
 use hd_model::{HystLaw, Params};
 
@@ -59,6 +60,29 @@ pub fn unsupported(p: &Params, law: Option<HystLaw>) -> Vec<String> {
         }
     }
     out
+}
+
+/// Why the load-side friction law of start values `start` ([`NAMES`] order) cannot be
+/// simulated with the gear's friction on the load (`friction_on_load`) or at all (hd-model's
+/// own check: a present law needs σ0_load and ωs_load above 0, and the gear law elsewhere);
+/// `None` when it can, or when there is none.
+pub fn load_law_problem(start: &[f64; P], friction_on_load: bool) -> Option<String> {
+    use super::model::ix::*;
+    let p = Params {
+        tc_load: start[TC_L],
+        ts_load: start[TS_L],
+        ws_load: start[WS_L],
+        sigma0_load: start[SIGMA0_L],
+        sigma1_load: start[SIGMA1_L],
+        sigma2_load: start[SIGMA2_L],
+        ..Params::default()
+    };
+    let fv = if friction_on_load {
+        hd_model::FrictionVelocity::Load
+    } else {
+        hd_model::FrictionVelocity::Motor
+    };
+    hd_model::variant::load_friction_law(&p, fv).err().map(|e| e.to_string())
 }
 
 #[cfg(test)]
