@@ -17,6 +17,7 @@ pub mod ratio_check;
 pub mod record;
 pub mod requantised;
 pub mod simulate;
+pub mod split;
 pub mod stages;
 pub mod supported;
 pub mod synth_loop;

@@ -12,11 +12,14 @@
 //! 3. **Full fits** from the load pass's better starts, each [`settle`]d: a free parameter
 //!    the records leave undetermined (no standard error) is held at its start value and the
 //!    rest fitted again.
-//! 4. **Bounds.** A parameter that ran to its bound is held at its start value and the fit
-//!    run again. That fit is reported unless freeing the parameter lowers the cost by at
+//! 4. **Split.** With friction on both sides, one more full fit: from the best with the
+//!    weaker friction law held at its start until the rest has settled, then freed
+//!    ([`super::split`]); it joins the fits.
+//! 5. **Bounds.** A parameter of the best that ran to its bound is held at its start value
+//!    and the fit run again. That fit is reported unless freeing the parameter lowers the cost by at
 //!    least BIC's price, ln n per parameter (in units of the cost per degree of freedom);
 //!    the other fit is a rival.
-//! 5. **Agreement.** The best full fit is reported. Another full fit whose cost is within the
+//! 6. **Agreement.** The best full fit is reported. Another full fit whose cost is within the
 //!    95 % threshold of the best (Δcost ≤ χ²₉₅(m)·s², m the number of parameters on which
 //!    the two differ by more than twice the best fit's standard error, s² the best fit's
 //!    cost per degree of freedom) is as good an explanation of the records; a parameter on
@@ -110,11 +113,31 @@ pub fn fit_compliant(
         }
     }
     ok.sort_by(|a, b| a.cost.total_cmp(&b.cost));
+    let used = weighed.as_ref().unwrap_or(spec);
+    // Friction on both sides: one more fit, from the best with the weaker law held at its
+    // start until the rest has settled, then freed (super::split); it joins the fits.
+    if let Some(weak) = ok.first().and_then(|f| super::split::weaker_law(used, &f.values)) {
+        let mut held = used.clone();
+        let mut from = ok[0].values;
+        for &k in &weak {
+            held.free[k] = false;
+            from[k] = used.start[k];
+        }
+        let end = settle(&held, held.tied(from), records, progress).and_then(|h| {
+            spent += h.iterations;
+            settle(used, h.values, records, progress)
+        });
+        if let Ok(end) = end {
+            spent += end.iterations;
+            failed += end.failed_trials;
+            ok.push(end);
+            ok.sort_by(|a, b| a.cost.total_cmp(&b.cost));
+        }
+    }
     let mut best = if ok.is_empty() { return Err(last_error) } else { ok.remove(0) };
     // A parameter on its bound: the fit again with it held at its start is reported unless
     // freeing it lowers the cost by at least BIC's price of the parameters it frees
     // (ln n each, in units of the cost per degree of freedom); the other one is a rival.
-    let used = weighed.as_ref().unwrap_or(spec);
     let bounded = on_bound(used, &best);
     if !bounded.is_empty() {
         let at_bound: Vec<f64> = bounded.iter().map(|&k| best.values[k]).collect();
