@@ -192,6 +192,46 @@ fn friction_on_the_load_and_a_load_torque_are_fitted_and_written_back() {
     simulates(&out, &dir.join("sim"));
 }
 
+/// Friction on both sides: the seed's law on the wave generator and a second law on the
+/// load (Tc_load = 4, Ts_load = 6 N·m, ωs = 0.02 rad/s, σ0 = 3e5 N·m/rad, σ1 = 40
+/// N·m·s/rad). The load law's levels are fitted from 25–30 % off with the motor's
+/// parameters, and params.toml carries the law back to the simulator.
+#[test]
+fn friction_on_both_sides_is_fitted_and_written_back() {
+    let dir = scratch("fit-compliant-both-sides");
+    let rec = dir.join("chirp.csv");
+    let law = "ws_load = 0.02\nsigma0_load = 3e5\nsigma1_load = 40.0\n";
+    std::fs::write(dir.join("truth.toml"), format!("Tc_load = 4.0\nTs_load = 6.0\n{law}")).unwrap();
+    let truth = dir.join("truth.toml");
+    let synth = ["synth", "drive", "--params", truth.to_str().unwrap(), "--freq", "5"];
+    let mut synth = synth.to_vec();
+    synth.extend(["--t-end", "1", "--out", rec.to_str().unwrap()]);
+    hdw_ok(&synth);
+    std::fs::write(
+        dir.join("start.toml"),
+        format!("Tc_load = 5.0\nTs_load = 4.4\n{law}R = 7.5\nKe = 0.4\nKm = 0.4\nJj = 8.5e-4\nCj = 0.0022\n"),
+    )
+    .unwrap();
+    let fit = "free = [\"R\", \"Ke\", \"Jj\", \"Cj\", \"Tc_load\", \"Ts_load\"]\nnoise = { motor = 4.43e-4, load = 1.73e-6 }";
+    let cfg = config(&dir, "", fit);
+    let out = dir.join("out");
+    ok(&fit_drive(&cfg, &out));
+    let doc = json(&out.join("fit.json"));
+    for (name, truth) in [("Tc_load", 4.0), ("Ts_load", 6.0)] {
+        let p = &doc["parameters"][name];
+        let (v, se) = (p["value"].as_f64().unwrap(), p["std_error"].as_f64().unwrap());
+        assert!(p["determined"].as_bool().unwrap() && (v - truth).abs() < 3.0 * se, "{name}: {p}");
+        assert_eq!(p["unit"], "N·m");
+    }
+    for o in ["motor", "load", "current"] {
+        let r = doc["experiments"]["chirp"][o]["rmse_over_noise"].as_f64().unwrap();
+        assert!(r < 1.2, "{o}: {r}");
+    }
+    let params = std::fs::read_to_string(out.join("params.toml")).unwrap();
+    assert!(params.contains("Tc_load = ") && params.contains("sigma0_load = "), "{params}");
+    simulates(&out, &dir.join("sim"));
+}
+
 /// `axis = "linear"` (a ball screw, a belt): the same fit, its outputs in the load's
 /// translation units: Jz in kg, the stiffness in N/m, the load encoder in m, the ratio in
 /// rad/m; the motor's own parameters and encoder keep theirs.
@@ -247,6 +287,15 @@ fn bad_compliant_configurations_get_one_line_errors() {
         ("friction_velocity = \"deflection\"\n", "", "friction_velocity"),
         ("friction_velocity = \"wheel\"\n", "", "friction_velocity"),
         ("axis = \"circular\"\n", "", "axis"),
+        // The load-side law: named without one, or incomplete, or beside the gear's own
+        // law moved to the load.
+        ("", "free = [\"R\", \"Tc_load\"]", "[fit] free 'Tc_load'"),
+        ("[params]\nTc_load = 2.0\n", "", "sigma0_load"),
+        (
+            "friction_velocity = \"load\"\n[params]\nTc_load = 2.0\nsigma0_load = 1e5\nws_load = 0.01\n",
+            "",
+            "friction_velocity",
+        ),
     ];
     for (extra, fit, expect) in cases {
         // `[params]` and `[bounds]` tables must come after the top-level keys but before
