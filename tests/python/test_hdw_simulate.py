@@ -49,6 +49,22 @@ def test_friction_on_the_load_with_a_load_torque_matches_the_cli(tmp_path):
     assert r.metrics["energy_residual"] < 1e-8
 
 
+def test_friction_on_both_sides_matches_the_cli(tmp_path):
+    law = {"Tc_load": 3.0, "Ts_load": 4.0, "ws_load": 0.05, "sigma0_load": 5e4,
+           "sigma1_load": 20.0}
+    sets = [a for k, v in law.items() for a in ("--set", f"{k}={v}")]
+    run_cli("simulate", *sets, "--t-end", "0.05", "--out", tmp_path)
+    doc = read_json(tmp_path / "metrics.json")
+    r = hdw.simulate(law, t_end=0.05)
+    assert r.parameters["Tc_load"] == 3.0 and doc["parameters"]["Tc_load"] == 3.0
+    for name, value in doc["metrics"].items():
+        assert same_number(value, r.metrics[name]), name
+    assert r.metrics["energy_residual"] < 1e-8
+    # An incomplete law is a ValueError naming the field.
+    with pytest.raises(ValueError, match="sigma0_load"):
+        hdw.simulate({"Tc_load": 3.0, "ws_load": 0.05}, t_end=0.01)
+
+
 def test_recorded_input_from_arrays_follows_the_samples():
     # A recorded ramp is linear between samples: u(t) on the trace is the ramp itself.
     t = np.array([0.0, 0.01, 0.02])
