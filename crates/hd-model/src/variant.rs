@@ -220,7 +220,6 @@ fn catalogue(p: &Params) -> Result<Stiffness, ConfigError> {
     Ok(Stiffness { curve: Curve::Catalogue(law.spring), hyst })
 }
 
-/// Build the friction law of the given kind from the parameters.
 /// The load-side LuGre law of `p` (the `*_load` parameters, docs/model.md §2.6): `None`
 /// when its Coulomb and static levels are both 0; an error naming the field when the law
 /// is present without a bristle stiffness or a Stribeck velocity above 0, or when the
@@ -263,6 +262,7 @@ pub fn load_friction_law(
     )))
 }
 
+/// Build the friction law of the given kind from the parameters.
 pub fn friction_law(kind: FrictionKind, p: &Params) -> Friction {
     match kind {
         FrictionKind::None => Friction::None(NoFriction),
