@@ -192,6 +192,38 @@ fn friction_on_the_load_and_a_load_torque_are_fitted_and_written_back() {
     simulates(&out, &dir.join("sim"));
 }
 
+/// Friction across the gear (`friction_velocity = "deflection"` in the params file): the
+/// fit runs that drive, fit.json and params.toml say so, and `hdw simulate` runs it.
+#[test]
+fn friction_across_the_gear_is_carried_through() {
+    let dir = scratch("fit-compliant-deflection");
+    let rec = dir.join("chirp.csv");
+    let law = "friction_velocity = \"deflection\"\nTc = 0.5\nTs = 0.8\nws = 1e-3\nsigma0 = 5e4\nsigma1 = 2.0\n";
+    std::fs::write(dir.join("truth.toml"), law).unwrap();
+    let truth = dir.join("truth.toml");
+    let synth = ["synth", "drive", "--params", truth.to_str().unwrap(), "--freq", "5"];
+    let mut synth = synth.to_vec();
+    synth.extend(["--t-end", "1", "--out", rec.to_str().unwrap()]);
+    hdw_ok(&synth);
+    std::fs::write(
+        dir.join("start.toml"),
+        format!("{law}R = 7.5\nKe = 0.4\nKm = 0.4\nJj = 8.5e-4\nCj = 0.0022\n"),
+    )
+    .unwrap();
+    let cfg = config(&dir, "", MOTOR_FIT);
+    let out = dir.join("out");
+    ok(&fit_drive(&cfg, &out));
+    let doc = json(&out.join("fit.json"));
+    assert_eq!(doc["friction_velocity"], "deflection");
+    for o in ["motor", "load", "current"] {
+        let r = doc["experiments"]["chirp"][o]["rmse_over_noise"].as_f64().unwrap();
+        assert!(r < 1.2, "{o}: {r}");
+    }
+    let params = std::fs::read_to_string(out.join("params.toml")).unwrap();
+    assert!(params.contains("friction_velocity = \"deflection\""), "{params}");
+    simulates(&out, &dir.join("sim"));
+}
+
 /// Friction on both sides: the seed's law on the wave generator and a second law on the
 /// load (Tc_load = 4, Ts_load = 6 N·m, ωs = 0.02 rad/s, σ0 = 3e5 N·m/rad, σ1 = 40
 /// N·m·s/rad). The load law's levels are fitted from 25–30 % off with the motor's
@@ -284,7 +316,6 @@ fn bad_compliant_configurations_get_one_line_errors() {
         ("[params]\nbw_beta = 1.0\n", "", "[params] 'bw_beta'"),
         ("", "free = [\"R\", \"ms_n\"]", "[fit] free 'ms_n'"),
         ("", "free = [\"R\", \"Tc_neg\"]", "[fit] free 'Tc_neg'"),
-        ("friction_velocity = \"deflection\"\n", "", "friction_velocity"),
         ("friction_velocity = \"wheel\"\n", "", "friction_velocity"),
         ("axis = \"circular\"\n", "", "axis"),
         // The load-side law: named without one, or incomplete, or beside the gear's own

@@ -33,8 +33,9 @@ With transmission = \"compliant\" the configuration fits the simulator's complia
 (motor and load encoders, current), or, with a [controller] and reference and command columns, to records\n\
 of its own position loop (the command is then an output too). Its gear is the params file's stiffness\n\
 law (memory, bouc-wen or maxwell-slip); its friction levels differ by direction where the file sets\n\
-Tc_neg or Ts_neg; its friction acts on the load with friction_velocity = \"load\", or a second law acts\n\
-on the load beside it where the file sets Tc_load and Ts_load; TL is a constant load torque;\n\
+Tc_neg or Ts_neg; its friction acts on the load with friction_velocity = \"load\" (across the gear\n\
+with \"deflection\"), or a second law acts on the load beside it where the file sets Tc_load and\n\
+Ts_load; TL is a constant load torque;\n\
 axis = \"linear\" gives a ball screw's or a belt's units (m, N, kg past the gear, N in rad/m).\n\
 params.toml is then a params file hdw simulate runs, and the plots are motor.svg,\n\
 load.svg, current.svg (command.svg) with their residuals.\n\n\

@@ -176,12 +176,12 @@ pub fn run(args: &DriveArgs, text: &str) -> Result<()> {
     let Base { values: params, n, law, sets_negative, friction_velocity } =
         base_params(&cfg, base)?;
     let directional = cfg.directional_friction.unwrap_or(sets_negative);
-    let friction_on_load = cfg.friction_on_load(&file, friction_velocity)?;
+    let friction_velocity = cfg.friction_velocity(&file, friction_velocity)?;
     let axis = cfg.axis(&file)?;
     let (start, lower, upper) = cfg.start_and_bounds(&params);
     // A load-side friction law (Tc_load, Ts_load) from the params file or [params].
     let load_law = has_load_law(&start);
-    if let Some(why) = load_law_problem(&start, friction_on_load) {
+    if let Some(why) = load_law_problem(&start, friction_velocity) {
         anyhow::bail!("{file}: the load-side friction law: {why}");
     }
     let free = cfg.free(&file, Some(law), directional, load_law)?;
@@ -229,7 +229,7 @@ pub fn run(args: &DriveArgs, text: &str) -> Result<()> {
     let h = records[0].h;
     let floor = cfg.substeps.unwrap_or_else(|| {
         let d = hd_ident::drive::compliant::Compliant::new(start, n)
-            .with_friction_on_load(friction_on_load);
+            .with_friction_velocity(friction_velocity);
         substeps_of(&d, h) * if controller.is_some() { LOOP_SUBSTEPS } else { 1 }
     });
     let noise_estimated =
@@ -245,7 +245,7 @@ pub fn run(args: &DriveArgs, text: &str) -> Result<()> {
         outputs,
         km_is_ke: cfg.km_equals_ke.unwrap_or(true),
         symmetric_friction: !directional,
-        friction_on_load,
+        friction_velocity,
         current_offset: cfg.fit.current_offset.unwrap_or(true),
         substeps: floor,
         settings: LmSettings {

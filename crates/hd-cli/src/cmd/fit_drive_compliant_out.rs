@@ -148,7 +148,7 @@ fn write_all(dir: &Path, o: &Outcome) -> Result<()> {
         "substeps": sp.substeps,
         "km_equals_ke": sp.km_is_ke,
         "directional_friction": !sp.symmetric_friction,
-        "friction_velocity": sp.friction_velocity().name(),
+        "friction_velocity": sp.friction_velocity.name(),
         "wall_time_s": o.secs,
         "starts": f.starts,
         "iterations": f.iterations,
@@ -171,7 +171,7 @@ fn write_all(dir: &Path, o: &Outcome) -> Result<()> {
         o.config,
         law.name(),
         law.name(),
-        sp.friction_velocity().name(),
+        sp.friction_velocity.name(),
         sp.n
     );
     if o.axis == Axis::Linear {

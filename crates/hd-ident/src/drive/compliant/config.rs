@@ -184,7 +184,7 @@ impl CompliantConfig {
                 ));
             }
         }
-        c.friction_on_load(file, None)?;
+        c.friction_velocity(file, None)?;
         c.axis(file)?;
         if c.substeps == Some(0) {
             return Err(DriveError::config(format!("{file}, substeps"), "0; expected at least 1"));
@@ -192,30 +192,18 @@ impl CompliantConfig {
         Ok(c)
     }
 
-    /// Whether the friction acts on the load alone: the configuration's
-    /// `friction_velocity`, else the params file's (`in_params`), else the motor's side.
-    pub fn friction_on_load(
+    /// Where the gear's friction law acts: the configuration's `friction_velocity`, else
+    /// the params file's (`in_params`), else on the wave generator (`motor`).
+    pub fn friction_velocity(
         &self,
         file: &str,
         in_params: Option<hd_model::FrictionVelocity>,
-    ) -> Result<bool, DriveError> {
-        use hd_model::FrictionVelocity as Fv;
-        let chosen = match &self.friction_velocity {
-            Some(s) => s.parse::<Fv>().map_err(|e| {
-                DriveError::config(
-                    format!("{file}, friction_velocity"),
-                    e.replace("one of motor, deflection, load", "motor or load"),
-                )
-            })?,
-            None => in_params.unwrap_or_default(),
-        };
-        match chosen {
-            Fv::Motor => Ok(false),
-            Fv::Load => Ok(true),
-            Fv::Deflection => Err(DriveError::config(
-                format!("{file}, friction_velocity"),
-                "'deflection': the compliant fit takes friction on the motor's side or on the load's (motor or load)",
-            )),
+    ) -> Result<hd_model::FrictionVelocity, DriveError> {
+        match &self.friction_velocity {
+            Some(s) => s
+                .parse()
+                .map_err(|e: String| DriveError::config(format!("{file}, friction_velocity"), e)),
+            None => Ok(in_params.unwrap_or_default()),
         }
     }
 

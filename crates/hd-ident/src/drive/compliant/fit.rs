@@ -138,8 +138,8 @@ pub struct CompliantSpec {
     /// Whether each record's current sensor offset is fitted as a constant (projected out
     /// of the current's residuals, as the encoder zeros are).
     pub current_offset: bool,
-    /// Whether the friction acts on the load alone ([`Compliant::friction_on_load`]).
-    pub friction_on_load: bool,
+    /// Where the gear's friction law acts ([`Compliant::friction_velocity`]).
+    pub friction_velocity: hd_model::FrictionVelocity,
     /// Runge–Kutta substeps per sample (fixed for the whole fit, so the objective is smooth).
     pub substeps: usize,
     /// Optimiser settings.
@@ -165,16 +165,7 @@ impl CompliantSpec {
 
     /// The drive at parameters `p` ([`NAMES`] order; followers take their leaders' values).
     pub fn drive<T: Scalar>(&self, p: [T; P]) -> Compliant<T> {
-        Compliant::new(self.tied(p), self.n).with_friction_on_load(self.friction_on_load)
-    }
-
-    /// Where the friction acts, as hd-model names it (`motor` or `load`).
-    pub fn friction_velocity(&self) -> hd_model::FrictionVelocity {
-        if self.friction_on_load {
-            hd_model::FrictionVelocity::Load
-        } else {
-            hd_model::FrictionVelocity::Motor
-        }
+        Compliant::new(self.tied(p), self.n).with_friction_velocity(self.friction_velocity)
     }
 
     /// Whether parameter `k` follows another ([`CompliantSpec::ties`]).

@@ -28,6 +28,8 @@ mod tests;
 #[cfg(test)]
 mod tests_both;
 #[cfg(test)]
+mod tests_deflection;
+#[cfg(test)]
 mod tests_laws;
 #[cfg(test)]
 mod tests_load;

@@ -15,7 +15,9 @@
 //!
 //! With the friction on the load (`friction_velocity = "load"`: an output bearing's or a
 //! guide's friction), v = ωz and Tf moves from the motor's equation to the load's:
-//! `Jj·ω̇j = Km·i − Cj·ωj − Tb/N`, `Jz·ω̇z = Tb − Tf − Cz·ωz − TL`.
+//! `Jj·ω̇j = Km·i − Cj·ωj − Tb/N`, `Jz·ω̇z = Tb − Tf − Cz·ωz − TL`. Across the gear
+//! (`"deflection"`: the teeth's own friction), v = θ̇ and Tf acts on both sides:
+//! `Jj·ω̇j = Km·i − Cj·ωj − (Tb + Tf)/N`, `Jz·ω̇z = Tb + Tf − Cz·ωz − TL`.
 //!
 //! Friction on both sides: hd-model's load-side law (the `*_load` parameters, present when
 //! Tc_load or Ts_load is non-zero, [`has_load_law`]) is a second, symmetric LuGre law on
@@ -35,11 +37,11 @@
 //! runs carrying the exact sensitivities to the parameters.
 
 use crate::drive::dual::Scalar;
-use hd_model::HystLaw;
 use hd_model::laws::bouc_wen::BoucWen;
 use hd_model::laws::friction::LuGre;
 use hd_model::laws::slip_set::MAX_SLIP;
 use hd_model::laws::stiffness::{CubicSpring, FadingMemory};
+use hd_model::{FrictionVelocity, HystLaw};
 
 /// Number of parameters of the compliant drive.
 pub const P: usize = 35;
@@ -242,9 +244,10 @@ pub struct Compliant<T> {
     pub p: [T; P],
     /// Gear ratio N [–] (known from the gear's data, never fitted).
     pub n: f64,
-    /// Whether the friction acts on the load alone (v = ωz, −Tf on the load; hd-model's
-    /// `friction_velocity = "load"`) instead of on the wave generator (v = ωj/N).
-    pub friction_on_load: bool,
+    /// Where the gear's friction law acts (hd-model's `friction_velocity`): on the wave
+    /// generator (v = ωj/N, Tf/N on the motor), on the load alone (v = ωz, −Tf on the load)
+    /// or across the gear (v = θ̇ = ωj/N − ωz, Tf/N on the motor and +Tf on the load).
+    pub friction_velocity: FrictionVelocity,
     /// The LuGre law at the current values (f64: its level and slope are lifted).
     law: LuGre,
     /// The load-side law at the current values, when the drive has one ([`has_load_law`]).
@@ -277,20 +280,23 @@ impl<T: Scalar> Compliant<T> {
                 p[WS_L].re(),
             )
         });
-        Compliant { p, n, friction_on_load: false, law, law_load }
+        Compliant { p, n, friction_velocity: FrictionVelocity::Motor, law, law_load }
     }
 
-    /// The same drive with its friction on the load alone (`true`) or on the wave
-    /// generator (`false`).
-    pub fn with_friction_on_load(self, on_load: bool) -> Self {
-        Compliant { friction_on_load: on_load, ..self }
+    /// The same drive with its gear's friction law acting where `fv` says.
+    pub fn with_friction_velocity(self, fv: FrictionVelocity) -> Self {
+        Compliant { friction_velocity: fv, ..self }
     }
 
     /// The friction law's sliding speed v [rad/s] in state `y`: ωj/N on the wave
-    /// generator, ωz on the load.
+    /// generator, ωz on the load, θ̇ = ωj/N − ωz across the gear.
     #[inline(always)]
     pub fn sliding_speed(&self, y: &State<T>) -> T {
-        if self.friction_on_load { y.omega_z } else { y.omega_j * (1.0 / self.n) }
+        match self.friction_velocity {
+            FrictionVelocity::Motor => y.omega_j * (1.0 / self.n),
+            FrictionVelocity::Load => y.omega_z,
+            FrictionVelocity::Deflection => y.omega_j * (1.0 / self.n) - y.omega_z,
+        }
     }
 
     /// Armature current at voltage `u` [V] and motor speed ωj [A].
@@ -487,9 +493,13 @@ impl<T: Scalar> Compliant<T> {
         let tf = y.w + p[SIGMA1] * s_rate + p[SIGMA2] * v;
         let i = self.current(u, y.omega_j);
         let (w_load_rate, tf_load) = self.load_friction(y.omega_z, y.w_load);
-        // The friction torque acts on the wave generator through the gear, or on the load;
-        // the load-side law's on the load.
-        let (on_motor, on_load) = if self.friction_on_load { (tb, tb - tf) } else { (tb + tf, tb) };
+        // The friction torque acts on the wave generator through the gear, on the load, or
+        // across the gear on both; the load-side law's on the load.
+        let (on_motor, on_load) = match self.friction_velocity {
+            FrictionVelocity::Motor => (tb + tf, tb),
+            FrictionVelocity::Load => (tb, tb - tf),
+            FrictionVelocity::Deflection => (tb + tf, tb + tf),
+        };
         let on_load = on_load - tf_load;
         State {
             theta_j: y.omega_j,
@@ -594,7 +604,11 @@ impl<T: Scalar> Compliant<T> {
         let j_motor = r(JJ) * n2; // the motor inertia seen from the load
         let j_red = r(JZ) * j_motor / (r(JZ) + j_motor);
         // The inertia the bristle and its damping move, seen from the load.
-        let j_fric = if self.friction_on_load { r(JZ) } else { j_motor };
+        let j_fric = match self.friction_velocity {
+            FrictionVelocity::Motor => j_motor,
+            FrictionVelocity::Load => r(JZ),
+            FrictionVelocity::Deflection => j_red,
+        };
         let load_law = self.law_load.is_some();
         let if_load = |x: f64| if load_law { x } else { 0.0 };
         [

@@ -24,7 +24,7 @@ const MOTOR_LAW: [usize; 8] = [TC, TS, WS, SIGMA0, SIGMA1, SIGMA2, TC_NEG, TS_NE
 /// own sides with both laws' levels free.
 pub fn weaker_law(spec: &CompliantSpec, p: &[f64; P]) -> Option<Vec<usize>> {
     let both = has_load_law(p)
-        && !spec.friction_on_load
+        && spec.friction_velocity != hd_model::FrictionVelocity::Load
         && [TC, TS, TC_L, TS_L].iter().all(|&k| spec.free[k]);
     if !both {
         return None;

@@ -240,11 +240,9 @@ fn staged_starts(
     // error is absorbed without harm, and fitting it there only costs time.
     // Friction on the load is the load pass's, with the constant load torque.
     let levels = !spec.symmetric_friction;
-    let motor_set: &[usize] = if !levels || spec.friction_on_load {
-        &[R, KM, KE, JJ, CJ]
-    } else {
-        &[R, KM, KE, JJ, CJ, TC, TC_NEG]
-    };
+    let on_load = spec.friction_velocity == hd_model::FrictionVelocity::Load;
+    let motor_set: &[usize] =
+        if !levels || on_load { &[R, KM, KE, JJ, CJ] } else { &[R, KM, KE, JJ, CJ, TC, TC_NEG] };
     let motor = pass(spec, motor_set, first_outputs, spec.start);
     let values = fit_stage(&motor, records, progress).map_or(spec.start, |f| f.values);
     let load_outputs: Vec<_> =
@@ -264,8 +262,8 @@ fn staged_starts(
     // the same two variants.
     let base: Vec<usize> = if stiffness_free { vec![CZ] } else { vec![JZ, CZ] };
     let load_law = has_load_law(&spec.start);
-    let variants: Vec<Vec<usize>> = if spec.friction_on_load || load_law {
-        let (level_set, law_set): (&[usize], &[usize]) = if spec.friction_on_load {
+    let variants: Vec<Vec<usize>> = if on_load || load_law {
+        let (level_set, law_set): (&[usize], &[usize]) = if on_load {
             (&[TC, TS, TC_NEG, TS_NEG], &[TC, TS, WS, SIGMA0, SIGMA1, SIGMA2, TC_NEG, TS_NEG])
         } else {
             (&[TC_L, TS_L], &[TC_L, TS_L, WS_L, SIGMA0_L, SIGMA1_L, SIGMA2_L])

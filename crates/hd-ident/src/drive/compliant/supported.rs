@@ -2,8 +2,9 @@
 //! the cubic spring plus the fading memory (`memory`, the seed's law), a Bouc–Wen element
 //! (`bouc-wen`) or `ms_n` evenly spread Maxwell-slip elements (`maxwell-slip`), an
 //! algebraic current, LuGre friction (its levels may differ by direction) that does not
-//! grow with the transmitted torque, on the motor's side or on the load's (or a second,
-//! symmetric law on the load beside the motor's), and a constant load torque TL. A params file
+//! grow with the transmitted torque, on the motor's side, on the load's or across the gear
+//! (or a second, symmetric law on the load beside the gear's), and a constant load torque
+//! TL. A params file
 //! that asks for more would be fitted as something it is not and written back as a params
 //! file `hdw simulate` runs differently, so each such setting is refused, named.
 
@@ -63,10 +64,10 @@ pub fn unsupported(p: &Params, law: Option<HystLaw>) -> Vec<String> {
 }
 
 /// Why the load-side friction law of start values `start` ([`NAMES`] order) cannot be
-/// simulated with the gear's friction on the load (`friction_on_load`) or at all (hd-model's
+/// simulated with the gear's friction where `fv` puts it, or at all (hd-model's
 /// own check: a present law needs σ0_load and ωs_load above 0, and the gear law elsewhere);
 /// `None` when it can, or when there is none.
-pub fn load_law_problem(start: &[f64; P], friction_on_load: bool) -> Option<String> {
+pub fn load_law_problem(start: &[f64; P], fv: hd_model::FrictionVelocity) -> Option<String> {
     use super::model::ix::*;
     let p = Params {
         tc_load: start[TC_L],
@@ -76,11 +77,6 @@ pub fn load_law_problem(start: &[f64; P], friction_on_load: bool) -> Option<Stri
         sigma1_load: start[SIGMA1_L],
         sigma2_load: start[SIGMA2_L],
         ..Params::default()
-    };
-    let fv = if friction_on_load {
-        hd_model::FrictionVelocity::Load
-    } else {
-        hd_model::FrictionVelocity::Motor
     };
     hd_model::variant::load_friction_law(&p, fv).err().map(|e| e.to_string())
 }

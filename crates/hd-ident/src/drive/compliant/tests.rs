@@ -143,7 +143,7 @@ pub(super) fn test_spec(
         noise_estimated: Vec::new(),
         km_is_ke: true,
         symmetric_friction: true,
-        friction_on_load: false,
+        friction_velocity: hd_model::FrictionVelocity::Motor,
         current_offset: false,
         substeps,
         settings: LmSettings { max_iterations: 300, cost_tolerance: 1e-8, geodesic: true },

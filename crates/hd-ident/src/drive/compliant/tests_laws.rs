@@ -91,7 +91,7 @@ fn exact_derivatives_at(
         free: [true; P],
         km_is_ke: false,
         symmetric_friction: symmetric,
-        friction_on_load: false,
+        friction_velocity: hd_model::FrictionVelocity::Motor,
         ..test_spec(params.n, start, outputs, 8)
     };
     assert_jacobian_matches(&spec, &start, free_idx, &rec, tolerance);

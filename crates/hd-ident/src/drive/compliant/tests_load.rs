@@ -49,14 +49,14 @@ fn reference(t_end: f64, volts: f64, f_end: f64) -> [Vec<f64>; 5] {
 fn load_friction_matches_the_simulator() {
     let (params, v) = load_side();
     let rec = record(&reference(0.4, 12.0, 60.0), "ref");
-    let d = Compliant::new(v, params.n).with_friction_on_load(true);
+    let d = Compliant::new(v, params.n).with_friction_velocity(FrictionVelocity::Load);
     assert_matches_reference(&d, &rec, 1e-5, 4.0);
 }
 
 /// The specification of these tests for the load-side drive at `start`.
 fn spec_at(start: [f64; P], outputs: Vec<(Signal, Vec<f64>)>, substeps: usize) -> CompliantSpec {
     CompliantSpec {
-        friction_on_load: true,
+        friction_velocity: FrictionVelocity::Load,
         ..test_spec(Params::default().n, start, outputs, substeps)
     }
 }
@@ -106,7 +106,7 @@ fn fits_friction_on_the_load_and_its_torque() {
         }
     }
     free[KM] = true;
-    let d = Compliant::new(start, params.n).with_friction_on_load(true);
+    let d = Compliant::new(start, params.n).with_friction_velocity(FrictionVelocity::Load);
     let spec = CompliantSpec {
         free,
         lower,
