@@ -192,6 +192,41 @@ fn friction_on_the_load_and_a_load_torque_are_fitted_and_written_back() {
     simulates(&out, &dir.join("sim"));
 }
 
+/// A catalogue gear (`stiffness = "catalogue"`, its corners within the record's torques):
+/// the fit runs the curve, fit.json and params.toml name the law with its five values and
+/// no cubic spring, and `hdw simulate` runs the result.
+#[test]
+fn a_catalogue_gear_is_fitted_and_written_back() {
+    let dir = scratch("fit-compliant-catalogue");
+    let rec = dir.join("chirp.csv");
+    let curve = "stiffness = \"catalogue\"\ncat_K1 = 4e4\ncat_K2 = 8e4\ncat_K3 = 1.2e5\ncat_T1 = 0.15\ncat_T2 = 0.35\n";
+    std::fs::write(dir.join("truth.toml"), curve).unwrap();
+    let truth = dir.join("truth.toml");
+    let synth = ["synth", "drive", "--params", truth.to_str().unwrap(), "--freq", "5"];
+    let mut synth = synth.to_vec();
+    synth.extend(["--t-end", "1", "--out", rec.to_str().unwrap()]);
+    hdw_ok(&synth);
+    std::fs::write(
+        dir.join("start.toml"),
+        format!("{curve}R = 7.5\nKe = 0.4\nKm = 0.4\nJj = 8.5e-4\nCj = 0.0022\n"),
+    )
+    .unwrap();
+    let cfg = config(&dir, "", MOTOR_FIT);
+    let out = dir.join("out");
+    ok(&fit_drive(&cfg, &out));
+    let doc = json(&out.join("fit.json"));
+    assert_eq!(doc["stiffness"], "catalogue");
+    let params = &doc["parameters"];
+    assert!(params["cat_K2"]["unit"] == "N·m/rad" && params["c"].is_null(), "{params}");
+    for o in ["motor", "load", "current"] {
+        let r = doc["experiments"]["chirp"][o]["rmse_over_noise"].as_f64().unwrap();
+        assert!(r < 1.2, "{o}: {r}");
+    }
+    let written = std::fs::read_to_string(out.join("params.toml")).unwrap();
+    assert!(written.contains("stiffness = \"catalogue\"") && written.contains("cat_T2 = "));
+    simulates(&out, &dir.join("sim"));
+}
+
 /// Friction across the gear (`friction_velocity = "deflection"` in the params file): the
 /// fit runs that drive, fit.json and params.toml say so, and `hdw simulate` runs it.
 #[test]
@@ -338,9 +373,10 @@ fn bad_compliant_configurations_get_one_line_errors() {
     let o = run_with("", "", "current = \"amps\"");
     assert_one_line_error(&o, &["amps", "chirp.csv"]);
     // A params file asking for what the compliant model is not names the file and the key.
-    for (line, expect) in
-        [("stiffness = \"catalogue\"", "stiffness = \"catalogue\""), ("L = 0.002", "L = 2e-3")]
-    {
+    for (line, expect) in [
+        ("stiffness = \"catalogue\"\ncat_loss = 1e-4", "cat_loss = 1e-4"),
+        ("L = 0.002", "L = 2e-3"),
+    ] {
         std::fs::write(dir.join("start.toml"), format!("R = 7.5\n{line}\n")).unwrap();
         let o = run("", "");
         assert_one_line_error(&o, &[expect, "start.toml"]);

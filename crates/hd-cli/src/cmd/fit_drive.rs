@@ -32,7 +32,7 @@ law(s), the outputs compared and the fixed parameters (docs/fit-drive.md). Outpu
 With transmission = \"compliant\" the configuration fits the simulator's compliant drive to voltage tests\n\
 (motor and load encoders, current), or, with a [controller] and reference and command columns, to records\n\
 of its own position loop (the command is then an output too). Its gear is the params file's stiffness\n\
-law (memory, bouc-wen or maxwell-slip); its friction levels differ by direction where the file sets\n\
+law (memory, bouc-wen, maxwell-slip or catalogue); its friction levels differ by direction where the file sets\n\
 Tc_neg or Ts_neg; its friction acts on the load with friction_velocity = \"load\" (across the gear\n\
 with \"deflection\"), or a second law acts on the load beside it where the file sets Tc_load and\n\
 Ts_load; TL is a constant load torque;\n\

@@ -317,8 +317,11 @@ impl CompliantConfig {
                 for &k in &other {
                     free[k] = false;
                 }
+                if law == Some(HystLaw::Catalogue) {
+                    free[ix::C] = false;
+                }
                 if law.is_none() {
-                    for l in [HystLaw::BoucWen, HystLaw::MaxwellSlip] {
+                    for l in [HystLaw::BoucWen, HystLaw::MaxwellSlip, HystLaw::Catalogue] {
                         for &k in hysteresis_of(l) {
                             free[k] = false;
                         }

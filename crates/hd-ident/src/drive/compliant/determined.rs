@@ -7,7 +7,7 @@
 //! record sees Cz/Jz and the resonance); the spring and the memory are reported together,
 //! as the load's resonance and the stiffness there.
 
-use super::fit::CompliantFit;
+use super::fit::{CompliantFit, Signal};
 use super::model::{NAMES, P, gear_law, ix};
 use hd_model::HystLaw;
 
@@ -54,7 +54,7 @@ pub fn refine(
     // Jz, Cz and the gear's stiffness scaled together leave the load's motion relative to
     // the motor as it was (its resonance and damping rates are ratios to Jz); only the
     // deflection's small reaction on the motor sees the scale. So where Jz is not
-    // determined, neither are Cz, c, mem_A, bw_alpha and ms_k.
+    // determined, neither are Cz, c, mem_A, bw_alpha, ms_k and the catalogue's rates.
     if jz_free && !determined[ix::JZ] {
         if std_errors[ix::CZ].is_some() && determined[ix::CZ] && !said(DAMPING_SENTENCE) {
             let rate = |v: &[f64; P]| v[ix::CZ] / v[ix::JZ];
@@ -64,7 +64,9 @@ pub fn refine(
                 rate(values)
             ));
         }
-        for k in [ix::CZ, ix::C, ix::MEM_A, ix::BW_ALPHA, ix::MS_K] {
+        for k in
+            [ix::CZ, ix::C, ix::MEM_A, ix::BW_ALPHA, ix::MS_K, ix::CAT_K1, ix::CAT_K2, ix::CAT_K3]
+        {
             determined[k] = false;
         }
     }
@@ -86,6 +88,7 @@ fn stiffness_sentence(values: &[f64; P]) -> &'static str {
     match gear_law(values) {
         HystLaw::BoucWen => "The spring and the Bouc–Wen element",
         HystLaw::MaxwellSlip => "The spring and the slip elements",
+        HystLaw::Catalogue => "The catalogue curve's rates",
         _ => "The spring and the memory",
     }
 }
@@ -162,6 +165,7 @@ fn stiffness_rule(
     let group: &[usize] = match law {
         HystLaw::BoucWen => &[ix::C, ix::BW_ALPHA],
         HystLaw::MaxwellSlip => &[ix::C, ix::MS_K],
+        HystLaw::Catalogue => &[ix::CAT_K1, ix::CAT_K2, ix::CAT_K3],
         _ => &[ix::C, ix::MEM_A, ix::MEM_B],
     };
     let free: Vec<usize> = group.iter().copied().filter(|&k| std_errors[k].is_some()).collect();
@@ -184,9 +188,12 @@ fn stiffness_rule(
         } else {
             " The load inertia Jz is not determined either, and the record sees the gear's stiffness only relative to it."
         };
-        format!(
-            "{what}: the element's share of the gear's stiffness depends on how far it is deflected, and this record does not separate it from the spring's.{tail}"
-        )
+        let why = if law == HystLaw::Catalogue {
+            "each rate holds only over its segment of the curve, and this record does not deflect the gear far enough on each side of the corners to tell them apart"
+        } else {
+            "the element's share of the gear's stiffness depends on how far it is deflected, and this record does not separate it from the spring's"
+        };
+        format!("{what}: {why}.{tail}")
     } else {
         let which = [ix::JJ, ix::JZ, ix::C, ix::MEM_A, ix::MEM_B];
         let hz = |v: &[f64; P]| resonance(v, n).0 / std::f64::consts::TAU;
@@ -251,4 +258,28 @@ pub fn not_determined_by_agreement(best: &mut CompliantFit, rivals: &[&Compliant
         d.sentences.extend(added);
         d.all_determined = false;
     }
+}
+
+/// Ratio of an output's residual RMS to its given noise level above which the fit is said
+/// not to reach the noise (a good fit sits near 1; the tests ask ≤ 1.2).
+pub const MISFIT_RATIO: f64 = 1.5;
+
+/// One sentence per output of `fit` whose residuals stay above [`MISFIT_RATIO`] times a
+/// noise level the configuration gave (`given(output)`; an estimated level is the best
+/// fit's own RMS, so it cannot show a misfit): the standard errors assume the residuals are
+/// the noise.
+pub fn misfit_sentences(fit: &CompliantFit, given: impl Fn(Signal) -> bool) -> Vec<String> {
+    let mut out = Vec::new();
+    for score in &fit.scores {
+        for (o, _, _, ratio) in &score.outputs {
+            if given(*o) && *ratio > MISFIT_RATIO {
+                out.push(format!(
+                    "The fit does not reach the noise on {}'s {} ({ratio:.2} times the level given): the standard errors assume it does, so every value is in doubt; a start nearer the drive, more parameters free, or a noise level nearer the record's may help.",
+                    score.name,
+                    o.name()
+                ));
+            }
+        }
+    }
+    out
 }

@@ -38,52 +38,23 @@
 
 use crate::drive::dual::Scalar;
 use hd_model::laws::bouc_wen::BoucWen;
+use hd_model::laws::catalogue::{CatalogueCurve, DEFAULT_SMOOTHING};
 use hd_model::laws::friction::LuGre;
 use hd_model::laws::slip_set::MAX_SLIP;
 use hd_model::laws::stiffness::{CubicSpring, FadingMemory};
 use hd_model::{FrictionVelocity, HystLaw};
 
 /// Number of parameters of the compliant drive.
-pub const P: usize = 35;
+pub const P: usize = 40;
 
 /// The parameters of the compliant drive, in the order of a parameter vector (hd-model's
 /// registry names, so a fitted set is a params file `hdw simulate` reads).
+#[rustfmt::skip]
 pub const NAMES: [&str; P] = [
-    "R",
-    "Km",
-    "Ke",
-    "Jj",
-    "Jz",
-    "Cj",
-    "Cz",
-    "c",
-    "a",
-    "b",
-    "mem_A",
-    "mem_B",
-    "sigma0",
-    "sigma1",
-    "sigma2",
-    "Tc",
-    "Ts",
-    "ws",
-    "bw_alpha",
-    "bw_A",
-    "bw_beta",
-    "bw_gamma",
-    "bw_n",
-    "ms_k",
-    "ms_delta",
-    "ms_n",
-    "Tc_neg",
-    "Ts_neg",
-    "TL",
-    "Tc_load",
-    "Ts_load",
-    "ws_load",
-    "sigma0_load",
-    "sigma1_load",
-    "sigma2_load",
+    "R", "Km", "Ke", "Jj", "Jz", "Cj", "Cz", "c", "a", "b", "mem_A", "mem_B", "sigma0", "sigma1",
+    "sigma2", "Tc", "Ts", "ws", "bw_alpha", "bw_A", "bw_beta", "bw_gamma", "bw_n", "ms_k",
+    "ms_delta", "ms_n", "Tc_neg", "Ts_neg", "TL", "Tc_load", "Ts_load", "ws_load", "sigma0_load",
+    "sigma1_load", "sigma2_load", "cat_K1", "cat_K2", "cat_K3", "cat_T1", "cat_T2",
 ];
 
 /// The load-side law's parameters ([`has_load_law`]).
@@ -102,7 +73,11 @@ pub fn in_drive(k: usize, p: &[f64; P]) -> bool {
 }
 
 /// The gear laws of the compliant drive.
-pub const LAWS: [HystLaw; 3] = [HystLaw::Memory, HystLaw::BoucWen, HystLaw::MaxwellSlip];
+pub const LAWS: [HystLaw; 4] =
+    [HystLaw::Memory, HystLaw::BoucWen, HystLaw::MaxwellSlip, HystLaw::Catalogue];
+
+/// The cubic spring's coefficients, which the catalogue law's curve replaces.
+const CUBIC: [usize; 3] = [ix::C, ix::A, ix::B];
 
 /// The hysteretic parameters of each gear law the compliant drive takes.
 pub fn hysteresis_of(law: HystLaw) -> &'static [usize] {
@@ -110,14 +85,18 @@ pub fn hysteresis_of(law: HystLaw) -> &'static [usize] {
     match law {
         HystLaw::BoucWen => &[BW_ALPHA, BW_A, BW_BETA, BW_GAMMA, BW_N],
         HystLaw::MaxwellSlip => &[MS_K, MS_DELTA, MS_N],
+        HystLaw::Catalogue => &[CAT_K1, CAT_K2, CAT_K3, CAT_T1, CAT_T2],
         _ => &[MEM_A, MEM_B],
     }
 }
 
-/// The gear law of parameters `p`: Maxwell-slip where the elements' stiffness ms_k is
-/// non-zero, Bouc–Wen where its stiffness α is, the fading memory otherwise.
+/// The gear law of parameters `p`: the catalogue curve where its first rate cat_K1 is
+/// non-zero, Maxwell-slip where the elements' stiffness ms_k is, Bouc–Wen where its
+/// stiffness α is, the fading memory otherwise.
 pub fn gear_law(p: &[f64; P]) -> HystLaw {
-    if p[ix::MS_K] != 0.0 {
+    if p[ix::CAT_K1] != 0.0 {
+        HystLaw::Catalogue
+    } else if p[ix::MS_K] != 0.0 {
         HystLaw::MaxwellSlip
     } else if p[ix::BW_ALPHA] != 0.0 {
         HystLaw::BoucWen
@@ -127,13 +106,20 @@ pub fn gear_law(p: &[f64; P]) -> HystLaw {
 }
 
 /// Whether parameter `k` belongs to a drive with gear law `law` (every parameter but the
-/// other law's hysteretic ones).
+/// other law's hysteretic ones, and, for the catalogue law, the cubic spring's).
 pub fn in_law(k: usize, law: HystLaw) -> bool {
     LAWS.into_iter().filter(|&l| l != law).all(|l| !hysteresis_of(l).contains(&k))
+        && !(law == HystLaw::Catalogue && CUBIC.contains(&k))
 }
 
-/// Put `p` on gear law `law`: the other law's hysteretic parameters to zero.
+/// Put `p` on gear law `law`: the other law's hysteretic parameters to zero (and the cubic
+/// spring's, for the catalogue law, whose curve is the whole spring).
 pub fn on_law(p: &mut [f64; P], law: HystLaw) {
+    if law == HystLaw::Catalogue {
+        for k in CUBIC {
+            p[k] = 0.0;
+        }
+    }
     for l in LAWS {
         if l != law {
             for &k in hysteresis_of(l) {
@@ -180,6 +166,11 @@ pub mod ix {
     pub const SIGMA0_L: usize = 32;
     pub const SIGMA1_L: usize = 33;
     pub const SIGMA2_L: usize = 34;
+    pub const CAT_K1: usize = 35;
+    pub const CAT_K2: usize = 36;
+    pub const CAT_K3: usize = 37;
+    pub const CAT_T1: usize = 38;
+    pub const CAT_T2: usize = 39;
 }
 
 /// The state: motor angle θj [rad] and speed ωj [rad/s], gear deflection θ [rad] (θz =
@@ -252,6 +243,8 @@ pub struct Compliant<T> {
     law: LuGre,
     /// The load-side law at the current values, when the drive has one ([`has_load_law`]).
     law_load: Option<LuGre>,
+    /// The catalogue curve at the current values, when the gear has it ([`gear_law`]).
+    catalogue: Option<CatalogueCurve>,
 }
 
 impl<T: Scalar> Compliant<T> {
@@ -280,7 +273,20 @@ impl<T: Scalar> Compliant<T> {
                 p[WS_L].re(),
             )
         });
-        Compliant { p, n, friction_velocity: FrictionVelocity::Motor, law, law_load }
+        // A curve hd-model would refuse (a rate ≤ 0, T2 ≤ T1) runs as NaN: a fit's trial
+        // there fails and is not taken, so a fit never ends on a curve `hdw simulate` refuses.
+        let catalogue = (p[CAT_K1].re() != 0.0).then(|| {
+            let [k1, k2, k3, t1, t2] = [CAT_K1, CAT_K2, CAT_K3, CAT_T1, CAT_T2].map(|k| p[k].re());
+            CatalogueCurve::new(k1, k2, k3, t1, t2).unwrap_or(CatalogueCurve {
+                k1: f64::NAN,
+                k2,
+                k3,
+                t1,
+                t2,
+                smoothing: DEFAULT_SMOOTHING,
+            })
+        });
+        Compliant { p, n, friction_velocity: FrictionVelocity::Motor, law, law_load, catalogue }
     }
 
     /// The same drive with its gear's friction law acting where `fv` says.
@@ -367,6 +373,26 @@ impl<T: Scalar> Compliant<T> {
             Some(law) => self.p[ix::SIGMA0_L] * y.omega_z.abs() / self.level_load(law, y.omega_z),
             None => T::cst(0.0),
         }
+    }
+
+    /// The catalogue curve's torque at deflection θ [N·m] (hd-model's rounded
+    /// three-segment curve, lifted with its exact derivatives).
+    #[inline(never)]
+    fn catalogue_torque(&self, curve: &CatalogueCurve, theta: T) -> T {
+        use ix::*;
+        let (t, slope, g) = curve.torque_grad(theta.re());
+        let p = &self.p;
+        T::lift(
+            t,
+            &[
+                (slope, theta),
+                (g[0], p[CAT_K1]),
+                (g[1], p[CAT_K2]),
+                (g[2], p[CAT_K3]),
+                (g[3], p[CAT_T1]),
+                (g[4], p[CAT_T2]),
+            ],
+        )
     }
 
     /// The spring torque c·θ + b·θ² + a·θ³ [N·m] (hd-model's cubic spring, lifted).
@@ -488,6 +514,9 @@ impl<T: Scalar> Compliant<T> {
         if !o.is_empty() {
             tb = tb + self.slip_torque(y.theta, o);
         }
+        if let Some(curve) = &self.catalogue {
+            tb = tb + self.catalogue_torque(curve, y.theta);
+        }
         let g = self.level(v);
         let s_rate = v - v.abs() * y.w / g;
         let tf = y.w + p[SIGMA1] * s_rate + p[SIGMA2] * v;
@@ -600,7 +629,11 @@ impl<T: Scalar> Compliant<T> {
         use ix::*;
         let r = |k: usize| self.p[k].re().abs();
         let n2 = self.n * self.n;
-        let k_gear = r(C) + r(MEM_A) + r(BW_ALPHA) * r(BW_A) + r(MS_K);
+        let k_gear = r(C)
+            + r(MEM_A)
+            + r(BW_ALPHA) * r(BW_A)
+            + r(MS_K)
+            + r(CAT_K1).max(r(CAT_K2)).max(r(CAT_K3));
         let j_motor = r(JJ) * n2; // the motor inertia seen from the load
         let j_red = r(JZ) * j_motor / (r(JZ) + j_motor);
         // The inertia the bristle and its damping move, seen from the load.

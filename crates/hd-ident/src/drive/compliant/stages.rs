@@ -180,6 +180,15 @@ pub fn fit_compliant(
     not_determined_by_agreement(&mut best, &rivals);
     super::requantised::widen_by_rounding(used, &mut best, records);
     refine_fit(&mut best, spec.n);
+    let given = |s: Signal| {
+        spec.outputs.iter().zip(&spec.noise_estimated).any(|((o, _), est)| *o == s && !est)
+    };
+    let misfit = super::determined::misfit_sentences(&best, given);
+    if !misfit.is_empty() {
+        let d = &mut best.determination;
+        d.sentences.retain(|s| !s.starts_with("Every free parameter is determined"));
+        d.sentences.extend(misfit);
+    }
     best.iterations = spent;
     best.failed_trials = failed;
     best.starts = starts.len();
@@ -250,8 +259,11 @@ fn staged_starts(
     // Jz, Cz and the stiffness scaled together move the load alike (the load's rates are
     // ratios to Jz): with the stiffness free, Jz waits for the full fit, which alone can see
     // that scale (through the motor), and the load pass does not crawl along it.
-    let stiffness_free = [C, MEM_A, BW_ALPHA, MS_K].iter().any(|&k| spec.free[k]);
-    let gear = [C, MEM_A, MEM_B, BW_ALPHA, BW_A, BW_BETA, BW_GAMMA, BW_N, MS_K, MS_DELTA];
+    let stiffness_free = [C, MEM_A, BW_ALPHA, MS_K, CAT_K1].iter().any(|&k| spec.free[k]);
+    let gear = [
+        C, MEM_A, MEM_B, BW_ALPHA, BW_A, BW_BETA, BW_GAMMA, BW_N, MS_K, MS_DELTA, CAT_K1, CAT_K2,
+        CAT_K3, CAT_T1, CAT_T2,
+    ];
     // Friction on the load is the load's to explain: held at a wrong start, the gear's
     // constants absorb it. How much of it the load pass should take has no one answer: on
     // one 2–200 Hz chirp only its levels (Jz waiting, as above) led the full fit to the
@@ -298,7 +310,9 @@ fn kept_ends(
     records: &[VoltageRecord],
     kept: &mut Vec<([f64; P], Option<Vec<f64>>)>,
 ) {
-    let scaled = [C, MEM_A, BW_ALPHA, MS_K];
+    // The catalogue curve scaled whole (its rates with its corner torques: the corners'
+    // deflections stay).
+    let scaled = [C, MEM_A, BW_ALPHA, MS_K, CAT_K1, CAT_K2, CAT_K3, CAT_T1, CAT_T2];
     let scales: &[f64] =
         if scaled.iter().any(|&k| load.free[k]) { &STIFFNESS_SCALES } else { &[1.0] };
     let quiet = |_: usize, _: f64| {};

@@ -1,6 +1,7 @@
 //! What the compliant model can stand for. Its drive is the simulator's `full` variant with
 //! the cubic spring plus the fading memory (`memory`, the seed's law), a Bouc–Wen element
-//! (`bouc-wen`) or `ms_n` evenly spread Maxwell-slip elements (`maxwell-slip`), an
+//! (`bouc-wen`), `ms_n` evenly spread Maxwell-slip elements (`maxwell-slip`) or the
+//! catalogue's three-segment curve without its hysteresis loss (`catalogue`), an
 //! algebraic current, LuGre friction (its levels may differ by direction) that does not
 //! grow with the transmitted torque, on the motor's side, on the load's or across the gear
 //! (or a second, symmetric law on the load beside the gear's), and a constant load torque
@@ -9,6 +10,7 @@
 //! file `hdw simulate` runs differently, so each such setting is refused, named.
 
 use super::model::P;
+use hd_model::laws::catalogue::CatalogueCurve;
 use hd_model::laws::slip_set::MAX_SLIP;
 use hd_model::{HystLaw, Params};
 
@@ -16,10 +18,16 @@ use hd_model::{HystLaw, Params};
 /// one sentence; empty when it represents them all.
 pub fn unsupported(p: &Params, law: Option<HystLaw>) -> Vec<String> {
     let mut out = Vec::new();
-    if let Some(law) = law.filter(|l| !super::model::LAWS.contains(l)) {
-        out.push(format!(
-            "stiffness = \"{law}\": the compliant fit's gear is the cubic spring with the fading memory (\"memory\"), a Bouc–Wen element (\"bouc-wen\") or Maxwell-slip elements (\"maxwell-slip\"); use one of those (a catalogue gear's curve comes from its data sheet, `hdw datasheet`, and its loop from a torsion test, `hdw fit hysteresis --law maxwell-slip`)"
-        ));
+    if law == Some(HystLaw::Catalogue) {
+        if p.cat_loss != 0.0 {
+            out.push(format!(
+                "cat_loss = {:e}: the compliant fit's catalogue gear is its curve without the hysteresis loss (the loss's slip elements are sized by a search, which has no exact derivative); set cat_loss = 0, or fit the loop as Maxwell-slip elements (\"maxwell-slip\")",
+                p.cat_loss
+            ));
+        }
+        if let Err(e) = CatalogueCurve::new(p.cat_k1, p.cat_k2, p.cat_k3, p.cat_t1, p.cat_t2) {
+            out.push(format!("cat_{e}"));
+        }
     }
     if law == Some(HystLaw::BoucWen) && !(p.bw_alpha > 0.0 && p.bw_a > 0.0 && p.bw_n > 0.0) {
         out.push(format!(
@@ -101,9 +109,18 @@ mod tests {
         assert!(found.len() == 1 && found[0].starts_with("ms_n = 2.5"), "{found:?}");
         let p = Params { l: 1e-3, tc_neg: Some(0.2), mu_s_back: 0.1, ..Params::default() };
         // Direction-dependent levels are the model's own (Tc_neg, Ts_neg).
-        let found = unsupported(&p, Some(HystLaw::Catalogue));
-        assert_eq!(found.len(), 3, "{found:?}");
-        for key in ["stiffness = \"catalogue\"", "L = 1e-3", "mu_s_back"] {
+        let found = unsupported(&p, Some(HystLaw::Memory));
+        assert_eq!(found.len(), 2, "{found:?}");
+        for key in ["L = 1e-3", "mu_s_back"] {
+            assert!(found.iter().any(|s| s.starts_with(key)), "{key} in {found:?}");
+        }
+        // The catalogue curve is the model's own; its loss and a curve it cannot build are
+        // named.
+        assert!(unsupported(&seed, Some(HystLaw::Catalogue)).is_empty());
+        let lossy = Params { cat_loss: 1e-4, cat_t2: 20.0, ..Params::default() };
+        let found = unsupported(&lossy, Some(HystLaw::Catalogue));
+        assert_eq!(found.len(), 2, "{found:?}");
+        for key in ["cat_loss = 1e-4", "cat_T2 = 20"] {
             assert!(found.iter().any(|s| s.starts_with(key)), "{key} in {found:?}");
         }
     }
