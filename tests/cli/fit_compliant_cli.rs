@@ -22,13 +22,39 @@ fn config(dir: &std::path::Path, extra: &str, fit: &str) -> std::path::PathBuf {
 const MOTOR_FIT: &str =
     "free = [\"R\", \"Ke\", \"Jj\", \"Cj\"]\nnoise = { motor = 4.43e-4, load = 1.73e-6 }";
 
+/// The motor's parameters 20–30 % off the seed's, as params-file lines.
+const MOTOR_START: &str = "R = 7.5\nKe = 0.4\nKm = 0.4\nJj = 8.5e-4\nCj = 0.0022\n";
+
 /// Motor parameters 20–30 % off, everything else the seed's (the truth of `synth drive`).
 fn start(dir: &std::path::Path) {
-    std::fs::write(
-        dir.join("start.toml"),
-        "R = 7.5\nKe = 0.4\nKm = 0.4\nJj = 8.5e-4\nCj = 0.0022\n",
-    )
-    .unwrap();
+    std::fs::write(dir.join("start.toml"), MOTOR_START).unwrap();
+}
+
+/// The drive of params-file lines `truth` recorded by `hdw synth drive` (5 Hz centre, 1 s)
+/// in scratch folder `name`, fitted from the lines `start` with the motor's 20–30 % off
+/// ([`MOTOR_START`]) and `[fit]` table `fit`: the fit must succeed with every output at
+/// the noise (≤ 1.2×), and `hdw simulate` must run its params.toml. Returns fit.json and
+/// params.toml's text.
+fn fitted_back(name: &str, truth: &str, start: &str, fit: &str) -> (serde_json::Value, String) {
+    let dir = scratch(name);
+    let rec = dir.join("chirp.csv");
+    let truth_file = dir.join("truth.toml");
+    std::fs::write(&truth_file, truth).unwrap();
+    let synth = ["synth", "drive", "--params", truth_file.to_str().unwrap(), "--freq", "5"];
+    let mut synth = synth.to_vec();
+    synth.extend(["--t-end", "1", "--out", rec.to_str().unwrap()]);
+    hdw_ok(&synth);
+    std::fs::write(dir.join("start.toml"), format!("{start}{MOTOR_START}")).unwrap();
+    let cfg = config(&dir, "", fit);
+    let out = dir.join("out");
+    ok(&fit_drive(&cfg, &out));
+    let doc = json(&out.join("fit.json"));
+    for o in ["motor", "load", "current"] {
+        let r = doc["experiments"]["chirp"][o]["rmse_over_noise"].as_f64().unwrap();
+        assert!(r < 1.2, "{name}, {o}: {r}");
+    }
+    simulates(&out, &dir.join("sim"));
+    (doc, std::fs::read_to_string(out.join("params.toml")).unwrap())
 }
 
 /// A scratch folder `name` holding a `hdw synth drive` record of the seed drive (5 Hz centre,
@@ -151,45 +177,18 @@ fn other_gear_laws_are_fitted_and_written_back() {
 /// simulator.
 #[test]
 fn friction_on_the_load_and_a_load_torque_are_fitted_and_written_back() {
-    let dir = scratch("fit-compliant-load-friction");
-    let rec = dir.join("chirp.csv");
-    let load = "Tc = 8.0\nTs = 12.0\nws = 0.02\nsigma0 = 5e5\nsigma1 = 50.0\n";
-    std::fs::write(
-        dir.join("truth.toml"),
-        format!("friction_velocity = \"load\"\n{load}TL = 0.6\n"),
-    )
-    .unwrap();
-    let truth = dir.join("truth.toml");
-    let synth = ["synth", "drive", "--params", truth.to_str().unwrap(), "--freq", "5"];
-    let mut synth = synth.to_vec();
-    synth.extend(["--t-end", "1", "--out", rec.to_str().unwrap()]);
-    hdw_ok(&synth);
-    std::fs::write(
-        dir.join("start.toml"),
-        format!(
-            "friction_velocity = \"load\"\n{load}R = 7.5\nKe = 0.4\nKm = 0.4\nJj = 8.5e-4\nCj = 0.0022\n"
-        ),
-    )
-    .unwrap();
+    let load = "friction_velocity = \"load\"\nTc = 8.0\nTs = 12.0\nws = 0.02\nsigma0 = 5e5\nsigma1 = 50.0\n";
     let fit = "free = [\"R\", \"Ke\", \"Jj\", \"Cj\", \"TL\"]\nnoise = { motor = 4.43e-4, load = 1.73e-6 }";
-    let cfg = config(&dir, "", fit);
-    let out = dir.join("out");
-    ok(&fit_drive(&cfg, &out));
-    let doc = json(&out.join("fit.json"));
+    let (doc, params) =
+        fitted_back("fit-compliant-load-friction", &format!("{load}TL = 0.6\n"), load, fit);
     assert_eq!(doc["friction_velocity"], "load");
     let tl = &doc["parameters"]["TL"];
     let (v, se) = (tl["value"].as_f64().unwrap(), tl["std_error"].as_f64().unwrap());
     assert!(tl["determined"].as_bool().unwrap() && (v - 0.6).abs() < 3.0 * se, "TL: {tl}");
-    for o in ["motor", "load", "current"] {
-        let r = doc["experiments"]["chirp"][o]["rmse_over_noise"].as_f64().unwrap();
-        assert!(r < 1.2, "{o}: {r}");
-    }
-    let params = std::fs::read_to_string(out.join("params.toml")).unwrap();
     assert!(
         params.contains("friction_velocity = \"load\"") && params.contains("TL = "),
         "{params}"
     );
-    simulates(&out, &dir.join("sim"));
 }
 
 /// A catalogue gear (`stiffness = "catalogue"`, its corners within the record's torques):
@@ -197,66 +196,22 @@ fn friction_on_the_load_and_a_load_torque_are_fitted_and_written_back() {
 /// no cubic spring, and `hdw simulate` runs the result.
 #[test]
 fn a_catalogue_gear_is_fitted_and_written_back() {
-    let dir = scratch("fit-compliant-catalogue");
-    let rec = dir.join("chirp.csv");
     let curve = "stiffness = \"catalogue\"\ncat_K1 = 4e4\ncat_K2 = 8e4\ncat_K3 = 1.2e5\ncat_T1 = 0.15\ncat_T2 = 0.35\n";
-    std::fs::write(dir.join("truth.toml"), curve).unwrap();
-    let truth = dir.join("truth.toml");
-    let synth = ["synth", "drive", "--params", truth.to_str().unwrap(), "--freq", "5"];
-    let mut synth = synth.to_vec();
-    synth.extend(["--t-end", "1", "--out", rec.to_str().unwrap()]);
-    hdw_ok(&synth);
-    std::fs::write(
-        dir.join("start.toml"),
-        format!("{curve}R = 7.5\nKe = 0.4\nKm = 0.4\nJj = 8.5e-4\nCj = 0.0022\n"),
-    )
-    .unwrap();
-    let cfg = config(&dir, "", MOTOR_FIT);
-    let out = dir.join("out");
-    ok(&fit_drive(&cfg, &out));
-    let doc = json(&out.join("fit.json"));
+    let (doc, written) = fitted_back("fit-compliant-catalogue", curve, curve, MOTOR_FIT);
     assert_eq!(doc["stiffness"], "catalogue");
     let params = &doc["parameters"];
     assert!(params["cat_K2"]["unit"] == "N·m/rad" && params["c"].is_null(), "{params}");
-    for o in ["motor", "load", "current"] {
-        let r = doc["experiments"]["chirp"][o]["rmse_over_noise"].as_f64().unwrap();
-        assert!(r < 1.2, "{o}: {r}");
-    }
-    let written = std::fs::read_to_string(out.join("params.toml")).unwrap();
     assert!(written.contains("stiffness = \"catalogue\"") && written.contains("cat_T2 = "));
-    simulates(&out, &dir.join("sim"));
 }
 
 /// Friction across the gear (`friction_velocity = "deflection"` in the params file): the
 /// fit runs that drive, fit.json and params.toml say so, and `hdw simulate` runs it.
 #[test]
 fn friction_across_the_gear_is_carried_through() {
-    let dir = scratch("fit-compliant-deflection");
-    let rec = dir.join("chirp.csv");
     let law = "friction_velocity = \"deflection\"\nTc = 0.5\nTs = 0.8\nws = 1e-3\nsigma0 = 5e4\nsigma1 = 2.0\n";
-    std::fs::write(dir.join("truth.toml"), law).unwrap();
-    let truth = dir.join("truth.toml");
-    let synth = ["synth", "drive", "--params", truth.to_str().unwrap(), "--freq", "5"];
-    let mut synth = synth.to_vec();
-    synth.extend(["--t-end", "1", "--out", rec.to_str().unwrap()]);
-    hdw_ok(&synth);
-    std::fs::write(
-        dir.join("start.toml"),
-        format!("{law}R = 7.5\nKe = 0.4\nKm = 0.4\nJj = 8.5e-4\nCj = 0.0022\n"),
-    )
-    .unwrap();
-    let cfg = config(&dir, "", MOTOR_FIT);
-    let out = dir.join("out");
-    ok(&fit_drive(&cfg, &out));
-    let doc = json(&out.join("fit.json"));
+    let (doc, params) = fitted_back("fit-compliant-deflection", law, law, MOTOR_FIT);
     assert_eq!(doc["friction_velocity"], "deflection");
-    for o in ["motor", "load", "current"] {
-        let r = doc["experiments"]["chirp"][o]["rmse_over_noise"].as_f64().unwrap();
-        assert!(r < 1.2, "{o}: {r}");
-    }
-    let params = std::fs::read_to_string(out.join("params.toml")).unwrap();
     assert!(params.contains("friction_velocity = \"deflection\""), "{params}");
-    simulates(&out, &dir.join("sim"));
 }
 
 /// Friction on both sides: the seed's law on the wave generator and a second law on the
@@ -265,38 +220,21 @@ fn friction_across_the_gear_is_carried_through() {
 /// parameters, and params.toml carries the law back to the simulator.
 #[test]
 fn friction_on_both_sides_is_fitted_and_written_back() {
-    let dir = scratch("fit-compliant-both-sides");
-    let rec = dir.join("chirp.csv");
     let law = "ws_load = 0.02\nsigma0_load = 3e5\nsigma1_load = 40.0\n";
-    std::fs::write(dir.join("truth.toml"), format!("Tc_load = 4.0\nTs_load = 6.0\n{law}")).unwrap();
-    let truth = dir.join("truth.toml");
-    let synth = ["synth", "drive", "--params", truth.to_str().unwrap(), "--freq", "5"];
-    let mut synth = synth.to_vec();
-    synth.extend(["--t-end", "1", "--out", rec.to_str().unwrap()]);
-    hdw_ok(&synth);
-    std::fs::write(
-        dir.join("start.toml"),
-        format!("Tc_load = 5.0\nTs_load = 4.4\n{law}R = 7.5\nKe = 0.4\nKm = 0.4\nJj = 8.5e-4\nCj = 0.0022\n"),
-    )
-    .unwrap();
     let fit = "free = [\"R\", \"Ke\", \"Jj\", \"Cj\", \"Tc_load\", \"Ts_load\"]\nnoise = { motor = 4.43e-4, load = 1.73e-6 }";
-    let cfg = config(&dir, "", fit);
-    let out = dir.join("out");
-    ok(&fit_drive(&cfg, &out));
-    let doc = json(&out.join("fit.json"));
+    let (doc, params) = fitted_back(
+        "fit-compliant-both-sides",
+        &format!("Tc_load = 4.0\nTs_load = 6.0\n{law}"),
+        &format!("Tc_load = 5.0\nTs_load = 4.4\n{law}"),
+        fit,
+    );
     for (name, truth) in [("Tc_load", 4.0), ("Ts_load", 6.0)] {
         let p = &doc["parameters"][name];
         let (v, se) = (p["value"].as_f64().unwrap(), p["std_error"].as_f64().unwrap());
         assert!(p["determined"].as_bool().unwrap() && (v - truth).abs() < 3.0 * se, "{name}: {p}");
         assert_eq!(p["unit"], "N·m");
     }
-    for o in ["motor", "load", "current"] {
-        let r = doc["experiments"]["chirp"][o]["rmse_over_noise"].as_f64().unwrap();
-        assert!(r < 1.2, "{o}: {r}");
-    }
-    let params = std::fs::read_to_string(out.join("params.toml")).unwrap();
     assert!(params.contains("Tc_load = ") && params.contains("sigma0_load = "), "{params}");
-    simulates(&out, &dir.join("sim"));
 }
 
 /// `axis = "linear"` (a ball screw, a belt): the same fit, its outputs in the load's

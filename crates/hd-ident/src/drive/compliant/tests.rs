@@ -150,6 +150,64 @@ pub(super) fn test_spec(
     }
 }
 
+/// The drive with parameters `p` and gear law `law`, as a params set and in [`NAMES`]
+/// order (the other laws' parameters at zero).
+pub(super) fn drive_with(p: Params, law: HystLaw) -> (Params, [f64; P]) {
+    let mut v = NAMES.map(|n| p.get(n).unwrap());
+    super::model::on_law(&mut v, law);
+    (p, v)
+}
+
+/// The fit tests' start: `truth` with the parameters `free_idx` moved alternately 25 % up
+/// and 30 % down (Km with Ke), as (start, free, lower, upper): those parameters and Km free,
+/// each positive start bounded to start/1000 … start·1000.
+pub(super) fn off_start(
+    truth: &[f64; P],
+    free_idx: &[usize],
+) -> ([f64; P], [bool; P], [f64; P], [f64; P]) {
+    use super::model::ix::{KE, KM};
+    let mut start = *truth;
+    for (j, &k) in free_idx.iter().enumerate() {
+        start[k] *= if j % 2 == 0 { 1.25 } else { 0.7 };
+    }
+    start[KM] = start[KE];
+    let mut free = [false; P];
+    let (mut lower, mut upper) = ([f64::NEG_INFINITY; P], [f64::INFINITY; P]);
+    for &k in free_idx {
+        free[k] = true;
+        if start[k] > 0.0 {
+            lower[k] = start[k] * 1e-3;
+            upper[k] = start[k] * 1e3;
+        }
+    }
+    free[KM] = true;
+    (start, free, lower, upper)
+}
+
+/// The exact-derivative tests' specification: the drive at `start` (ratio `n`, friction
+/// where `fv` puts it, levels tied across directions or not), every parameter its own
+/// (Km apart from Ke), compared on the three outputs at 1e-3 rad, 1e-5 rad and 1e-2 A.
+pub(super) fn jacobian_spec(
+    n: f64,
+    start: [f64; P],
+    fv: FrictionVelocity,
+    symmetric: bool,
+    substeps: usize,
+) -> CompliantSpec {
+    let outputs = vec![
+        (Signal::Motor, vec![1e-3]),
+        (Signal::Load, vec![1e-5]),
+        (Signal::Current, vec![1e-2]),
+    ];
+    CompliantSpec {
+        free: [true; P],
+        km_is_ke: false,
+        symmetric_friction: symmetric,
+        friction_velocity: fv,
+        ..test_spec(n, start, outputs, substeps)
+    }
+}
+
 /// The fit's integration of the seed drive matches hd-model's adaptive solve (rtol 1e-11):
 /// at the substeps the fit picks, motor angle, load angle and current agree to 1e-4 of their
 /// RMS (8.7e-5, 8.7e-5 and 3.9e-5 measured), and twice the substeps cut every difference by

@@ -3,12 +3,12 @@
 //! solve of the same drive, its exact derivatives against central differences, and a fit
 //! that recovers both laws from a record of them.
 
-use super::fit::{CompliantFit, CompliantSpec, Signal, substeps_of};
-use super::model::{Compliant, NAMES, P, has_load_law, ix::*, on_law};
+use super::fit::{CompliantFit, CompliantSpec, substeps_of};
+use super::model::{Compliant, P, has_load_law, ix::*};
 use super::record::Between;
 use super::tests::{
-    assert_jacobian_matches, assert_matches_reference, chirp_reference_with, fit_and_judge, record,
-    rig_record, test_spec,
+    assert_jacobian_matches, assert_matches_reference, chirp_reference_with, drive_with,
+    fit_and_judge, jacobian_spec, off_start, record, rig_record, test_spec,
 };
 use hd_model::{FrictionVelocity, HystLaw, Params};
 
@@ -26,8 +26,7 @@ fn both_sides() -> (Params, [f64; P]) {
         sigma2_load: 0.3,
         ..Params::default()
     };
-    let mut v = NAMES.map(|n| p.get(n).unwrap());
-    on_law(&mut v, HystLaw::Memory);
+    let (p, v) = drive_with(p, HystLaw::Memory);
     assert!(has_load_law(&v));
     (p, v)
 }
@@ -62,16 +61,7 @@ fn friction_on_both_sides_matches_the_simulator() {
 fn friction_on_both_sides_exact_derivatives() {
     let (_, v) = both_sides();
     let rec = record(&reference(0.15, 12.0, 60.0), "ref");
-    let outputs = vec![
-        (Signal::Motor, vec![1e-3]),
-        (Signal::Load, vec![1e-5]),
-        (Signal::Current, vec![1e-2]),
-    ];
-    let spec = CompliantSpec {
-        free: [true; P],
-        km_is_ke: false,
-        ..test_spec(Params::default().n, v, outputs, 16)
-    };
+    let spec = jacobian_spec(Params::default().n, v, FrictionVelocity::Motor, true, 16);
     let free = [TC_L, TS_L, WS_L, SIGMA0_L, SIGMA1_L, SIGMA2_L, TC, SIGMA0, JZ, CZ];
     assert_jacobian_matches(&spec, &v, &free, &rec, 1e-4);
 }
@@ -88,21 +78,7 @@ fn fits_friction_on_both_sides() {
     let (params, truth) = both_sides();
     let (rec, outputs) = rig_record(reference(2.0, 12.0, 200.0), 7);
     let free_idx = [R, KE, JJ, JZ, CJ, CZ, C, MEM_A, TC, TS, TC_L, TS_L, WS_L, SIGMA0_L, SIGMA1_L];
-    let mut start = truth;
-    for (j, &k) in free_idx.iter().enumerate() {
-        start[k] *= if j % 2 == 0 { 1.25 } else { 0.7 };
-    }
-    start[KM] = start[KE];
-    let mut free = [false; P];
-    let (mut lower, mut upper) = ([f64::NEG_INFINITY; P], [f64::INFINITY; P]);
-    for &k in &free_idx {
-        free[k] = true;
-        if start[k] > 0.0 {
-            lower[k] = start[k] * 1e-3;
-            upper[k] = start[k] * 1e3;
-        }
-    }
-    free[KM] = true;
+    let (start, free, lower, upper) = off_start(&truth, &free_idx);
     let d = Compliant::new(start, params.n);
     let spec = CompliantSpec {
         free,

@@ -2,10 +2,10 @@
 //! on the motor and +Tf on the load): the fit's drive against hd-model's solve of the same
 //! drive, and its exact derivatives against central differences.
 
-use super::fit::{CompliantSpec, Signal};
-use super::model::{Compliant, NAMES, P, ix::*, on_law};
+use super::model::{Compliant, P, ix::*};
 use super::tests::{
-    assert_jacobian_matches, assert_matches_reference, chirp_reference_with, record, test_spec,
+    assert_jacobian_matches, assert_matches_reference, chirp_reference_with, drive_with,
+    jacobian_spec, record,
 };
 use hd_model::{FrictionVelocity, HystLaw, Params};
 
@@ -14,9 +14,7 @@ use hd_model::{FrictionVelocity, HystLaw, Params};
 /// deflections (a stiffer, stronger one locks the gear, and then no level shows).
 fn across() -> (Params, [f64; P]) {
     let p = Params { tc: 0.5, ts: 0.8, ws: 1e-3, sigma0: 5e4, sigma1: 2.0, ..Params::default() };
-    let mut v = NAMES.map(|n| p.get(n).unwrap());
-    on_law(&mut v, HystLaw::Memory);
-    (p, v)
+    drive_with(p, HystLaw::Memory)
 }
 
 /// hd-model's solve (rtol 1e-11) under a 2 Hz → 60 Hz, 12 V chirp over `t_end` seconds.
@@ -45,17 +43,8 @@ fn friction_across_the_gear_matches_the_simulator() {
 fn friction_across_the_gear_exact_derivatives() {
     let (_, v) = across();
     let rec = record(&reference(0.15), "ref");
-    let outputs = vec![
-        (Signal::Motor, vec![1e-3]),
-        (Signal::Load, vec![1e-5]),
-        (Signal::Current, vec![1e-2]),
-    ];
-    let spec = CompliantSpec {
-        free: [true; P],
-        km_is_ke: false,
-        friction_velocity: FrictionVelocity::Deflection,
-        ..test_spec(Params::default().n, v, outputs, 16)
-    };
+    let fv = FrictionVelocity::Deflection;
+    let spec = jacobian_spec(Params::default().n, v, fv, true, 16);
     let free = [TC, TS, WS, SIGMA0, SIGMA1, C, MEM_A, JZ];
     assert_jacobian_matches(&spec, &v, &free, &rec, 1e-4);
 }

@@ -3,12 +3,12 @@
 //! derivatives against central differences, and fits that recover the gear from records
 //! of it; and the friction levels that differ by direction.
 
-use super::fit::{CompliantFit, CompliantSpec, Signal, substeps_for};
-use super::model::{Compliant, NAMES, P, ix::*, on_law};
+use super::fit::{CompliantFit, CompliantSpec, substeps_for};
+use super::model::{Compliant, P, ix::*};
 use super::record::Between;
 use super::tests::{
-    assert_jacobian_matches, assert_matches_reference, chirp_reference_of, fit_and_judge, record,
-    rig_record, test_spec,
+    assert_jacobian_matches, assert_matches_reference, chirp_reference_of, drive_with,
+    fit_and_judge, jacobian_spec, off_start, record, rig_record, test_spec,
 };
 use hd_model::{HystLaw, Params};
 
@@ -18,13 +18,6 @@ use hd_model::{HystLaw, Params};
 /// [`NAMES`] order.
 fn drive_of(law: HystLaw) -> (Params, [f64; P]) {
     drive_with(Params::default(), law)
-}
-
-/// The drive with parameters `p` and gear law `law`, as a params set and in [`NAMES`] order.
-fn drive_with(p: Params, law: HystLaw) -> (Params, [f64; P]) {
-    let mut v = NAMES.map(|n| p.get(n).unwrap());
-    on_law(&mut v, law);
-    (p, v)
 }
 
 /// The fit's integration of the drive with gear law `law` against hd-model's adaptive solve
@@ -82,18 +75,8 @@ fn exact_derivatives_at(
     let h = 1e-3;
     let cols = chirp_reference_of(&params, law, 0.15, h, 12.0, 60.0);
     let rec = record(&cols, "ref");
-    let outputs = vec![
-        (Signal::Motor, vec![1e-3]),
-        (Signal::Load, vec![1e-5]),
-        (Signal::Current, vec![1e-2]),
-    ];
-    let spec = CompliantSpec {
-        free: [true; P],
-        km_is_ke: false,
-        symmetric_friction: symmetric,
-        friction_velocity: hd_model::FrictionVelocity::Motor,
-        ..test_spec(params.n, start, outputs, 8)
-    };
+    let fv = hd_model::FrictionVelocity::Motor;
+    let spec = jacobian_spec(params.n, start, fv, symmetric, 8);
     assert_jacobian_matches(&spec, &start, free_idx, &rec, tolerance);
 }
 
@@ -127,19 +110,7 @@ fn fit_with(law: HystLaw, gear: &[usize]) -> CompliantFit {
         .chain(gear.iter().copied())
         .chain([SIGMA0, TC])
         .collect();
-    let mut start = truth;
-    for (j, &k) in free_idx.iter().enumerate() {
-        start[k] *= if j % 2 == 0 { 1.25 } else { 0.7 };
-    }
-    start[KM] = start[KE];
-    let mut free = [false; P];
-    let (mut lower, mut upper) = ([f64::NEG_INFINITY; P], [f64::INFINITY; P]);
-    for &k in &free_idx {
-        free[k] = true;
-        lower[k] = start[k] * 1e-3;
-        upper[k] = start[k] * 1e3;
-    }
-    free[KM] = true;
+    let (start, free, lower, upper) = off_start(&truth, &free_idx);
     let m = substeps_for(&start, params.n, h);
     let spec = CompliantSpec {
         free,

@@ -4,11 +4,11 @@
 //! a record of them.
 
 use super::fit::{CompliantFit, CompliantSpec, Signal, substeps_of};
-use super::model::{Compliant, NAMES, P, ix::*, on_law};
+use super::model::{Compliant, P, ix::*};
 use super::record::Between;
 use super::tests::{
-    assert_jacobian_matches, assert_matches_reference, chirp_reference_with, fit_and_judge, record,
-    rig_record, test_spec,
+    assert_jacobian_matches, assert_matches_reference, chirp_reference_with, drive_with,
+    fit_and_judge, jacobian_spec, off_start, record, rig_record, test_spec,
 };
 use hd_model::{FrictionVelocity, HystLaw, Params};
 
@@ -27,9 +27,7 @@ fn load_side() -> (Params, [f64; P]) {
         tl: 0.6,
         ..Params::default()
     };
-    let mut v = NAMES.map(|n| p.get(n).unwrap());
-    on_law(&mut v, HystLaw::Memory);
-    (p, v)
+    drive_with(p, HystLaw::Memory)
 }
 
 /// hd-model's solve (rtol 1e-11) of the load-side drive under a 2 Hz → `f_end` chirp of
@@ -68,12 +66,7 @@ fn spec_at(start: [f64; P], outputs: Vec<(Signal, Vec<f64>)>, substeps: usize) -
 fn load_friction_exact_derivatives() {
     let (_, v) = load_side();
     let rec = record(&reference(0.15, 12.0, 60.0), "ref");
-    let outputs = vec![
-        (Signal::Motor, vec![1e-3]),
-        (Signal::Load, vec![1e-5]),
-        (Signal::Current, vec![1e-2]),
-    ];
-    let spec = CompliantSpec { free: [true; P], km_is_ke: false, ..spec_at(v, outputs, 16) };
+    let spec = jacobian_spec(Params::default().n, v, FrictionVelocity::Load, true, 16);
     let free = [TL, TC, TS, WS, SIGMA0, SIGMA1, JZ, CZ, C];
     assert_jacobian_matches(&spec, &v, &free, &rec, 1e-4);
 }
@@ -90,22 +83,10 @@ fn fits_friction_on_the_load_and_its_torque() {
     let (params, truth) = load_side();
     let (rec, outputs) = rig_record(reference(2.0, 12.0, 200.0), 5);
     let free_idx = [R, KE, JJ, JZ, CJ, CZ, C, MEM_A, SIGMA0, SIGMA1, TC, TS, WS, TL];
-    let mut start = truth;
-    for (j, &k) in free_idx.iter().enumerate() {
-        start[k] *= if j % 2 == 0 { 1.25 } else { 0.7 };
-    }
-    start[KM] = start[KE];
+    let (mut start, free, mut lower, mut upper) = off_start(&truth, &free_idx);
+    // TL from 0 (a user who does not know it), fitted signed.
     start[TL] = 0.0;
-    let mut free = [false; P];
-    let (mut lower, mut upper) = ([f64::NEG_INFINITY; P], [f64::INFINITY; P]);
-    for &k in &free_idx {
-        free[k] = true;
-        if start[k] > 0.0 {
-            lower[k] = start[k] * 1e-3;
-            upper[k] = start[k] * 1e3;
-        }
-    }
-    free[KM] = true;
+    (lower[TL], upper[TL]) = (f64::NEG_INFINITY, f64::INFINITY);
     let d = Compliant::new(start, params.n).with_friction_velocity(FrictionVelocity::Load);
     let spec = CompliantSpec {
         free,
