@@ -13,6 +13,7 @@ pub mod determined;
 pub mod fit;
 pub mod loop_config;
 pub mod model;
+pub mod params;
 pub mod ratio_check;
 pub mod record;
 pub mod requantised;
