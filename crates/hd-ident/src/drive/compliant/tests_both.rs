@@ -90,3 +90,28 @@ fn fits_friction_on_both_sides() {
     let fit: CompliantFit = fit_and_judge(&spec, rec, &truth, &free_idx);
     assert!(fit.determined[TC_L], "the load's Coulomb level shows in a voltage test");
 }
+
+/// More than 16 free parameters (both laws with the motor's and the gear's: the widest
+/// dual) give the same columns as the same parameters taken in two narrower runs.
+#[test]
+fn a_wide_jacobian_matches_its_narrow_parts() {
+    let (_, v) = both_sides();
+    let rec = record(&reference(0.1, 12.0, 60.0), "ref");
+    let spec = jacobian_spec(Params::default().n, v, FrictionVelocity::Motor, true, 16);
+    let wide = [
+        R, KE, JJ, JZ, CJ, CZ, C, MEM_A, MEM_B, TC, TS, WS, SIGMA0, TC_L, TS_L, WS_L, SIGMA0_L,
+        SIGMA1_L,
+    ];
+    assert!(wide.len() > 16);
+    let recs = std::slice::from_ref(&rec);
+    let (r, j) = super::fit::residuals_and_jacobian(&spec, &v, &wide, recs);
+    let mut col = 0;
+    for part in wide.chunks(9) {
+        let (rp, jp) = super::fit::residuals_and_jacobian(&spec, &v, part, recs);
+        assert_eq!(r, rp, "the residuals do not depend on which derivatives are carried");
+        for (c, &k) in part.iter().enumerate() {
+            assert_eq!(j.column(col + c), jp.column(c), "{}", super::model::NAMES[k]);
+        }
+        col += part.len();
+    }
+}
