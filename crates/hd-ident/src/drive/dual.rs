@@ -172,10 +172,12 @@ impl<const N: usize> Div for Dual<N> {
     type Output = Dual<N>;
     #[inline(always)]
     fn div(self, o: Dual<N>) -> Dual<N> {
+        // The derivatives are scaled by the reciprocal (one division, not N).
+        let inv = 1.0 / o.v;
         let q = self.v / o.v;
         let mut d = [0.0; N];
         for (k, x) in d.iter_mut().enumerate() {
-            *x = (self.d[k] - q * o.d[k]) / o.v;
+            *x = (self.d[k] - q * o.d[k]) * inv;
         }
         Dual { v: q, d }
     }

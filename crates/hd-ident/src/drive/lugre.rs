@@ -117,7 +117,7 @@ impl<T: Scalar> LuGreDrive<T> {
         }
         // The Stribeck level G and its derivatives, from the law.
         let lg = law.level_grad(vr);
-        let (_, slope) = law.stribeck(vr);
+        let slope = lg.slope;
         let lg_parts = lg.grad;
         let level = T::lift(
             lg.level,

@@ -28,6 +28,8 @@ pub type ShapeGrad = [f64; 6];
 pub struct LevelGrad {
     /// `G(v)` [N·m].
     pub level: f64,
+    /// ∂G/∂v [N·m·s/rad] (the same as [`LuGre::stribeck`]'s, from the same exponential).
+    pub slope: f64,
     /// ∂G/∂p for p in [`SHAPE_PARAMS`] (∂G/∂σ0 = 0).
     pub grad: ShapeGrad,
 }
@@ -62,7 +64,8 @@ impl LuGre {
         grad[kc] = 1.0 - e;
         grad[ks] = e;
         grad[2] = (ts - tc) * e * 2.0 * r * r / self.ws;
-        LevelGrad { level, grad }
+        let slope = (ts - tc) * e * (-2.0 * r / self.ws);
+        LevelGrad { level, slope, grad }
     }
 
     /// The state [N·m] after `h` seconds at the held speed v [rad/s] from w₀ [N·m]

@@ -345,15 +345,6 @@ impl CompliantConfig {
             free[ix::TC_NEG] = free[ix::TC];
             free[ix::TS_NEG] = free[ix::TS];
         }
-        let count = free.iter().filter(|&&f| f).count()
-            - usize::from(self.km_equals_ke.unwrap_or(true) && free[ix::KM])
-            - if directional { 0 } else { usize::from(free[ix::TC]) + usize::from(free[ix::TS]) };
-        if count > super::fit::MAX_FREE {
-            return Err(DriveError::config(
-                format!("{file}, [fit] free"),
-                format!("{count} free parameters; expected at most {}", super::fit::MAX_FREE),
-            ));
-        }
         Ok(free)
     }
 

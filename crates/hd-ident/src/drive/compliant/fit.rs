@@ -17,9 +17,6 @@ use rayon::prelude::*;
 /// Called after each iteration with (iteration, cost); fits may run in parallel.
 pub type Progress<'a> = &'a (dyn Fn(usize, f64) + Sync);
 
-/// Largest number of free parameters.
-pub const MAX_FREE: usize = 24;
-
 /// Largest (fastest rate × substep) the substep count allows [–].
 const RATE_STEP: f64 = 0.1;
 
@@ -350,8 +347,40 @@ fn jacobian<const N: usize>(
     (r, j)
 }
 
-/// Residuals and Jacobian at `p`, with the smallest dual size that holds the free ones.
+/// Widest dual number a block of Jacobian columns is computed with.
+const WIDEST_DUAL: usize = 16;
+
+/// Residuals and Jacobian at `p`. The free columns are split into blocks, each run on the
+/// smallest dual size that holds it: at most [`WIDEST_DUAL`] columns a block, and, where the
+/// records are fewer than the threads, as many blocks as keep every thread busy (each block
+/// re-runs the values, a small share of a dual run's work, and the blocks run in parallel).
 pub fn residuals_and_jacobian(
+    spec: &CompliantSpec,
+    p: &[f64; P],
+    free_idx: &[usize],
+    records: &[VoltageRecord],
+) -> (Vec<f64>, DMatrix<f64>) {
+    let k = free_idx.len();
+    let threads = rayon::current_num_threads();
+    let per_record = threads.div_ceil(records.len().max(1));
+    // Blocks narrower than four columns would spend more on values than on derivatives.
+    let blocks = k.div_ceil(WIDEST_DUAL).max(per_record.min(k.div_ceil(4))).max(1);
+    let width = k.div_ceil(blocks).max(1);
+    if width >= k {
+        return jacobian_block(spec, p, free_idx, records);
+    }
+    let parts: Vec<(Vec<f64>, DMatrix<f64>)> =
+        free_idx.par_chunks(width).map(|cols| jacobian_block(spec, p, cols, records)).collect();
+    let r = parts[0].0.clone();
+    let mut j = DMatrix::zeros(r.len(), k);
+    for (b, (_, part)) in parts.iter().enumerate() {
+        j.columns_mut(b * width, part.ncols()).copy_from(part);
+    }
+    (r, j)
+}
+
+/// One block of columns on the smallest dual size that holds it.
+fn jacobian_block(
     spec: &CompliantSpec,
     p: &[f64; P],
     free_idx: &[usize],
@@ -361,8 +390,7 @@ pub fn residuals_and_jacobian(
         k if k <= 4 => jacobian::<4>(spec, p, free_idx, records),
         k if k <= 8 => jacobian::<8>(spec, p, free_idx, records),
         k if k <= 12 => jacobian::<12>(spec, p, free_idx, records),
-        k if k <= 16 => jacobian::<16>(spec, p, free_idx, records),
-        _ => jacobian::<MAX_FREE>(spec, p, free_idx, records),
+        _ => jacobian::<WIDEST_DUAL>(spec, p, free_idx, records),
     }
 }
 
@@ -374,12 +402,6 @@ pub(super) fn fit_stage(
 ) -> Result<CompliantFit, String> {
     let free_idx: Vec<usize> =
         (0..NAMES.len()).filter(|&k| spec.free[k] && !spec.follows(k)).collect();
-    if free_idx.len() > MAX_FREE {
-        return Err(format!(
-            "{} free parameters; the compliant fit takes at most {MAX_FREE}",
-            free_idx.len()
-        ));
-    }
     // Parameters that are positive at the start and bounded below by zero are fitted by
     // their logarithm (relative steps: a step cannot reach zero or below, and a parameter
     // the record barely sees drifts by factors, not into the bound); others as they are.

@@ -89,6 +89,7 @@ impl<T: Scalar> State<T> {
     }
 
     /// `self + k·h`.
+    #[inline(always)]
     fn add(&self, k: &State<T>, h: f64) -> State<T> {
         State {
             theta_j: self.theta_j + k.theta_j * h,
@@ -186,12 +187,12 @@ impl<T: Scalar> Compliant<T> {
     }
 
     /// The Stribeck level G(v) [N·m] with its derivatives (the law's own).
-    #[inline]
+    #[inline(always)]
     fn level(&self, v: T) -> T {
         use ix::*;
         let vr = v.re();
         let lg = self.law.level_grad(vr);
-        let (_, slope) = self.law.stribeck(vr);
+        let slope = lg.slope;
         // The negative side's levels are their own parameters (a symmetric fit ties them to
         // Tc and Ts, so their derivatives land there).
         let g = lg.grad;
@@ -216,7 +217,7 @@ impl<T: Scalar> Compliant<T> {
         use ix::*;
         let vr = v.re();
         let lg = law.level_grad(vr);
-        let (_, slope) = law.stribeck(vr);
+        let slope = lg.slope;
         let g = lg.grad;
         T::lift(
             lg.level,

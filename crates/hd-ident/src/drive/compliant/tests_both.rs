@@ -91,8 +91,9 @@ fn fits_friction_on_both_sides() {
     assert!(fit.determined[TC_L], "the load's Coulomb level shows in a voltage test");
 }
 
-/// More than 16 free parameters (both laws with the motor's and the gear's: the widest
-/// dual) give the same columns as the same parameters taken in two narrower runs.
+/// More than 16 free parameters (both laws with the motor's and the gear's: more than the
+/// widest dual, so the columns go in blocks) give the same columns as the same parameters
+/// taken in two narrower runs, themselves split into other blocks.
 #[test]
 fn a_wide_jacobian_matches_its_narrow_parts() {
     let (_, v) = both_sides();
