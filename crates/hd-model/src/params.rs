@@ -98,6 +98,14 @@ pub struct Params {
     /// Static level of the load-side law `Ts_load` [N·m]; default 0.
     #[serde(rename = "Ts_load", skip_serializing_if = "is_zero")]
     pub ts_load: f64,
+    /// Coulomb level of the load-side law for negative load speeds `Tc_neg_load` [N·m];
+    /// unset (the default) means equal to `Tc_load`, a symmetric law.
+    #[serde(rename = "Tc_neg_load", skip_serializing_if = "Option::is_none")]
+    pub tc_neg_load: Option<f64>,
+    /// Static level of the load-side law for negative load speeds `Ts_neg_load` [N·m];
+    /// unset (the default) means equal to `Ts_load`.
+    #[serde(rename = "Ts_neg_load", skip_serializing_if = "Option::is_none")]
+    pub ts_neg_load: Option<f64>,
     /// Stribeck velocity of the load-side law `ws_load` [rad/s]; default 0 (must be set
     /// when the law is present).
     #[serde(skip_serializing_if = "is_zero")]
@@ -204,6 +212,8 @@ impl Default for Params {
             tl: 0.0,
             tc_load: 0.0,
             ts_load: 0.0,
+            tc_neg_load: None,
+            ts_neg_load: None,
             ws_load: 0.0,
             sigma0_load: 0.0,
             sigma1_load: 0.0,

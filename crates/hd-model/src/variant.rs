@@ -220,15 +220,22 @@ fn catalogue(p: &Params) -> Result<Stiffness, ConfigError> {
     Ok(Stiffness { curve: Curve::Catalogue(law.spring), hyst })
 }
 
+/// Whether `p` has a load-side friction law: a Coulomb or static level of it above 0, in
+/// either direction.
+pub fn has_load_friction(p: &Params) -> bool {
+    let neg = [p.tc_neg_load, p.ts_neg_load].map(|v| v.unwrap_or(0.0));
+    p.tc_load > 0.0 || p.ts_load > 0.0 || neg.iter().any(|&v| v > 0.0)
+}
+
 /// The load-side LuGre law of `p` (the `*_load` parameters, docs/model.md §2.6): `None`
-/// when its Coulomb and static levels are both 0; an error naming the field when the law
+/// when its Coulomb and static levels (either direction's) are all 0; an error naming the field when the law
 /// is present without a bristle stiffness or a Stribeck velocity above 0, or when the
 /// gear's own law already acts on the load (`friction_velocity = "load"`).
 pub fn load_friction_law(
     p: &Params,
     friction_velocity: crate::system::FrictionVelocity,
 ) -> Result<Option<LuGre>, ConfigError> {
-    if p.tc_load == 0.0 && p.ts_load == 0.0 {
+    if !has_load_friction(p) {
         return Ok(None);
     }
     let invalid = |field: &str, value: String, expected: &str| ConfigError::Invalid {
@@ -241,7 +248,7 @@ pub fn load_friction_law(
             return Err(invalid(
                 name,
                 v.to_string(),
-                "a value > 0 when the load-side friction law is present (Tc_load or Ts_load > 0)",
+                "a value > 0 when the load-side friction law is present (a level Tc_load, Ts_load, Tc_neg_load or Ts_neg_load > 0)",
             ));
         }
     }
@@ -252,14 +259,19 @@ pub fn load_friction_law(
             "\"motor\" or \"deflection\" beside a load-side law (Tc_load, Ts_load): the gear's own law already acts on the load; put its levels in Tc and Ts instead",
         ));
     }
-    Ok(Some(LuGre::symmetric(
+    let law = LuGre::symmetric(
         p.sigma0_load,
         p.sigma1_load,
         p.sigma2_load,
         p.tc_load,
         p.ts_load,
         p.ws_load,
-    )))
+    );
+    Ok(Some(LuGre {
+        tc_neg: p.tc_neg_load.unwrap_or(p.tc_load),
+        ts_neg: p.ts_neg_load.unwrap_or(p.ts_load),
+        ..law
+    }))
 }
 
 /// Build the friction law of the given kind from the parameters.

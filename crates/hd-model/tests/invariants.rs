@@ -69,6 +69,9 @@ fn energy_balance_closes_over_the_seed_case() {
                 sigma0_load: 2e4,
                 sigma1_load: 5.0,
                 sigma2_load: 0.05,
+                // Direction-dependent: the negative side's own levels.
+                tc_neg_load: Some(0.6),
+                ts_neg_load: Some(1.0),
                 ..params
             };
         }
@@ -89,7 +92,8 @@ fn energy_balance_closes_over_the_seed_case() {
         eprintln!(
             "energy balance, {fv:?}, load-side law {load_law}: {e_in:.6} J in, residual {rel:.2e}"
         );
-        // Measured at rtol 1e-11: 4.5e-15, 3.9e-16 and 7.8e-16 (load, with TL). At rtol
+        // Measured at rtol 1e-11: 4.5e-15, 3.9e-16 and 7.8e-16 (load, with TL); with the
+        // direction-dependent load-side law 3.5e-15 (motor, TL) and 2.3e-15. At rtol
         // 1e-9 the first two close as well but the load case only to 2.1e-12: there the
         // balance follows the tolerance, so this test holds the solve tight.
         assert!(
@@ -220,6 +224,8 @@ fn analytic_jacobian_matches_finite_differences() {
         (p.tc_load, p.ts_load, p.ws_load) =
             if load_law { (0.8, 1.2, 0.05) } else { (0.0, 0.0, 0.0) };
         (p.sigma0_load, p.sigma1_load, p.sigma2_load) = (3e4, 4.0, 0.07);
+        (p.tc_neg_load, p.ts_neg_load) =
+            if load_law { (Some(0.5), Some(0.9)) } else { (None, None) };
         let input = Input::Sine { amplitude: 24.0, freq: 50.0 };
         let sys = DriveSystem::new(&p, sk, fk, input, fv).unwrap();
         let mut y = State::zeros();

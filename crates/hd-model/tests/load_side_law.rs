@@ -29,20 +29,21 @@ fn stribeck(v: f64, tc: f64, ts: f64, ws: f64, s2: f64) -> f64 {
     v.signum() * (tc + (ts - tc) * (-(v / ws).powi(2)).exp()) + s2 * v
 }
 
-#[test]
-fn steady_speed_is_the_root_of_the_torque_balance() {
-    let p = with_load_law();
-    let u = 24.0;
+/// The steady load speed of `p` under a held voltage `u` [V] (the end of a 3 s run at rtol
+/// 1e-10), the root of the torque balance with the load-side levels `(tc, ts)` of the
+/// direction it runs in, and its load-side bristle torque.
+fn steady_against_balance(p: &Params, u: f64, tc: f64, ts: f64) -> (f64, f64, f64) {
     // At a steady speed ωz the gear is still (θ̇ = 0, so z = 0 and ωj = N·ωz), each bristle
     // sits at its Stribeck level, and the gear carries what the load side takes:
     // Tb = Cz·ωz + TL + Tf_load(ωz); the motor's balance is then
     // Km·(u − Ke·N·ωz)/R − Cj·N·ωz − (Tb + Tf(ωz))/N = 0.
     let balance = |wz: f64| {
-        let tb = p.cz * wz + p.tl + stribeck(wz, 3.0, 4.0, 0.05, 0.5);
+        let tb = p.cz * wz + p.tl + stribeck(wz, tc, ts, p.ws_load, p.sigma2_load);
         let tf = stribeck(wz, p.tc, p.ts, p.ws, p.sigma2);
         p.km * (u - p.ke * p.n * wz) / p.r - p.cj * p.n * wz - (tb + tf) / p.n
     };
-    let (mut lo, mut hi) = (1e-6, u / (p.ke * p.n));
+    let free_run = u / (p.ke * p.n);
+    let (mut lo, mut hi) = if u > 0.0 { (1e-6, free_run) } else { (free_run, -1e-6) };
     assert!(balance(lo) > 0.0 && balance(hi) < 0.0);
     for _ in 0..200 {
         let mid = 0.5 * (lo + hi);
@@ -58,13 +59,40 @@ fn steady_speed_is_the_root_of_the_torque_balance() {
         ..SimConfig::default()
     };
     let y = simulate(&cfg).unwrap().final_state;
-    let rel = (y[OMEGA_Z] - expected).abs() / expected;
-    eprintln!("steady load speed {:.9} rad/s against {expected:.9} ({rel:.1e} off)", y[OMEGA_Z]);
+    (y[OMEGA_Z], expected, y[W_LOAD])
+}
+
+#[test]
+fn steady_speed_is_the_root_of_the_torque_balance() {
+    let (wz, expected, w_l) = steady_against_balance(&with_load_law(), 24.0, 3.0, 4.0);
+    let rel = (wz - expected).abs() / expected;
+    eprintln!("steady load speed {wz:.9} rad/s against {expected:.9} ({rel:.1e} off)");
     // Measured 1.3e-16.
-    assert!(rel < 2e-15, "ωz = {}, expected {expected}", y[OMEGA_Z]);
+    assert!(rel < 2e-15, "ωz = {wz}, expected {expected}");
     // The load-side bristle sits at its level: w_L = G_L(ωz).
     let level = stribeck(expected, 3.0, 4.0, 0.05, 0.0);
-    assert!((y[W_LOAD] - level).abs() < 1e-9 * level, "w_L = {}, level {level}", y[W_LOAD]);
+    assert!((w_l - level).abs() < 1e-9 * level, "w_L = {w_l}, level {level}");
+}
+
+/// A direction-dependent load-side law (`Tc_neg_load`, `Ts_neg_load`): run backwards the
+/// load settles where the negative side's levels balance the drive, run forwards where the
+/// positive side's do (the negative ones play no part there).
+#[test]
+fn a_direction_dependent_load_law_takes_each_sides_levels() {
+    let p = Params { tc_neg_load: Some(1.5), ts_neg_load: Some(2.5), tl: 0.0, ..with_load_law() };
+    for (u, tc, ts) in [(-24.0, 1.5, 2.5), (24.0, 3.0, 4.0)] {
+        let (wz, expected, w_l) = steady_against_balance(&p, u, tc, ts);
+        let rel = (wz - expected).abs() / expected.abs();
+        eprintln!("u = {u} V: load speed {wz:.9} rad/s against {expected:.9} ({rel:.1e} off)");
+        assert!(rel < 2e-15, "u = {u}: ωz = {wz}, expected {expected}");
+        let level = stribeck(expected, tc, ts, 0.05, 0.0);
+        assert!((w_l - level).abs() < 1e-9 * level.abs(), "w_L = {w_l}, level {level}");
+    }
+    // The same speeds differ from the symmetric law's backwards: the levels are used.
+    let (sym, _, _) =
+        steady_against_balance(&Params { tl: 0.0, ..with_load_law() }, -24.0, 3.0, 4.0);
+    let (dir, _, _) = steady_against_balance(&p, -24.0, 1.5, 2.5);
+    assert!(dir < sym, "lower levels backwards let the load run faster: {dir} vs {sym}");
 }
 
 #[test]
