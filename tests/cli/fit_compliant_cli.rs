@@ -215,26 +215,32 @@ fn friction_across_the_gear_is_carried_through() {
 }
 
 /// Friction on both sides: the seed's law on the wave generator and a second law on the
-/// load (Tc_load = 4, Ts_load = 6 N·m, ωs = 0.02 rad/s, σ0 = 3e5 N·m/rad, σ1 = 40
-/// N·m·s/rad). The load law's levels are fitted from 25–30 % off with the motor's
-/// parameters, and params.toml carries the law back to the simulator.
+/// load, direction-dependent (Tc_load = 4, Ts_load = 6 N·m forwards, 3 and 4.5 N·m
+/// backwards, ωs = 0.02 rad/s, σ0 = 3e5 N·m/rad, σ1 = 40 N·m·s/rad). The load law's four
+/// levels are fitted from 20–30 % off with the motor's parameters (the start file setting
+/// the negative side's makes them the fit's own), and params.toml carries the law back to
+/// the simulator.
 #[test]
 fn friction_on_both_sides_is_fitted_and_written_back() {
     let law = "ws_load = 0.02\nsigma0_load = 3e5\nsigma1_load = 40.0\n";
-    let fit = "free = [\"R\", \"Ke\", \"Jj\", \"Cj\", \"Tc_load\", \"Ts_load\"]\nnoise = { motor = 4.43e-4, load = 1.73e-6 }";
+    let fit = "free = [\"R\", \"Ke\", \"Jj\", \"Cj\", \"Tc_load\", \"Ts_load\", \"Tc_neg_load\", \"Ts_neg_load\"]\nnoise = { motor = 4.43e-4, load = 1.73e-6 }";
     let (doc, params) = fitted_back(
         "fit-compliant-both-sides",
-        &format!("Tc_load = 4.0\nTs_load = 6.0\n{law}"),
-        &format!("Tc_load = 5.0\nTs_load = 4.4\n{law}"),
+        &format!("Tc_load = 4.0\nTs_load = 6.0\nTc_neg_load = 3.0\nTs_neg_load = 4.5\n{law}"),
+        &format!("Tc_load = 5.0\nTs_load = 4.4\nTc_neg_load = 3.6\nTs_neg_load = 3.4\n{law}"),
         fit,
     );
-    for (name, truth) in [("Tc_load", 4.0), ("Ts_load", 6.0)] {
+    assert_eq!(doc["directional_load_friction"], true);
+    let levels = [("Tc_load", 4.0), ("Ts_load", 6.0), ("Tc_neg_load", 3.0), ("Ts_neg_load", 4.5)];
+    for (name, truth) in levels {
         let p = &doc["parameters"][name];
         let (v, se) = (p["value"].as_f64().unwrap(), p["std_error"].as_f64().unwrap());
         assert!(p["determined"].as_bool().unwrap() && (v - truth).abs() < 3.0 * se, "{name}: {p}");
         assert_eq!(p["unit"], "N·m");
     }
-    assert!(params.contains("Tc_load = ") && params.contains("sigma0_load = "), "{params}");
+    for name in ["Tc_load = ", "Tc_neg_load = ", "Ts_neg_load = ", "sigma0_load = "] {
+        assert!(params.contains(name), "{name} in {params}");
+    }
 }
 
 /// `axis = "linear"` (a ball screw, a belt): the same fit, its outputs in the load's
@@ -295,6 +301,11 @@ fn bad_compliant_configurations_get_one_line_errors() {
         // law moved to the load.
         ("", "free = [\"R\", \"Tc_load\"]", "[fit] free 'Tc_load'"),
         ("[params]\nTc_load = 2.0\n", "", "sigma0_load"),
+        (
+            "[params]\nTc_load = 2.0\nsigma0_load = 1e5\nws_load = 0.01\n",
+            "free = [\"R\", \"Ts_neg_load\"]",
+            "[fit] free 'Ts_neg_load'",
+        ),
         (
             "friction_velocity = \"load\"\n[params]\nTc_load = 2.0\nsigma0_load = 1e5\nws_load = 0.01\n",
             "",

@@ -119,6 +119,8 @@ struct Base {
     law: HystLaw,
     /// Whether the file sets direction-dependent friction levels (Tc_neg or Ts_neg).
     sets_negative: bool,
+    /// Whether it sets the load-side law's (Tc_neg_load or Ts_neg_load).
+    sets_negative_load: bool,
     /// The file's `friction_velocity`, if it names one.
     friction_velocity: Option<hd_model::FrictionVelocity>,
 }
@@ -147,7 +149,8 @@ fn base_params(cfg: &CompliantConfig, base: &Path) -> Result<Base> {
     }
     on_law(&mut out, law);
     let sets_negative = p.tc_neg.is_some() || p.ts_neg.is_some();
-    Ok(Base { values: out, n: p.n, law, sets_negative, friction_velocity })
+    let sets_negative_load = p.tc_neg_load.is_some() || p.ts_neg_load.is_some();
+    Ok(Base { values: out, n: p.n, law, sets_negative, sets_negative_load, friction_velocity })
 }
 
 /// Run `hdw fit drive` on a compliant-drive configuration `text` of `args.config`.
@@ -173,9 +176,15 @@ pub fn run(args: &DriveArgs, text: &str) -> Result<()> {
         }
     }
     let between = cfg.between(&file)?;
-    let Base { values: params, n, law, sets_negative, friction_velocity } =
+    let Base { values: params, n, law, sets_negative, sets_negative_load, friction_velocity } =
         base_params(&cfg, base)?;
-    let directional = cfg.directional_friction.unwrap_or(sets_negative);
+    // A negative side's level set in [params] counts as set, as one in the params file.
+    let in_params = |names: [&str; 2]| names.iter().any(|n| cfg.params.contains_key(*n));
+    let directional =
+        cfg.directional_friction.unwrap_or(sets_negative || in_params(["Tc_neg", "Ts_neg"]));
+    let directional_load = cfg
+        .directional_load_friction
+        .unwrap_or(sets_negative_load || in_params(["Tc_neg_load", "Ts_neg_load"]));
     let friction_velocity = cfg.friction_velocity(&file, friction_velocity)?;
     let axis = cfg.axis(&file)?;
     let (start, lower, upper) = cfg.start_and_bounds(&params);
@@ -184,7 +193,7 @@ pub fn run(args: &DriveArgs, text: &str) -> Result<()> {
     if let Some(why) = load_law_problem(&start, friction_velocity) {
         anyhow::bail!("{file}: the load-side friction law: {why}");
     }
-    let free = cfg.free(&file, Some(law), directional, load_law)?;
+    let free = cfg.free(&file, Some(law), directional, load_law, directional_load)?;
     cfg.check_law(&file, law)?;
     for r in records.iter().chain(&validation) {
         if let Some(why) = hd_ident::drive::compliant::ratio_check::check_ratio(r, n) {
@@ -245,6 +254,7 @@ pub fn run(args: &DriveArgs, text: &str) -> Result<()> {
         outputs,
         km_is_ke: cfg.km_equals_ke.unwrap_or(true),
         symmetric_friction: !directional,
+        symmetric_load_friction: !directional_load,
         friction_velocity,
         current_offset: cfg.fit.current_offset.unwrap_or(true),
         substeps: floor,

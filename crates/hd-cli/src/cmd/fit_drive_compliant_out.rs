@@ -6,7 +6,7 @@ use super::fit_drive_compliant_loop::LoopInfo;
 use super::fit_drive_out::pair_plots;
 use anyhow::Result;
 use hd_ident::drive::compliant::fit::{CompliantSpec, RecordScore, Signal, simulate_on_zeros};
-use hd_ident::drive::compliant::model::ix::{TC_NEG, TS_NEG};
+use hd_ident::drive::compliant::model::ix::{TC_NEG, TC_NEG_L, TS_NEG, TS_NEG_L};
 use hd_ident::drive::compliant::model::{gear_law, in_drive};
 use hd_ident::drive::compliant::units::{parameter_unit, signal_unit};
 use hd_ident::drive::compliant::{CompliantFit, NAMES, VoltageRecord};
@@ -123,7 +123,9 @@ fn write_all(dir: &Path, o: &Outcome) -> Result<()> {
     // negative-side friction levels only where they are the drive's own (a symmetric fit's
     // follow Tc and Ts).
     let shown = |k: usize| {
-        in_drive(k, &f.values) && !(sp.symmetric_friction && [TC_NEG, TS_NEG].contains(&k))
+        in_drive(k, &f.values)
+            && !(sp.symmetric_friction && [TC_NEG, TS_NEG].contains(&k))
+            && !(sp.symmetric_load_friction && [TC_NEG_L, TS_NEG_L].contains(&k))
     };
     let parameters: Map<String, Value> = NAMES
         .iter()
@@ -148,6 +150,7 @@ fn write_all(dir: &Path, o: &Outcome) -> Result<()> {
         "substeps": sp.substeps,
         "km_equals_ke": sp.km_is_ke,
         "directional_friction": !sp.symmetric_friction,
+        "directional_load_friction": !sp.symmetric_load_friction,
         "friction_velocity": sp.friction_velocity.name(),
         "wall_time_s": o.secs,
         "starts": f.starts,

@@ -91,8 +91,11 @@ pub struct CompliantConfig {
     /// Whether Km equals Ke (SI units); default true.
     pub km_equals_ke: Option<bool>,
     /// Whether the friction levels differ by direction (Tc_neg, Ts_neg their own
-    /// parameters); default: whether the params file sets Tc_neg or Ts_neg.
+    /// parameters); default: whether the params file or `[params]` sets Tc_neg or Ts_neg.
     pub directional_friction: Option<bool>,
+    /// Whether the load-side law's levels differ by direction (Tc_neg_load, Ts_neg_load
+    /// their own parameters); default: whether the params file or `[params]` sets either.
+    pub directional_load_friction: Option<bool>,
     /// `rotary` (default) or `linear` (a ball screw, a belt: the load's position in m, its
     /// forces in N, its mass in kg, N in rad/m; only the units of the outputs change).
     pub axis: Option<String>,
@@ -163,7 +166,7 @@ impl CompliantConfig {
         c.between(file)?;
         c.outputs(file)?;
         super::loop_config::check(&c, file)?;
-        c.free(file, None, true, true)?;
+        c.free(file, None, true, true, true)?;
         for k in c.params.keys() {
             index(k, file, "[params]")?;
         }
@@ -264,13 +267,15 @@ impl CompliantConfig {
     /// With `directional` false, Tc_neg and Ts_neg follow Tc and Ts (naming them is an
     /// error); with it true they are free by default. The load-side law's parameters are
     /// free by default (but sigma2_load) when the drive has that law (`load_law`), and
-    /// naming one without it is an error.
+    /// naming one without it is an error; its negative side's levels as the gear law's,
+    /// with `directional_load`.
     pub fn free(
         &self,
         file: &str,
         law: Option<HystLaw>,
         directional: bool,
         load_law: bool,
+        directional_load: bool,
     ) -> Result<[bool; P], DriveError> {
         let mut free = [false; P];
         let other: Vec<usize> = match law {
@@ -292,6 +297,15 @@ impl CompliantConfig {
                         return Err(DriveError::config(
                             format!("{file}, [fit] free '{n}'"),
                             "the friction is symmetric here, so Tc_neg and Ts_neg follow Tc and Ts; set `directional_friction = true` to fit them apart",
+                        ));
+                    }
+                    if law.is_some()
+                        && !directional_load
+                        && (k == ix::TC_NEG_L || k == ix::TS_NEG_L)
+                    {
+                        return Err(DriveError::config(
+                            format!("{file}, [fit] free '{n}'"),
+                            "the load-side law is symmetric here, so Tc_neg_load and Ts_neg_load follow Tc_load and Ts_load; set `directional_load_friction = true` to fit them apart",
                         ));
                     }
                     if !load_law && LOAD_LAW.contains(&k) {
@@ -344,6 +358,10 @@ impl CompliantConfig {
         if !directional {
             free[ix::TC_NEG] = free[ix::TC];
             free[ix::TS_NEG] = free[ix::TS];
+        }
+        if !directional_load {
+            free[ix::TC_NEG_L] = free[ix::TC_L];
+            free[ix::TS_NEG_L] = free[ix::TS_L];
         }
         Ok(free)
     }

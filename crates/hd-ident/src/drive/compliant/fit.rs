@@ -132,6 +132,9 @@ pub struct CompliantSpec {
     /// Whether the friction is the same in both directions: Tc_neg and Ts_neg then follow
     /// Tc and Ts ([`CompliantSpec::ties`]).
     pub symmetric_friction: bool,
+    /// Whether the load-side law is the same in both directions: Tc_neg_load and
+    /// Ts_neg_load then follow Tc_load and Ts_load.
+    pub symmetric_load_friction: bool,
     /// Whether each record's current sensor offset is fitted as a constant (projected out
     /// of the current's residuals, as the encoder zeros are).
     pub current_offset: bool,
@@ -146,7 +149,7 @@ pub struct CompliantSpec {
 impl CompliantSpec {
     /// The parameters that follow another, as (follower, leader) in [`NAMES`] indices: Km
     /// follows Ke when `km_is_ke`, Tc_neg and Ts_neg follow Tc and Ts when the friction is
-    /// symmetric. A follower is never an optimisation variable: it takes its leader's value
+    /// symmetric, and the load-side law's likewise. A follower is never an optimisation variable: it takes its leader's value
     /// and its derivative flows into its leader's.
     pub fn ties(&self) -> Vec<(usize, usize)> {
         use super::model::ix::*;
@@ -156,6 +159,9 @@ impl CompliantSpec {
         }
         if self.symmetric_friction {
             t.extend([(TC_NEG, TC), (TS_NEG, TS)]);
+        }
+        if self.symmetric_load_friction {
+            t.extend([(TC_NEG_L, TC_L), (TS_NEG_L, TS_L)]);
         }
         t
     }

@@ -20,8 +20,8 @@
 //! `Jj·ω̇j = Km·i − Cj·ωj − (Tb + Tf)/N`, `Jz·ω̇z = Tb + Tf − Cz·ωz − TL`.
 //!
 //! Friction on both sides: hd-model's load-side law (the `*_load` parameters, present when
-//! Tc_load or Ts_load is non-zero, [`has_load_law`]) is a second, symmetric LuGre law on
-//! v_L = ωz with its own bristle w_L, beside the gear's on the motor's side:
+//! one of its levels is non-zero, [`has_load_law`]) is a second LuGre law (symmetric, or
+//! with its negative side's own levels) on v_L = ωz with its own bristle w_L, beside the gear's on the motor's side:
 //! `Jz·ω̇z = Tb − Tf_L − Cz·ωz − TL`, `Tf_L = w_L + σ1_L·ṡ_L + σ2_L·ωz`.
 //!
 //! Which hysteretic term a drive has is which of its parameters is non-zero ([`gear_law`]):
@@ -139,8 +139,10 @@ impl<T: Scalar> Compliant<T> {
                 p[WS].re(),
             )
         };
-        let law_load = has_load_law(&p.map(|x| x.re())).then(|| {
-            LuGre::symmetric(
+        let law_load = has_load_law(&p.map(|x| x.re())).then(|| LuGre {
+            tc_neg: p[TC_NEG_L].re(),
+            ts_neg: p[TS_NEG_L].re(),
+            ..LuGre::symmetric(
                 p[SIGMA0_L].re(),
                 p[SIGMA1_L].re(),
                 p[SIGMA2_L].re(),
@@ -210,8 +212,8 @@ impl<T: Scalar> Compliant<T> {
     }
 
     /// The load-side law's Stribeck level G_L(v) [N·m] with its derivatives (hd-model's
-    /// law, lifted; symmetric, so the negative side's derivatives are Tc_load's and
-    /// Ts_load's too).
+    /// law, lifted; a symmetric fit ties the negative side's levels to Tc_load and Ts_load,
+    /// so their derivatives land there).
     #[inline]
     fn level_load(&self, law: &LuGre, v: T) -> T {
         use ix::*;
@@ -223,9 +225,11 @@ impl<T: Scalar> Compliant<T> {
             lg.level,
             &[
                 (slope, v),
-                (g[0] + g[4], self.p[TC_L]),
-                (g[1] + g[5], self.p[TS_L]),
+                (g[0], self.p[TC_L]),
+                (g[1], self.p[TS_L]),
                 (g[2], self.p[WS_L]),
+                (g[4], self.p[TC_NEG_L]),
+                (g[5], self.p[TS_NEG_L]),
             ],
         )
     }

@@ -5,7 +5,7 @@
 use hd_model::HystLaw;
 
 /// Number of parameters of the compliant drive.
-pub const P: usize = 40;
+pub const P: usize = 42;
 
 /// The parameters of the compliant drive, in the order of a parameter vector (hd-model's
 /// registry names, so a fitted set is a params file `hdw simulate` reads).
@@ -15,15 +15,25 @@ pub const NAMES: [&str; P] = [
     "sigma2", "Tc", "Ts", "ws", "bw_alpha", "bw_A", "bw_beta", "bw_gamma", "bw_n", "ms_k",
     "ms_delta", "ms_n", "Tc_neg", "Ts_neg", "TL", "Tc_load", "Ts_load", "ws_load", "sigma0_load",
     "sigma1_load", "sigma2_load", "cat_K1", "cat_K2", "cat_K3", "cat_T1", "cat_T2",
+    "Tc_neg_load", "Ts_neg_load",
 ];
 
 /// The load-side law's parameters ([`has_load_law`]).
-pub const LOAD_LAW: [usize; 6] =
-    [ix::TC_L, ix::TS_L, ix::WS_L, ix::SIGMA0_L, ix::SIGMA1_L, ix::SIGMA2_L];
+pub const LOAD_LAW: [usize; 8] = [
+    ix::TC_L,
+    ix::TS_L,
+    ix::WS_L,
+    ix::SIGMA0_L,
+    ix::SIGMA1_L,
+    ix::SIGMA2_L,
+    ix::TC_NEG_L,
+    ix::TS_NEG_L,
+];
 
-/// Whether parameters `p` have hd-model's load-side friction law: Tc_load or Ts_load ≠ 0.
+/// Whether parameters `p` have hd-model's load-side friction law: one of its levels
+/// (Tc_load, Ts_load, Tc_neg_load, Ts_neg_load) ≠ 0.
 pub fn has_load_law(p: &[f64; P]) -> bool {
-    p[ix::TC_L] != 0.0 || p[ix::TS_L] != 0.0
+    [ix::TC_L, ix::TS_L, ix::TC_NEG_L, ix::TS_NEG_L].iter().any(|&k| p[k] != 0.0)
 }
 
 /// Whether parameter `k` belongs to the drive of parameters `p`: its gear law's
@@ -131,4 +141,6 @@ pub mod ix {
     pub const CAT_K3: usize = 37;
     pub const CAT_T1: usize = 38;
     pub const CAT_T2: usize = 39;
+    pub const TC_NEG_L: usize = 40;
+    pub const TS_NEG_L: usize = 41;
 }

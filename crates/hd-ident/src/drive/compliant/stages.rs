@@ -278,7 +278,7 @@ fn staged_starts(
         let (level_set, law_set): (&[usize], &[usize]) = if on_load {
             (&[TC, TS, TC_NEG, TS_NEG], &[TC, TS, WS, SIGMA0, SIGMA1, SIGMA2, TC_NEG, TS_NEG])
         } else {
-            (&[TC_L, TS_L], &[TC_L, TS_L, WS_L, SIGMA0_L, SIGMA1_L, SIGMA2_L])
+            (&[TC_L, TS_L, TC_NEG_L, TS_NEG_L], &super::model::LOAD_LAW)
         };
         let levels = base.iter().copied().chain(gear).chain([TL]).chain(level_set.iter().copied());
         let whole = [JZ, CZ].into_iter().chain(gear).chain([TL]).chain(law_set.iter().copied());

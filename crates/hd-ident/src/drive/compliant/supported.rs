@@ -80,6 +80,8 @@ pub fn load_law_problem(start: &[f64; P], fv: hd_model::FrictionVelocity) -> Opt
     let p = Params {
         tc_load: start[TC_L],
         ts_load: start[TS_L],
+        tc_neg_load: Some(start[TC_NEG_L]),
+        ts_neg_load: Some(start[TS_NEG_L]),
         ws_load: start[WS_L],
         sigma0_load: start[SIGMA0_L],
         sigma1_load: start[SIGMA1_L],

@@ -143,6 +143,7 @@ pub(super) fn test_spec(
         noise_estimated: Vec::new(),
         km_is_ke: true,
         symmetric_friction: true,
+        symmetric_load_friction: true,
         friction_velocity: hd_model::FrictionVelocity::Motor,
         current_offset: false,
         substeps,
@@ -185,7 +186,7 @@ pub(super) fn off_start(
 }
 
 /// The exact-derivative tests' specification: the drive at `start` (ratio `n`, friction
-/// where `fv` puts it, levels tied across directions or not), every parameter its own
+/// where `fv` puts it, both laws' levels tied across directions or not), every parameter its own
 /// (Km apart from Ke), compared on the three outputs at 1e-3 rad, 1e-5 rad and 1e-2 A.
 pub(super) fn jacobian_spec(
     n: f64,
@@ -203,6 +204,7 @@ pub(super) fn jacobian_spec(
         free: [true; P],
         km_is_ke: false,
         symmetric_friction: symmetric,
+        symmetric_load_friction: symmetric,
         friction_velocity: fv,
         ..test_spec(n, start, outputs, substeps)
     }
