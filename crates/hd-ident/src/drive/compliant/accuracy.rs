@@ -27,7 +27,9 @@ const ORDER: f64 = 2.7;
 /// start values costs less than [`ACCURACY_COST`] on `records`, and that error's estimated
 /// cost [–]. The error of a count m is estimated as the cost of the difference between runs
 /// at m and 2m; above the budget, the next count is the one the error's order predicts for
-/// half the budget (at least m + 1). Stops at [`MAX_SUBSTEPS`], or where a run fails.
+/// half the budget (at least m + 1). A count whose run fails (a step past the method's
+/// stability at the start values: a rate the floor's estimate does not see) is doubled.
+/// Stops at [`MAX_SUBSTEPS`].
 pub fn accurate_substeps(spec: &CompliantSpec, records: &[VoltageRecord]) -> (usize, f64) {
     let run = |m: usize| {
         residuals_at(&CompliantSpec { substeps: m, ..spec.clone() }, &spec.start, records)
@@ -37,7 +39,10 @@ pub fn accurate_substeps(spec: &CompliantSpec, records: &[VoltageRecord]) -> (us
         if 2 * m > MAX_SUBSTEPS {
             return (m.min(MAX_SUBSTEPS), f64::NAN);
         }
-        let (Some(coarse), Some(fine)) = (run(m), run(2 * m)) else { return (m, f64::NAN) };
+        let (Some(coarse), Some(fine)) = (run(m), run(2 * m)) else {
+            m *= 2;
+            continue;
+        };
         let err: f64 = coarse.iter().zip(&fine).map(|(a, b)| (a - b) * (a - b)).sum();
         if err < ACCURACY_COST {
             return (m, err);

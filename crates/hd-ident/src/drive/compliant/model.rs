@@ -246,12 +246,15 @@ impl<T: Scalar> Compliant<T> {
         (p[SIGMA0_L] * s_rate, w_load + p[SIGMA1_L] * s_rate + p[SIGMA2_L] * omega_z)
     }
 
-    /// The load-side bristle's relaxation rate λ_L = σ0_L·|ωz|/G_L(ωz) [1/s] (0 without
-    /// the law).
-    pub fn relaxation_load(&self, y: &State<T>) -> T {
+    /// The load-side bristle's relaxation rate λ_L = σ0_L·|ωz|/G_L(ωz) [1/s] and the value
+    /// it relaxes to, sign(ωz)·G_L(ωz) [N·m] (both 0 without the law).
+    pub fn relaxation_load(&self, y: &State<T>) -> (T, T) {
         match &self.law_load {
-            Some(law) => self.p[ix::SIGMA0_L] * y.omega_z.abs() / self.level_load(law, y.omega_z),
-            None => T::cst(0.0),
+            Some(law) => {
+                let g = self.level_load(law, y.omega_z);
+                (self.p[ix::SIGMA0_L] * y.omega_z.abs() / g, signed(y.omega_z, g))
+            }
+            None => (T::cst(0.0), T::cst(0.0)),
         }
     }
 
@@ -332,11 +335,13 @@ impl<T: Scalar> Compliant<T> {
         )
     }
 
-    /// The bristle's relaxation rate λ = σ0·|v|/G(v) [1/s] at state `y`: the stiff part of
-    /// the bristle equation, ẇ = λ·(sign(v)·G − w).
-    pub fn relaxation(&self, y: &State<T>) -> T {
+    /// The bristle's relaxation rate λ = σ0·|v|/G(v) [1/s] at state `y` and the value it
+    /// relaxes to, sign(v)·G(v) [N·m] (0 at rest): the stiff part of the bristle equation,
+    /// ẇ = λ·(sign(v)·G − w).
+    pub fn relaxation(&self, y: &State<T>) -> (T, T) {
         let v = self.sliding_speed(y);
-        self.p[ix::SIGMA0] * v.abs() / self.level(v)
+        let g = self.level(v);
+        (self.p[ix::SIGMA0] * v.abs() / g, signed(v, g))
     }
 
     /// Number of slip elements: `ms_n` when the gear is Maxwell-slip (ms_k ≠ 0), else 0.
@@ -436,11 +441,15 @@ impl<T: Scalar> Compliant<T> {
 
     /// One step of `d` [s] from `y`, `rates(state, at)` giving the rates with the input at
     /// τ = 0 (`at` = 0), d/2 (1) and d (2): classical Runge–Kutta for the mechanics, the
-    /// memory and the motor, with the bristle carried by its integrating factor e^{−λ0·τ}
-    /// (λ0 the relaxation rate at the step's start; the Lawson form of the same method), so
-    /// a bristle that relaxes far faster than the step stays stable and exact at a held
-    /// speed. One step for every input the drive takes: a voltage test's voltage, a loop's
-    /// held command.
+    /// memory and the motor, with each bristle's distance from the value it relaxes to at
+    /// the step's start, w − w̄ (w̄ = sign(v)·G(v)), carried by its integrating factor
+    /// e^{−λ0·τ} (λ0 the relaxation rate there; the Lawson form of the same method about
+    /// w̄). A bristle that relaxes far faster than the step stays stable and exact at a
+    /// held speed, and its stages sit at w̄, not at 0: about 0, a stage of a step with
+    /// λ0·d ≫ 1 would put the sliding bristle at σ0·|v|·d/6 instead of its level (measured:
+    /// three times the level at λ0·d = 19, and the fit's run unstable from there). One
+    /// step for every input the drive takes: a voltage test's voltage, a loop's held
+    /// command.
     pub fn step_by(
         &self,
         y: &State<T>,
@@ -448,37 +457,38 @@ impl<T: Scalar> Compliant<T> {
         d: f64,
     ) -> State<T> {
         // Each bristle (the gear law's w; the load-side law's w_L) carried by its own factor.
-        let l0 = self.relaxation(y);
+        let (l0, rest) = self.relaxation(y);
         let e_half = (-(l0 * (0.5 * d))).exp();
         let e_full = e_half * e_half;
         let load_law = self.law_load.is_some();
-        let l_load = self.relaxation_load(y);
+        let (l_load, rest_load) = self.relaxation_load(y);
         let f_half = if load_law { (-(l_load * (0.5 * d))).exp() } else { T::cst(1.0) };
         let f_full = f_half * f_half;
-        // The bristles' rates less their stiff parts, g = ẇ + λ0·w, drive the transformed
-        // states.
+        // The bristles' rates less their stiff parts, g = ẇ + λ0·(w − w̄), drive the
+        // transformed states (the distances from w̄).
         let with_g = |k: State<T>, at: &State<T>| State {
-            w: k.w + l0 * at.w,
-            w_load: if load_law { k.w_load + l_load * at.w_load } else { k.w_load },
+            w: k.w + l0 * (at.w - rest),
+            w_load: if load_law { k.w_load + l_load * (at.w_load - rest_load) } else { k.w_load },
             ..k
         };
+        let (u0, u0_load) = (y.w - rest, y.w_load - rest_load);
         let k1 = with_g(rates(y, 0), y);
         let mut y2 = y.add(&k1, 0.5 * d);
-        y2.w = e_half * (y.w + k1.w * (0.5 * d));
+        y2.w = rest + e_half * (u0 + k1.w * (0.5 * d));
         if load_law {
-            y2.w_load = f_half * (y.w_load + k1.w_load * (0.5 * d));
+            y2.w_load = rest_load + f_half * (u0_load + k1.w_load * (0.5 * d));
         }
         let k2 = with_g(rates(&y2, 1), &y2);
         let mut y3 = y.add(&k2, 0.5 * d);
-        y3.w = e_half * y.w + k2.w * (0.5 * d);
+        y3.w = rest + e_half * u0 + k2.w * (0.5 * d);
         if load_law {
-            y3.w_load = f_half * y.w_load + k2.w_load * (0.5 * d);
+            y3.w_load = rest_load + f_half * u0_load + k2.w_load * (0.5 * d);
         }
         let k3 = with_g(rates(&y3, 1), &y3);
         let mut y4 = y.add(&k3, d);
-        y4.w = e_full * y.w + e_half * k3.w * d;
+        y4.w = rest + e_full * u0 + e_half * k3.w * d;
         if load_law {
-            y4.w_load = f_full * y.w_load + f_half * k3.w_load * d;
+            y4.w_load = rest_load + f_full * u0_load + f_half * k3.w_load * d;
         }
         let k4 = with_g(rates(&y4, 2), &y4);
         let sixth = d / 6.0;
@@ -489,10 +499,11 @@ impl<T: Scalar> Compliant<T> {
             theta: y.theta + comb(k1.theta, k2.theta, k3.theta, k4.theta),
             omega_z: y.omega_z + comb(k1.omega_z, k2.omega_z, k3.omega_z, k4.omega_z),
             z: y.z + comb(k1.z, k2.z, k3.z, k4.z),
-            w: e_full * y.w + (e_full * k1.w + e_half * (k2.w + k3.w) * 2.0 + k4.w) * sixth,
+            w: rest + e_full * u0 + (e_full * k1.w + e_half * (k2.w + k3.w) * 2.0 + k4.w) * sixth,
             h: y.h + comb(k1.h, k2.h, k3.h, k4.h),
             w_load: if load_law {
-                f_full * y.w_load
+                rest_load
+                    + f_full * u0_load
                     + (f_full * k1.w_load + f_half * (k2.w_load + k3.w_load) * 2.0 + k4.w_load)
                         * sixth
             } else {
@@ -542,6 +553,15 @@ impl<T: Scalar> Compliant<T> {
 }
 
 /// x clamped to [−d, d] (d ≥ 0), carrying the derivative of whichever it is.
+/// `g` with the sign of `v` (0 at v = 0).
+fn signed<T: Scalar>(v: T, g: T) -> T {
+    match v.re() {
+        x if x > 0.0 => g,
+        x if x < 0.0 => -g,
+        _ => T::cst(0.0),
+    }
+}
+
 fn clamp<T: Scalar>(x: T, d: T) -> T {
     let (xr, dr) = (x.re(), d.re());
     if xr.abs() < dr {

@@ -101,8 +101,16 @@ pub(super) fn relative_differences<const K: usize>(pairs: [(&[f64], &[f64]); K])
     })
 }
 
+/// Below this relative difference a comparison with hd-model's solve has reached its own
+/// floor (the reference's tolerance, the voltage read between samples, the friction's kinks
+/// at reversals that a fixed step crosses), and doubling the substeps need not cut it
+/// further: measured 1.2e-9 on the seed drive at 80 and at 160 substeps, 6.0e-8 with the
+/// load-side law at 72 [–].
+pub(super) const AGREEMENT_FLOOR: f64 = 1e-7;
+
 /// Assert that each output's relative difference to the reference at `m` substeps
-/// (`coarse`) is below `largest` and falls by more than `factor` at 2m (`fine`).
+/// (`coarse`) is below `largest` and falls by more than `factor` at 2m (`fine`), or to
+/// below [`AGREEMENT_FLOOR`].
 pub(super) fn assert_converging(
     names: &[&str],
     coarse: &[f64],
@@ -119,7 +127,8 @@ pub(super) fn assert_converging(
             2 * m
         );
         assert!(coarse[k] < largest, "{what}: relative difference {:e}", coarse[k]);
-        assert!(fine[k] < coarse[k] / factor, "{what}: {:e} then {:e}", coarse[k], fine[k]);
+        let converging = fine[k] < coarse[k] / factor || fine[k] < AGREEMENT_FLOOR;
+        assert!(converging, "{what}: {:e} then {:e}", coarse[k], fine[k]);
     }
 }
 
@@ -211,16 +220,16 @@ pub(super) fn jacobian_spec(
 }
 
 /// The fit's integration of the seed drive matches hd-model's adaptive solve (rtol 1e-11):
-/// at the substeps the fit picks, motor angle, load angle and current agree to 1e-4 of their
-/// RMS (8.7e-5, 8.7e-5 and 3.9e-5 measured), and twice the substeps cut every difference by
-/// more than four (an integration error of at least second order, not a model difference;
-/// 6.7× measured).
+/// at the substeps the fit picks, motor angle, load angle and current agree to 3e-7 of their
+/// RMS (2.0e-8, 2.0e-8 and 3.5e-8 measured; 8.7e-5 before the bristle's stages were taken
+/// about the value it relaxes to), and twice the substeps cut every difference by more than
+/// four or to the comparison's floor (measured 8.4e-9, 8.4e-9, 7.2e-9).
 #[test]
 fn matches_the_simulator() {
     let h = 1e-3;
     let cols = reference(0.4, h, 12.0);
     let rec = record(&cols, "ref");
-    assert_matches_reference(&Compliant::new(seed(), Params::default().n), &rec, 1e-3, 4.0);
+    assert_matches_reference(&Compliant::new(seed(), Params::default().n), &rec, 3e-7, 4.0);
 }
 
 /// Assert that drive `d` run on the voltage of reference record `rec` (read linearly
@@ -248,7 +257,8 @@ pub(super) fn assert_matches_reference(
 
 /// The Jacobian from dual numbers equals central differences of the plain simulation on
 /// every column (all parameters but the two cubic terms, whose columns are below rounding
-/// at the seed's deflections). Measured: at most 3.1e-6 (σ2, Cz), most below 1e-7.
+/// at the seed's deflections). Measured: at most 1.3e-5 (Cz), σ2 5.0e-6, σ1 1.4e-6 (at the
+/// larger step: its column is 1e-5 of the motor's), most below 1e-7.
 #[test]
 fn exact_derivatives() {
     let h = 1e-3;
@@ -270,9 +280,10 @@ fn exact_derivatives() {
 }
 
 /// Assert that the dual-number Jacobian of `spec`'s residuals on `rec` at `start` matches
-/// central differences (relative step 1e-5) of the plain residuals on each column of
-/// `free_idx`: each column non-zero and within `tolerance` of the differences (relative
-/// RMS).
+/// central differences of the plain residuals on each column of `free_idx`: each column
+/// non-zero and within `tolerance` of the differences (relative RMS) at a relative step of
+/// 1e-5, or, for a column far below the residuals' own scale (whose differences the
+/// residuals' rounding swamps at that step), at 1e-3.
 pub(super) fn assert_jacobian_matches(
     spec: &CompliantSpec,
     start: &[f64; P],
@@ -283,17 +294,24 @@ pub(super) fn assert_jacobian_matches(
     let recs = std::slice::from_ref(rec);
     let (_, jac) = residuals_and_jacobian(spec, start, free_idx, recs);
     for (c, &k) in free_idx.iter().enumerate() {
-        let step = 1e-5 * start[k].abs().max(1e-6);
-        let at = |s: f64| {
-            let mut p = *start;
-            p[k] += s;
-            residuals_and_jacobian(spec, &p, &[], recs).0
-        };
-        let (up, down) = (at(step), at(-step));
-        let fd: Vec<f64> = up.iter().zip(&down).map(|(a, b)| (a - b) / (2.0 * step)).collect();
         let col: Vec<f64> = jac.column(c).iter().copied().collect();
-        let diff: Vec<f64> = col.iter().zip(&fd).map(|(a, b)| a - b).collect();
-        let rel = rms(&diff) / rms(&col).max(1e-300);
+        let against = |relative_step: f64| {
+            let step = relative_step * start[k].abs().max(1e-6);
+            let at = |s: f64| {
+                let mut p = *start;
+                p[k] += s;
+                residuals_and_jacobian(spec, &p, &[], recs).0
+            };
+            let (up, down) = (at(step), at(-step));
+            let diff: Vec<f64> = (up.iter().zip(&down).zip(&col))
+                .map(|((a, b), j)| j - (a - b) / (2.0 * step))
+                .collect();
+            rms(&diff) / rms(&col).max(1e-300)
+        };
+        let mut rel = against(1e-5);
+        if rel >= tolerance {
+            rel = rel.min(against(1e-3));
+        }
         println!("{}: column rms {:.3e}, relative difference {rel:.2e}", NAMES[k], rms(&col));
         assert!(rms(&col) > 0.0, "{}: the outputs do not depend on it", NAMES[k]);
         assert!(rel < tolerance, "{}: relative difference {rel:e}", NAMES[k]);

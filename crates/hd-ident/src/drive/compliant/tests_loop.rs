@@ -4,13 +4,14 @@
 //! recovers the drive from hd-model's closed-loop record.
 
 use super::closed_loop::{Amplifier, ClosedLoop, Feedback};
-use super::fit::{CompliantSpec, Signal, residuals_and_jacobian, substeps_for};
+use super::fit::{CompliantSpec, Signal, substeps_for};
 use super::model::{NAMES, P, ix::*};
 use super::record::{Between, VoltageRecord};
 use super::simulate::simulate;
 use super::synth_loop::run_loop;
 use super::tests::{
-    assert_converging, fit_and_judge, quantise, relative_differences, rms, test_spec,
+    assert_converging, assert_jacobian_matches, fit_and_judge, quantise, relative_differences,
+    test_spec,
 };
 use crate::drive::controller::Controller;
 use hd_model::{Params, SimConfig, SolverOptions};
@@ -78,10 +79,9 @@ fn record(
 /// controller reading the unquantised encoder) against hd-model's with 2^40-count encoders
 /// (quantisation far below the integration error), for a voltage loop on the motor encoder
 /// and a current loop on the load encoder. At the substeps the fit picks every output
-/// agrees to 1e-2 of its RMS (measured: angles 2.1e-4 and 4.9e-4, current and command up to
-/// 4.5e-3, the stiff load loop amplifying the integration error), and twice the substeps
-/// cut every difference by more than 2.5 (2.7–4.1 measured): an integration error, not a
-/// model difference.
+/// agrees to 5e-7 of its RMS (measured: angles 4.0e-9 and 8.4e-10, current and command
+/// up to 4.9e-8), and twice the substeps cut every difference by more than 2.5 or to the
+/// comparison's floor: an integration error, not a model difference.
 #[test]
 fn the_loop_matches_the_simulator() {
     let p = seed();
@@ -107,14 +107,14 @@ fn the_loop_matches_the_simulator() {
         let (coarse, fine) = (differences(m), differences(2 * m));
         println!("{feedback:?}/{amplifier:?}:");
         let names = ["motor", "load", "current", "command"];
-        assert_converging(&names, &coarse, &fine, m, 1e-2, 2.5);
+        assert_converging(&names, &coarse, &fine, m, 5e-7, 2.5);
     }
 }
 
 /// The Jacobian through the loop (controller, delay, held command) equals central
 /// differences of the plain run, column by column, for a voltage loop on the motor encoder
-/// and a current loop on the load encoder (largest relative difference measured 2.2e-5, ws
-/// and Cz: the differences' own truncation error).
+/// and a current loop on the load encoder ([`assert_jacobian_matches`]; largest relative
+/// difference measured 2.2e-5, ws and Cz: the differences' own truncation error).
 #[test]
 fn exact_derivatives_through_the_loop() {
     let n = Params::default().n;
@@ -144,23 +144,8 @@ fn exact_derivatives_through_the_loop() {
             km_is_ke: false,
             ..test_spec(n, start, outputs, 8)
         };
-        let recs = std::slice::from_ref(&rec);
-        let (_, jac) = residuals_and_jacobian(&spec, &start, &free_idx, recs);
-        for (col, &k) in free_idx.iter().enumerate() {
-            let step = 1e-5 * start[k].abs();
-            let at = |s: f64| {
-                let mut p = start;
-                p[k] += s;
-                residuals_and_jacobian(&spec, &p, &[], recs).0
-            };
-            let (up, down) = (at(step), at(-step));
-            let fd: Vec<f64> = up.iter().zip(&down).map(|(a, b)| (a - b) / (2.0 * step)).collect();
-            let exact: Vec<f64> = jac.column(col).iter().copied().collect();
-            let diff: Vec<f64> = exact.iter().zip(&fd).map(|(a, b)| a - b).collect();
-            let rel = rms(&diff) / rms(&exact).max(1e-300);
-            println!("{feedback:?}/{amplifier:?} {}: relative difference {rel:.2e}", NAMES[k]);
-            assert!(rel < 2e-4, "{feedback:?}/{amplifier:?} {}: {rel:e}", NAMES[k]);
-        }
+        println!("{feedback:?}/{amplifier:?}:");
+        assert_jacobian_matches(&spec, &start, &free_idx, &rec, 2e-4);
     }
 }
 
