@@ -30,6 +30,7 @@ use super::determined::{not_determined_by_agreement, refine_fit};
 use super::fit::{CompliantFit, CompliantSpec, Progress, Signal, cost_at, fit_stage};
 use super::model::{NAMES, P, has_load_law, ix::*};
 use super::record::VoltageRecord;
+use crate::drive::lm::LmSettings;
 use rayon::prelude::*;
 
 /// Stiffness scales of the load pass's starts: the gear's resonance at 0.5, 0.71, 1, 1.41
@@ -39,6 +40,11 @@ pub const STIFFNESS_SCALES: [f64; 5] = [0.25, 0.5, 1.0, 2.0, 4.0];
 /// Load-pass starts go on to a full fit while their load-pass cost is within this factor of
 /// the best one's.
 const LOAD_COST_FACTOR: f64 = 2.0;
+
+/// Iteration budget of each motor and load pass [–]: the passes only choose the full fits'
+/// starts, and a pass that crawls along a valley (friction on the load, whose stick and
+/// slip make its cost ridged) would otherwise spend the full fit's budget there.
+const PASS_ITERATIONS: usize = 100;
 
 /// RMS difference of two load-pass results' load residuals, as a share of the noise, below
 /// which they count as one start [–].
@@ -363,7 +369,11 @@ fn pass(
     for &k in which {
         free[k] = spec.free[k];
     }
-    CompliantSpec { outputs, free, start, ..spec.clone() }
+    let settings = LmSettings {
+        max_iterations: spec.settings.max_iterations.min(PASS_ITERATIONS),
+        ..spec.settings.clone()
+    };
+    CompliantSpec { outputs, free, start, settings, ..spec.clone() }
 }
 
 /// Fit `spec` from `start`; then, for each combination of parameters the records leave
