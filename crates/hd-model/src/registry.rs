@@ -89,6 +89,23 @@ macro_rules! p {
     };
 }
 
+/// A negative side's level: its own once set, its positive side's (`$follows`) until then.
+macro_rules! p_neg {
+    ($name:literal, $field:ident, $follows:ident, $incl:expr, $doc:literal) => {
+        ParamInfo {
+            name: $name,
+            aliases: &[],
+            unit: "N·m",
+            doc: $doc,
+            min: 0.0,
+            max: INF,
+            min_inclusive: $incl,
+            get: |p| p.$field.unwrap_or(p.$follows),
+            set: |p, v| p.$field = Some(v),
+        }
+    };
+}
+
 const INF: f64 = f64::INFINITY;
 
 /// All registry parameters, in a fixed order (the column order of outputs).
@@ -105,28 +122,14 @@ pub static REGISTRY: &[ParamInfo] = &[
     p!("Ts", ts, "N·m", 0.0, false, INF, "static friction torque"),
     p!("ws", ws, "rad/s", 0.0, false, INF, "Stribeck velocity"),
     // The negative-side levels follow Tc and Ts until they are set.
-    ParamInfo {
-        name: "Tc_neg",
-        aliases: &[],
-        unit: "N·m",
-        doc: "Coulomb friction torque for negative speeds (default: Tc)",
-        min: 0.0,
-        max: INF,
-        min_inclusive: false,
-        get: |p| p.tc_neg.unwrap_or(p.tc),
-        set: |p, v| p.tc_neg = Some(v),
-    },
-    ParamInfo {
-        name: "Ts_neg",
-        aliases: &[],
-        unit: "N·m",
-        doc: "static friction torque for negative speeds (default: Ts)",
-        min: 0.0,
-        max: INF,
-        min_inclusive: false,
-        get: |p| p.ts_neg.unwrap_or(p.ts),
-        set: |p, v| p.ts_neg = Some(v),
-    },
+    p_neg!(
+        "Tc_neg",
+        tc_neg,
+        tc,
+        false,
+        "Coulomb friction torque for negative speeds (default: Tc)"
+    ),
+    p_neg!("Ts_neg", ts_neg, ts, false, "static friction torque for negative speeds (default: Ts)"),
     p!("mu_c_fwd", mu_c_fwd, "-", 0.0, true, INF, "Coulomb level growth per |Tb|, forward"),
     p!("mu_s_fwd", mu_s_fwd, "-", 0.0, true, INF, "static level growth per |Tb|, forward"),
     p!("mu_c_back", mu_c_back, "-", 0.0, true, INF, "Coulomb level growth per |Tb|, back-driven"),
@@ -143,28 +146,20 @@ pub static REGISTRY: &[ParamInfo] = &[
     p!("Tc_load", tc_load, "N·m", 0.0, true, INF, "load-side LuGre Coulomb torque (0: none)"),
     p!("Ts_load", ts_load, "N·m", 0.0, true, INF, "load-side LuGre static torque"),
     // The load-side law's negative-side levels follow Tc_load and Ts_load until they are set.
-    ParamInfo {
-        name: "Tc_neg_load",
-        aliases: &[],
-        unit: "N·m",
-        doc: "load-side LuGre Coulomb torque for negative load speeds (default: Tc_load)",
-        min: 0.0,
-        max: INF,
-        min_inclusive: true,
-        get: |p| p.tc_neg_load.unwrap_or(p.tc_load),
-        set: |p, v| p.tc_neg_load = Some(v),
-    },
-    ParamInfo {
-        name: "Ts_neg_load",
-        aliases: &[],
-        unit: "N·m",
-        doc: "load-side LuGre static torque for negative load speeds (default: Ts_load)",
-        min: 0.0,
-        max: INF,
-        min_inclusive: true,
-        get: |p| p.ts_neg_load.unwrap_or(p.ts_load),
-        set: |p, v| p.ts_neg_load = Some(v),
-    },
+    p_neg!(
+        "Tc_neg_load",
+        tc_neg_load,
+        tc_load,
+        true,
+        "load-side LuGre Coulomb torque for negative load speeds (default: Tc_load)"
+    ),
+    p_neg!(
+        "Ts_neg_load",
+        ts_neg_load,
+        ts_load,
+        true,
+        "load-side LuGre static torque for negative load speeds (default: Ts_load)"
+    ),
     p!("ws_load", ws_load, "rad/s", 0.0, true, INF, "load-side LuGre Stribeck velocity"),
     p!("sigma0_load", sigma0_load, "N·m/rad", 0.0, true, INF, "load-side LuGre bristle stiffness"),
     p!("sigma1_load", sigma1_load, "N·m·s/rad", 0.0, true, INF, "load-side LuGre bristle damping"),

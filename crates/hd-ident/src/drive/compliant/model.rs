@@ -21,7 +21,8 @@
 //!
 //! Friction on both sides: hd-model's load-side law (the `*_load` parameters, present when
 //! one of its levels is non-zero, [`has_load_law`]) is a second LuGre law (symmetric, or
-//! with its negative side's own levels) on v_L = ωz with its own bristle w_L, beside the gear's on the motor's side:
+//! with its negative side's own levels) on v_L = ωz with its own bristle w_L, beside the
+//! gear's on the motor's side:
 //! `Jz·ω̇z = Tb − Tf_L − Cz·ωz − TL`, `Tf_L = w_L + σ1_L·ṡ_L + σ2_L·ωz`.
 //!
 //! Which hysteretic term a drive has is which of its parameters is non-zero ([`gear_law`]):
