@@ -32,13 +32,6 @@ const COST_TOLERANCE: f64 = 1e-8;
 /// iterations (260 without).
 const MAX_ITERATIONS: usize = 300;
 
-/// Factor on the default substeps in closed loop. A drive held in position by its loop
-/// sits in the bristle's pre-sliding, where its speed changes sign within samples; at the
-/// voltage tests' count the bristle stiffness came out 3 standard errors off on hd-model's
-/// record of the seed drive's loop, at four times as many within 1 (the unit test
-/// `fits_the_drive_in_its_loop`).
-const LOOP_SUBSTEPS: usize = 4;
-
 /// Read one record with `ec`'s mapping from `path`: a voltage test, or a closed-loop record
 /// (its `u` the recorded command) with its reference [rad].
 fn load(
@@ -239,7 +232,7 @@ pub fn run(args: &DriveArgs, text: &str) -> Result<()> {
     let floor = cfg.substeps.unwrap_or_else(|| {
         let d = hd_ident::drive::compliant::Compliant::new(start, n)
             .with_friction_velocity(friction_velocity);
-        substeps_of(&d, h) * if controller.is_some() { LOOP_SUBSTEPS } else { 1 }
+        substeps_of(&d, h)
     });
     let noise_estimated =
         outputs.iter().map(|(o, _)| !cfg.fit.noise.contains_key(o.name())).collect();
