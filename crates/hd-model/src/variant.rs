@@ -228,9 +228,9 @@ pub fn has_load_friction(p: &Params) -> bool {
 }
 
 /// The load-side LuGre law of `p` (the `*_load` parameters, docs/model.md §2.6): `None`
-/// when its Coulomb and static levels (either direction's) are all 0; an error naming the field when the law
-/// is present without a bristle stiffness or a Stribeck velocity above 0, or when the
-/// gear's own law already acts on the load (`friction_velocity = "load"`).
+/// when its Coulomb and static levels (either direction's) are all 0; an error naming the
+/// field when the law is present without a bristle stiffness or a Stribeck velocity above
+/// 0, or when the gear's own law already acts on the load (`friction_velocity = "load"`).
 pub fn load_friction_law(
     p: &Params,
     friction_velocity: crate::system::FrictionVelocity,

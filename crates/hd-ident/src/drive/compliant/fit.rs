@@ -149,8 +149,8 @@ pub struct CompliantSpec {
 impl CompliantSpec {
     /// The parameters that follow another, as (follower, leader) in [`NAMES`] indices: Km
     /// follows Ke when `km_is_ke`, Tc_neg and Ts_neg follow Tc and Ts when the friction is
-    /// symmetric, and the load-side law's likewise. A follower is never an optimisation variable: it takes its leader's value
-    /// and its derivative flows into its leader's.
+    /// symmetric, and the load-side law's likewise. A follower is never an optimisation
+    /// variable: it takes its leader's value and its derivative flows into its leader's.
     pub fn ties(&self) -> Vec<(usize, usize)> {
         use super::model::ix::*;
         let mut t = Vec::new();
