@@ -142,6 +142,9 @@ pub struct DriveConfig {
     /// Bounds `[lower, upper]` by parameter name.
     #[serde(default)]
     pub bounds: BTreeMap<String, [f64; 2]>,
+    /// `[score]`: the samples the scores count ([`super::score_rule`]).
+    #[serde(default)]
+    pub score: super::score_rule::ScoreConfig,
 }
 
 /// The `transmission` key of a configuration's text, if it parses and has one.
@@ -175,6 +178,7 @@ impl DriveConfig {
             ));
         }
         self.axis(file)?;
+        self.score.check(file)?;
         self.laws(file)?;
         self.outputs(file)?;
         if self.experiment.is_empty() {

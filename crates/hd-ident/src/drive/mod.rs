@@ -17,13 +17,16 @@ pub mod dual;
 pub mod error;
 pub mod filter;
 pub mod fit;
+pub mod frf;
 pub mod identifiability;
 pub mod idim;
 pub mod lm;
 pub mod lugre;
 pub mod model;
 pub mod record;
+pub mod residual_analysis;
 pub mod score;
+pub mod score_rule;
 pub mod setup;
 pub mod simulate;
 
