@@ -1,7 +1,39 @@
 //! Linear least squares with column scaling and simple bounds: the inner problem of every
 //! separable fit (the model is linear in all parameters but one).
 
-use nalgebra::{DMatrix, DVector};
+use nalgebra::{DMatrix, DVector, Dyn, SVD, SymmetricEigen};
+
+/// Largest number of iterations of an SVD or symmetric eigen-decomposition of a matrix
+/// whose smaller side is `n` [–]: a finite matrix converges in a few `n`; LAPACK's limit is
+/// 6·n², this is five times that, plus a floor for tiny matrices.
+pub fn max_iterations(n: usize) -> usize {
+    1_000 + 30 * n * n
+}
+
+/// Whether every entry of `m` is finite.
+pub fn all_finite(m: &DMatrix<f64>) -> bool {
+    m.iter().all(|v| v.is_finite())
+}
+
+/// The SVD of `m`, or None when `m` holds a NaN or an infinity (on which nalgebra's
+/// iteration never converges: it runs for minutes at full CPU) or when it has not
+/// converged within [`max_iterations`].
+pub fn bounded_svd(m: DMatrix<f64>, u: bool, v: bool) -> Option<SVD<f64, Dyn, Dyn>> {
+    if !all_finite(&m) {
+        return None;
+    }
+    let n = m.nrows().min(m.ncols());
+    m.try_svd(u, v, f64::EPSILON, max_iterations(n))
+}
+
+/// The eigen-decomposition of the symmetric matrix `m`, refused as [`bounded_svd`] is.
+pub fn bounded_symmetric_eigen(m: DMatrix<f64>) -> Option<SymmetricEigen<f64, Dyn>> {
+    if !all_finite(&m) || m.nrows() != m.ncols() {
+        return None;
+    }
+    let n = m.nrows();
+    m.try_symmetric_eigen(f64::EPSILON, max_iterations(n))
+}
 
 /// Relative singular-value cutoff below which a direction of the scaled design counts as
 /// having no information (the solve then returns the minimum-norm solution).
@@ -39,7 +71,9 @@ pub fn least_squares(cols: &[&[f64]], y: &[f64]) -> Vec<f64> {
     qr.q_tr_mul(&mut qty);
     let r = qr.r();
     let rhs = qty.rows(0, k).into_owned();
-    let svd = r.svd(true, true);
+    // A non-finite design (or one that does not converge) has no least-squares answer:
+    // every coefficient 0, as for an all-zero design.
+    let Some(svd) = bounded_svd(r, true, true) else { return coef };
     let smax = svd.singular_values.max();
     let beta = svd.solve(&rhs, RANK_TOLERANCE * smax).unwrap_or_else(|_| DVector::zeros(k));
     for (j, &col) in used.iter().enumerate() {
@@ -120,6 +154,30 @@ mod tests {
         let b = least_squares(&[&c1, &c2], &y);
         assert!((b[0] / 3e7 - 1.0).abs() < 1e-9, "{b:?}");
         assert!((b[1] / 5e4 - 1.0).abs() < 1e-12, "{b:?}");
+    }
+
+    /// A NaN or an infinity in the design is refused at once (nalgebra's SVD would loop
+    /// for minutes on it); a finite matrix decomposes within the iteration bound.
+    #[test]
+    fn non_finite_matrices_are_refused_quickly() {
+        let t0 = std::time::Instant::now();
+        for bad in [f64::NAN, f64::INFINITY, f64::NEG_INFINITY] {
+            let mut m = DMatrix::from_fn(30, 4, |i, j| (0.1 * (i * (j + 1)) as f64).cos());
+            m[(7, 2)] = bad;
+            assert!(bounded_svd(m.clone(), true, true).is_none());
+            let sym = m.transpose() * &m;
+            assert!(bounded_symmetric_eigen(sym).is_none());
+            let col: Vec<f64> = m.column(2).iter().copied().collect();
+            let ones = vec![1.0; 30];
+            let b = least_squares(&[&col, &ones], &ones);
+            assert!(b[0] == 0.0 && (b[1] - 1.0).abs() < 1e-12, "{b:?}");
+        }
+        let m = DMatrix::from_fn(30, 4, |i, j| (0.1 * (i * (j + 1)) as f64).cos());
+        let svd = bounded_svd(m.clone(), true, true).unwrap();
+        assert!(svd.singular_values.iter().all(|s| *s > 0.0));
+        let eig = bounded_symmetric_eigen(m.transpose() * &m).unwrap();
+        assert!(eig.eigenvalues.iter().all(|e| *e > 0.0));
+        assert!(t0.elapsed().as_secs_f64() < 1.0);
     }
 
     #[test]

@@ -101,7 +101,9 @@ pub fn covariance_rows(
         qr.push(&scaled);
     })?;
     let r = qr.finish();
-    let svd = r.svd(false, true);
+    // A non-finite Jacobian (a simulation that broke down near the result) determines
+    // nothing: every parameter is left without a standard error.
+    let Some(svd) = crate::linear::bounded_svd(r, false, true) else { return Ok(out) };
     let Some(vt) = svd.v_t else { return Ok(out) };
     let s = &svd.singular_values;
     let smax = s.max();
@@ -160,6 +162,19 @@ mod tests {
         assert!((c.std_error[0].unwrap() - se_icpt).abs() < 1e-12);
         let r = c.correlation[0][1].unwrap();
         assert!((r + mean / (sxx / n + mean * mean).sqrt()).abs() < 1e-12);
+    }
+
+    /// A NaN or an infinite sensitivity gives no standard error, at once (the SVD it
+    /// would have run loops for minutes on such a matrix).
+    #[test]
+    fn non_finite_jacobian_determines_nothing() {
+        let x: Vec<f64> = (0..20).map(|i| i as f64).collect();
+        for bad in [f64::NAN, f64::INFINITY] {
+            let mut y = vec![1.0; 20];
+            y[3] = bad;
+            let c = covariance(&[x.clone(), y], 3.0);
+            assert!(c.singular[1] && c.std_error[1].is_none(), "{c:?}");
+        }
     }
 
     #[test]

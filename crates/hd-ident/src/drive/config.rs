@@ -9,6 +9,11 @@ use super::model::{Axis, FrictionLaw};
 use serde::Deserialize;
 use std::collections::BTreeMap;
 
+#[path = "validate.rs"]
+pub mod validate;
+#[path = "validate_compliant.rs"]
+pub mod validate_compliant;
+
 /// A number, or the name of a scalar variable (column of length 1) of the first
 /// experiment's file, e.g. `kp = "kp"` in a MAT file that stores its gains.
 #[derive(Clone, Debug, PartialEq, Deserialize)]
@@ -153,6 +158,21 @@ pub fn transmission_of(text: &str) -> Option<String> {
     t.get("transmission")?.as_str().map(String::from)
 }
 
+/// A TOML or serde error of `file` on one line.
+pub fn toml_error(file: &str, e: &toml::de::Error) -> DriveError {
+    let text = e.to_string();
+    let lines: Vec<&str> = text.lines().map(str::trim).filter(|l| !l.is_empty()).collect();
+    // toml's message: "TOML parse error at line L, column C", the quoted line, a caret,
+    // then what is wrong; keep the position and what is wrong.
+    let message = match (lines.first(), lines.last()) {
+        (Some(first), Some(last)) if lines.len() > 1 && first.starts_with("TOML parse error") => {
+            format!("{}: {last}", first.trim_start_matches("TOML parse error at ").trim())
+        }
+        _ => lines.join(" "),
+    };
+    DriveError::config(file, message)
+}
+
 /// Default length of an open-loop record's multiple-shooting segments [s].
 pub const DEFAULT_SEGMENT: f64 = 0.2;
 
@@ -160,10 +180,11 @@ pub const DEFAULT_SEGMENT: f64 = 0.2;
 impl DriveConfig {
     /// Parse `text` of file `file`.
     pub fn parse(text: &str, file: &str) -> Result<DriveConfig, DriveError> {
-        let c: DriveConfig = toml::from_str(text).map_err(|e| {
-            DriveError::config(file, e.to_string().replace('\n', " ").trim().to_string())
-        })?;
+        let table: toml::Table = toml::from_str(text).map_err(|e| toml_error(file, &e))?;
+        validate::raw(&table, file)?;
+        let c: DriveConfig = toml::from_str(text).map_err(|e| toml_error(file, &e))?;
         c.check(file)?;
+        validate::rigid(&c, file, &c.laws(file)?, c.axis(file)?)?;
         Ok(c)
     }
 

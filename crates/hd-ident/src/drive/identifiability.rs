@@ -53,6 +53,9 @@ pub fn determination(
     values: &[f64],
 ) -> Determination {
     let k = names.len();
+    if k > 0 && !crate::linear::all_finite(jac) {
+        return not_finite(k);
+    }
     let cols: Vec<Vec<f64>> = (0..k).map(|j| jac.column(j).iter().copied().collect()).collect();
     let cov = covariance(&cols, rss);
     let mut sentences = Vec::new();
@@ -72,8 +75,9 @@ pub fn determination(
                 c /= norms[j];
             }
         }
-        let svd = js.svd(false, true);
-        if let Some(vt) = svd.v_t {
+        if let Some(svd) = crate::linear::bounded_svd(js, false, true)
+            && let Some(vt) = svd.v_t
+        {
             let s = &svd.singular_values;
             let smax = s.max();
             for (i, &si) in s.iter().enumerate() {
@@ -161,6 +165,20 @@ pub fn determination(
     }
 }
 
+/// The verdict on a Jacobian holding a NaN or an infinity: nothing determined, said so.
+fn not_finite(k: usize) -> Determination {
+    Determination {
+        std_errors: vec![None; k],
+        correlation: vec![vec![None; k]; k],
+        sentences: vec![
+            "The outputs' sensitivities to the parameters are not finite at this result (the drive could not be simulated near it): no parameter is determined.".into(),
+        ],
+        all_determined: false,
+        determined: vec![false; k],
+        null_directions: Vec::new(),
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -188,6 +206,16 @@ mod tests {
         assert!(
             d.std_errors[0].is_none() && d.std_errors[1].is_none() && d.std_errors[2].is_some()
         );
+    }
+
+    /// A NaN in the Jacobian: nothing determined, at once, in one sentence.
+    #[test]
+    fn non_finite_jacobian_is_not_determined() {
+        let mut jac = DMatrix::from_fn(40, 2, |i, j| if j == 0 { 1.0 } else { (i as f64).sin() });
+        jac[(5, 1)] = f64::NAN;
+        let d = determination(&jac, 1.0, &["p", "q"], &[1.0, 1.0]);
+        assert!(!d.all_determined && d.determined == vec![false, false]);
+        assert!(d.sentences[0].contains("not finite"), "{:?}", d.sentences);
     }
 
     /// Independent columns: everything determined, with the largest correlation named.

@@ -125,7 +125,14 @@ pub fn idim_ls(
     }
     let x = DMatrix::from_fn(n, p, |i, j| rows[i][j]);
     let y = DVector::from_vec(ys);
-    let svd = x.clone().svd(true, true);
+    if !crate::linear::all_finite(&x) || y.iter().any(|v| !v.is_finite()) {
+        return Err(DriveError::Fit(
+            "IDIM-LS: the filtered speeds, accelerations or forces are not finite (a NaN or an infinity in a record, or a [start] filter corner at or above the Nyquist frequency)".into(),
+        ));
+    }
+    let svd = crate::linear::bounded_svd(x.clone(), true, true).ok_or_else(|| {
+        DriveError::Fit("IDIM-LS: the least-squares decomposition did not converge".into())
+    })?;
     let s = &svd.singular_values;
     let condition = s.max() / s.min();
     let theta = svd

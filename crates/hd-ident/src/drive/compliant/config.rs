@@ -151,9 +151,10 @@ fn not_of_law(k: usize, law: HystLaw, file: &str, key: &str) -> Result<(), Drive
 impl CompliantConfig {
     /// Parse and check `text` of file `file`.
     pub fn parse(text: &str, file: &str) -> Result<CompliantConfig, DriveError> {
-        let c: CompliantConfig = toml::from_str(text).map_err(|e| {
-            DriveError::config(file, e.to_string().replace('\n', " ").trim().to_string())
-        })?;
+        use crate::drive::config::{toml_error, validate_compliant};
+        let table: toml::Table = toml::from_str(text).map_err(|e| toml_error(file, &e))?;
+        validate_compliant::raw(&table, file)?;
+        let c: CompliantConfig = toml::from_str(text).map_err(|e| toml_error(file, &e))?;
         if c.transmission != "compliant" {
             return Err(DriveError::config(
                 format!("{file}, transmission"),
@@ -189,9 +190,7 @@ impl CompliantConfig {
         }
         c.friction_velocity(file, None)?;
         c.axis(file)?;
-        if c.substeps == Some(0) {
-            return Err(DriveError::config(format!("{file}, substeps"), "0; expected at least 1"));
-        }
+        validate_compliant::compliant(&c, file)?;
         Ok(c)
     }
 
