@@ -9,6 +9,7 @@ pub mod columns;
 pub mod csv_sniff;
 pub mod error;
 pub mod explore;
+pub mod fit_series;
 pub mod lock;
 pub mod mat;
 pub mod parquet_out;
@@ -22,6 +23,7 @@ pub mod write_columns;
 
 pub use columns::{read_columns, read_frame, read_profile};
 pub use error::IoError;
+pub use fit_series::{FitSeries, SeriesBlock, write_fit_series};
 pub use mat::{MatVariable, read_mat, read_mat_vectors};
 pub use parquet_out::{write_frame, write_out_table};
 pub use table::{ColumnData, Table, read_table};

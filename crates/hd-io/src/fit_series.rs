@@ -1,0 +1,248 @@
+//! `series.parquet` of a drive fit (`hdw fit drive`): the measured and simulated outputs
+//! behind every score, one row per record, model, output and sample, so that any metric can
+//! be computed again with polars or DuckDB (`GROUP BY experiment, model, output`). Like
+//! every Parquet file the workbench writes, each column carries its unit and description in
+//! the field metadata and in the file-level `hdw.columns` document; the output columns'
+//! unit depends on the row's `output` (given in `unit`), and their metadata lists it for
+//! each output the file holds.
+
+use crate::atomic::write_atomically;
+use crate::error::IoError;
+use crate::parquet_out::COLUMNS_KEY;
+use polars::prelude::*;
+use std::path::Path;
+use std::sync::Arc;
+
+/// Name, unit and description of each column of `series.parquet`, in file order. A unit
+/// `by output` is filled in from the outputs the file holds.
+pub const SERIES_COLUMNS: &[(&str, &str, &str)] = &[
+    ("experiment", "", "record name: the configuration's [[experiment]] name, or validation"),
+    ("set", "", "estimation (a fitted record) or validation (scored only)"),
+    ("model", "", "the model simulated: the friction law of a rigid fit, or compliant"),
+    ("sample", "-", "sample index in the record, from 0"),
+    ("t", "s", "time of the sample as recorded"),
+    (
+        "output",
+        "",
+        "the output compared: force, position (rigid); motor, load, current, command (compliant)",
+    ),
+    ("unit", "", "unit of measured, simulated and residual on this row"),
+    (
+        "measured",
+        "by output",
+        "the recorded output (force: the nominal gain times the recorded command)",
+    ),
+    ("simulated", "by output", "the fitted model's output, simulated over the whole record"),
+    ("residual", "by output", "measured minus simulated"),
+    ("scored", "-", "true where the configuration's [score] rule counts the sample"),
+];
+
+/// The rows of `series.parquet`, column by column.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct FitSeries {
+    /// Record name per row.
+    pub experiment: Vec<String>,
+    /// `estimation` or `validation` per row.
+    pub set: Vec<String>,
+    /// Model name per row.
+    pub model: Vec<String>,
+    /// Sample index per row [–].
+    pub sample: Vec<u64>,
+    /// Time per row [s].
+    pub t: Vec<f64>,
+    /// Output name per row.
+    pub output: Vec<String>,
+    /// Unit of the row's values.
+    pub unit: Vec<String>,
+    /// Recorded value [unit].
+    pub measured: Vec<f64>,
+    /// Simulated value [unit].
+    pub simulated: Vec<f64>,
+    /// Whether the score rule counts the row.
+    pub scored: Vec<bool>,
+}
+
+/// One output of one record, to be appended to a [`FitSeries`].
+#[derive(Clone, Debug)]
+pub struct SeriesBlock<'a> {
+    /// Record name.
+    pub experiment: &'a str,
+    /// `estimation` or `validation`.
+    pub set: &'a str,
+    /// Model name.
+    pub model: &'a str,
+    /// Output name.
+    pub output: &'a str,
+    /// Output unit.
+    pub unit: &'a str,
+    /// Sample times [s].
+    pub t: &'a [f64],
+    /// Recorded values [unit].
+    pub measured: &'a [f64],
+    /// Simulated values [unit].
+    pub simulated: &'a [f64],
+    /// The samples the score rule counts.
+    pub scored: std::ops::Range<usize>,
+}
+
+impl FitSeries {
+    /// Append one output of one record (the shortest of `t`, `measured`, `simulated`).
+    pub fn push(&mut self, b: SeriesBlock) {
+        let n = b.t.len().min(b.measured.len()).min(b.simulated.len());
+        let text = |v: &mut Vec<String>, s: &str| v.extend(std::iter::repeat_n(s.to_string(), n));
+        text(&mut self.experiment, b.experiment);
+        text(&mut self.set, b.set);
+        text(&mut self.model, b.model);
+        text(&mut self.output, b.output);
+        text(&mut self.unit, b.unit);
+        self.sample.extend(0..n as u64);
+        self.t.extend_from_slice(&b.t[..n]);
+        self.measured.extend_from_slice(&b.measured[..n]);
+        self.simulated.extend_from_slice(&b.simulated[..n]);
+        self.scored.extend((0..n).map(|k| b.scored.contains(&k)));
+    }
+
+    /// Number of rows.
+    pub fn len(&self) -> usize {
+        self.t.len()
+    }
+
+    /// Whether there are no rows.
+    pub fn is_empty(&self) -> bool {
+        self.t.is_empty()
+    }
+
+    /// `output: unit` of each output, in order of first appearance.
+    fn units(&self) -> String {
+        let mut seen: Vec<(String, String)> = Vec::new();
+        for (o, u) in self.output.iter().zip(&self.unit) {
+            if !seen.iter().any(|(a, _)| a == o) {
+                seen.push((o.clone(), u.clone()));
+            }
+        }
+        seen.iter().map(|(o, u)| format!("{o}: {u}")).collect::<Vec<_>>().join(", ")
+    }
+
+    fn frame(&self) -> PolarsResult<DataFrame> {
+        let residual: Vec<f64> =
+            self.measured.iter().zip(&self.simulated).map(|(m, s)| m - s).collect();
+        DataFrame::new_infer_height(vec![
+            Column::new("experiment".into(), &self.experiment),
+            Column::new("set".into(), &self.set),
+            Column::new("model".into(), &self.model),
+            Column::new("sample".into(), &self.sample),
+            Column::new("t".into(), &self.t),
+            Column::new("output".into(), &self.output),
+            Column::new("unit".into(), &self.unit),
+            Column::new("measured".into(), &self.measured),
+            Column::new("simulated".into(), &self.simulated),
+            Column::new("residual".into(), residual),
+            Column::new("scored".into(), &self.scored),
+        ])
+    }
+}
+
+/// Write `s` to `path` as Parquet, atomically, with each column's unit and description.
+pub fn write_fit_series(path: &Path, s: &FitSeries) -> Result<(), IoError> {
+    let mut df = s.frame().map_err(IoError::polars(path, "cannot build the series table"))?;
+    let units = s.units();
+    let mut arrow = df.schema().to_arrow(CompatLevel::newest());
+    let mut doc = serde_json::Map::new();
+    for (name, field) in arrow.iter_mut() {
+        let Some((_, unit, description)) = SERIES_COLUMNS.iter().find(|c| c.0 == name.as_str())
+        else {
+            continue;
+        };
+        let unit = if *unit == "by output" { units.as_str() } else { unit };
+        let mut md = field.metadata.as_deref().cloned().unwrap_or_default();
+        md.insert("unit".into(), unit.into());
+        md.insert("description".into(), (*description).into());
+        field.metadata = Some(Arc::new(md));
+        doc.insert(name.to_string(), serde_json::json!({"unit": unit, "description": description}));
+    }
+    let key = polars_parquet::write::schema_to_metadata_key(&arrow);
+    let meta = KeyValueMetadata::from_static(vec![
+        (key.key, key.value.unwrap_or_default()),
+        (COLUMNS_KEY.to_string(), serde_json::Value::Object(doc).to_string()),
+    ]);
+    write_atomically(path, |file| {
+        ParquetWriter::new(file)
+            .with_key_value_metadata(Some(meta))
+            .finish(&mut df)
+            .map(|_| ())
+            .map_err(IoError::polars(path, "cannot write Parquet"))
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The table as docs/columns.md gives it.
+    fn markdown() -> String {
+        let mut t = String::from("| column | unit | meaning |\n|---|---|---|\n");
+        for (n, u, d) in SERIES_COLUMNS {
+            t += &format!("| `{n}` | {} | {d} |\n", if u.is_empty() { "text" } else { u });
+        }
+        t
+    }
+
+    #[test]
+    fn columns_md_documents_the_series_table() {
+        let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../docs/columns.md");
+        let doc = std::fs::read_to_string(path).unwrap();
+        assert!(
+            doc.contains(&markdown()),
+            "docs/columns.md lacks the series table:\n{}",
+            markdown()
+        );
+    }
+
+    #[test]
+    fn series_read_back_with_polars_and_their_units() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("series.parquet");
+        let mut s = FitSeries::default();
+        let t = [0.0, 1e-3, 2e-3, 3e-3];
+        let block = |output, unit, m: &'static [f64], sim: &'static [f64]| SeriesBlock {
+            experiment: "estimation",
+            set: "estimation",
+            model: "lugre",
+            output,
+            unit,
+            t: &[],
+            measured: m,
+            simulated: sim,
+            scored: 1..4,
+        };
+        s.push(SeriesBlock {
+            t: &t,
+            ..block("force", "N", &[1.0, 2.0, 3.0, 4.0], &[1.0, 2.5, 3.0, 3.0])
+        });
+        s.push(SeriesBlock { t: &t, ..block("position", "m", &[0.1, 0.2, 0.3, 0.4], &[0.1; 4]) });
+        write_fit_series(&path, &s).unwrap();
+
+        let df = crate::read_frame(&path).unwrap();
+        let names: Vec<&str> = df.get_column_names().iter().map(|n| n.as_str()).collect();
+        let expected: Vec<&str> = SERIES_COLUMNS.iter().map(|c| c.0).collect();
+        assert_eq!(names, expected);
+        // The force's residual over the scored samples, by polars' own query.
+        let rss = df
+            .lazy()
+            .filter(col("output").eq(lit("force")).and(col("scored")))
+            .select([(col("residual") * col("residual")).sum()])
+            .collect()
+            .unwrap();
+        let v = rss.column("residual").unwrap().f64().unwrap().get(0).unwrap();
+        assert!((v - 1.25).abs() < 1e-12, "{v}");
+        // Units and descriptions in the file-level document.
+        let file = std::fs::File::open(&path).unwrap();
+        let mut reader = ParquetReader::new(file);
+        let kv = reader.get_metadata().unwrap().key_value_metadata().clone().unwrap();
+        let doc = kv.iter().find(|k| k.key == COLUMNS_KEY).unwrap().value.clone().unwrap();
+        let doc: serde_json::Value = serde_json::from_str(&doc).unwrap();
+        assert_eq!(doc["t"]["unit"], "s");
+        assert_eq!(doc["measured"]["unit"], "force: N, position: m");
+        assert!(doc["scored"]["description"].as_str().unwrap().contains("[score]"));
+    }
+}
