@@ -12,6 +12,7 @@ mod fit_compliant_cli;
 mod fit_compliant_loop_cli;
 mod fit_drive_cli;
 mod fit_laws;
+mod fit_nested;
 mod fit_rig_files;
 mod fit_shipped_data;
 mod refusals;

@@ -65,8 +65,7 @@ fn main() {
                 assert_eq!(fmi2DoStep(c, t, h, 1), Status::Ok);
             }
             fastest = fastest.min(start.elapsed().as_secs_f64());
-            // SAFETY: an instance from fmi2Instantiate.
-            unsafe { fmi2FreeInstance(c) };
+            fmi2FreeInstance(c);
         }
         println!(
             "FMU, communication step {h:e} s ({n} steps): {:.2} ms per simulated second ({:.1}× hdw simulate)",

@@ -1,11 +1,58 @@
 //! What the FMI 2 and FMI 3 layers share: an instance with its host's logger, the guard
-//! that turns a panic into an error status instead of unwinding into the host, and the
-//! conversions of C strings and resource locations.
+//! that turns a panic into an error status instead of unwinding into the host, the
+//! registry of live instances, and the conversions of C strings and resource locations.
+//!
+//! **Handles.** Every pointer this library hands out is entered in a registry and removed
+//! when the host frees it; every entry point looks the pointer up before touching it. A
+//! handle freed already (a double free, a call after free), a null one or one this library
+//! never made is answered with an error status (ignored by the free functions), without
+//! reading the memory behind it. So that a stale handle does not reach a newer instance at
+//! the same address, the memory of the last [`QUARANTINE`] freed instances is held back
+//! from the allocator.
 
 use crate::instance::Instance;
+use std::collections::{BTreeSet, VecDeque};
 use std::ffi::{CStr, CString, c_char, c_void};
 use std::panic::{AssertUnwindSafe, catch_unwind};
 use std::path::PathBuf;
+use std::sync::{Mutex, MutexGuard};
+
+/// Freed instances whose memory is held back, so that their addresses are not reused by
+/// the next instances [–].
+pub const QUARANTINE: usize = 32;
+
+/// The live handles, and the freed instances held back.
+struct Registry {
+    /// Addresses of the components the host holds.
+    live: BTreeSet<usize>,
+    /// Freed components, oldest first, kept allocated (their addresses are not live).
+    retired: VecDeque<Box<Component>>,
+}
+
+// SAFETY: the retired components are never used again, only dropped; dropping one reads
+// none of the host's pointers its logger holds, so it may happen on any thread.
+unsafe impl Send for Registry {}
+
+static REGISTRY: Mutex<Registry> =
+    Mutex::new(Registry { live: BTreeSet::new(), retired: VecDeque::new() });
+
+/// The registry, also after a panic while it was held (its sets stay consistent: every
+/// change is one insert or remove).
+fn registry() -> MutexGuard<'static, Registry> {
+    REGISTRY.lock().unwrap_or_else(|poisoned| poisoned.into_inner())
+}
+
+/// Whether `c` is a handle this library returned and the host has not freed.
+pub fn is_live(c: *const c_void) -> bool {
+    !c.is_null() && registry().live.contains(&(c as usize))
+}
+
+/// Hand `comp` to the host: its handle, entered in the registry.
+pub fn register(comp: Component) -> *mut c_void {
+    let c = Box::into_raw(Box::new(comp)) as *mut c_void;
+    registry().live.insert(c as usize);
+    c
+}
 
 /// Status codes, numbered as both FMI versions number them.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -96,14 +143,15 @@ pub fn log_to(logger: Logger, name: &CStr, status: Status, category: &str, messa
     }
 }
 
-/// Run `f` on the component behind `c`, turning a null pointer, an error or a panic into
-/// an error status (logged when the component can still be reached).
+/// Run `f` on the component behind `c`, turning a null, freed or unknown handle, an error
+/// or a panic into an error status (logged when the component can still be reached).
 pub fn guarded(c: *mut c_void, f: impl FnOnce(&mut Component) -> Status) -> Status {
-    if c.is_null() {
+    if !is_live(c) {
         return Status::Error;
     }
-    // SAFETY: a non-null instance pointer is one this library returned from instantiate
-    // and has not freed (the FMI contract); the host calls it from one thread at a time.
+    // SAFETY: `c` is in the registry: a component this library made and the host has not
+    // freed; the host calls one instance from one thread at a time (the FMI contract), so
+    // it is not freed while `f` runs.
     let comp = unsafe { &mut *(c as *mut Component) };
     // The name stays where it is while `f` runs (only freeing moves the component).
     let (logger, name) = (comp.logger, comp.name.as_ptr());
@@ -203,7 +251,7 @@ pub fn instantiate(
         Ok(Component { inst: Instance::new(cfg), name: cname.clone(), logger, logging_on })
     });
     match built {
-        Ok(Ok(comp)) => Box::into_raw(Box::new(comp)) as *mut c_void,
+        Ok(Ok(comp)) => register(comp),
         Ok(Err(e)) => {
             log_to(logger, &cname, Status::Error, "logStatusError", &e);
             std::ptr::null_mut()
@@ -222,15 +270,21 @@ pub fn instantiate(
     }
 }
 
-/// Free a component made by [`instantiate`].
-///
-/// # Safety
-/// `c` is null or a pointer [`instantiate`] returned and nobody freed.
-pub unsafe fn free(c: *mut c_void) {
-    if !c.is_null() {
-        // SAFETY: as the caller promises.
-        drop(unsafe { Box::from_raw(c as *mut Component) });
+/// Free a component made by [`instantiate`]; a null, freed or unknown handle is ignored.
+/// The component is dropped at once; its memory is released once [`QUARANTINE`] later
+/// frees have passed.
+pub fn free(c: *mut c_void) {
+    let mut reg = registry();
+    if !reg.live.remove(&(c as usize)) {
+        return;
     }
+    // SAFETY: `c` was live: a component made by `register` from a Box, freed only here,
+    // once (it has just left the registry).
+    let comp = unsafe { Box::from_raw(c as *mut Component) };
+    reg.retired.push_back(comp);
+    let released = if reg.retired.len() > QUARANTINE { reg.retired.pop_front() } else { None };
+    drop(reg);
+    drop(released);
 }
 
 /// The slices behind a value-reference array and a value array of `n` entries (empty for
@@ -258,12 +312,18 @@ mod tests {
             logger: Logger::None,
             logging_on: false,
         };
-        let c = Box::into_raw(Box::new(comp)) as *mut c_void;
+        let c = register(comp);
         assert_eq!(guarded(c, |_| panic!("boom")), Status::Fatal);
         assert_eq!(guarded(c, |_| Status::Ok), Status::Ok);
         assert_eq!(guarded(std::ptr::null_mut(), |_| Status::Ok), Status::Error);
-        // SAFETY: made above, freed once.
-        unsafe { free(c) };
+        free(c);
+        assert_eq!(guarded(c, |_| Status::Ok), Status::Error, "freed");
+        free(c);
+        let mut unknown = 0u64;
+        let stranger = &mut unknown as *mut u64 as *mut c_void;
+        assert_eq!(guarded(stranger, |_| Status::Ok), Status::Error, "never made here");
+        free(stranger);
+        assert_eq!(unknown, 0, "an unknown handle is not written through");
     }
 
     #[test]

@@ -1,5 +1,6 @@
 //! The FMI 2.0 co-simulation functions (fmi2Functions.h). Every function that takes an
-//! instance runs under [`guarded`]: a failure is logged and returned as `fmi2Error`, a
+//! instance runs under [`guarded`]: a handle that is null, freed or unknown answers
+//! `fmi2Error` without being read, a failure is logged and returned as `fmi2Error`, a
 //! panic as `fmi2Fatal`, and nothing unwinds into the host. Features the model description
 //! does not declare (FMU state, directional derivatives, input derivatives) answer
 //! `fmi2Error` with a message.
@@ -83,14 +84,11 @@ pub unsafe extern "C" fn fmi2Instantiate(
     instantiate(&name, &guid, &resources, logger, logging_on != 0)
 }
 
-/// Free an instance.
-///
-/// # Safety
-/// `c` is null or an instance from [`fmi2Instantiate`] not yet freed.
+/// Free an instance from [`fmi2Instantiate`]; a null handle, one freed already or one
+/// this library did not make is ignored (nothing behind it is read).
 #[unsafe(no_mangle)]
-pub unsafe extern "C" fn fmi2FreeInstance(c: *mut c_void) {
-    // SAFETY: as the caller promises.
-    unsafe { free(c) }
+pub extern "C" fn fmi2FreeInstance(c: *mut c_void) {
+    free(c)
 }
 
 /// Switch debug logging on or off.

@@ -1,5 +1,6 @@
 //! The FMI 3.0 co-simulation functions (fmi3Functions.h). Like the FMI 2 layer, every
-//! instance function runs under [`guarded`]; model exchange, scheduled execution, event
+//! instance function runs under [`guarded`] (a null, freed or unknown handle answers
+//! `fmi3Error` without being read); model exchange, scheduled execution, event
 //! mode, clocks, FMU state and derivatives are declared off and answer `fmi3Error`.
 //! The FMU's variables are all Float64, so the other types' getters and setters accept
 //! only empty lists.
@@ -60,14 +61,11 @@ pub extern "C" fn fmi3InstantiateScheduledExecution() -> *mut c_void {
     std::ptr::null_mut()
 }
 
-/// Free an instance.
-///
-/// # Safety
-/// `c` is null or an instance from [`fmi3InstantiateCoSimulation`] not yet freed.
+/// Free an instance from [`fmi3InstantiateCoSimulation`]; a null handle, one freed already or one
+/// this library did not make is ignored (nothing behind it is read).
 #[unsafe(no_mangle)]
-pub unsafe extern "C" fn fmi3FreeInstance(c: *mut c_void) {
-    // SAFETY: as the caller promises.
-    unsafe { free(c) }
+pub extern "C" fn fmi3FreeInstance(c: *mut c_void) {
+    free(c)
 }
 
 /// Switch debug logging on or off.

@@ -4,10 +4,16 @@
 //! failure; the FMI layers turn it into a status and a log call.
 
 use crate::variables::{Role, VR_T_LOAD, VR_TIME, VR_U, Variable, variables};
+use hd_model::error::SolverError;
 use hd_model::laws::load::LoadTorque;
 use hd_model::signals::Thresholds;
 use hd_model::stepper::Stepper;
 use hd_model::{Input, Params, Profile, SimConfig, Trace};
+
+/// Most solver steps (accepted and rejected) one communication step may take [–]: about
+/// 2 s of work at the seed drive's rate of steps; a step that needs more fails with an
+/// error instead of holding the host for minutes.
+pub const STEP_BUDGET: u64 = 5_000_000;
 
 /// Where an instance is in the FMI life cycle.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -52,6 +58,8 @@ pub struct Instance {
     /// step (0: the solver's own choice): each communication step restarts the solver,
     /// and its starting-step estimate costs more than a short step does.
     h_hint: f64,
+    /// Most solver steps one communication step may take [–].
+    step_budget: u64,
     /// Life-cycle phase.
     pub phase: Phase,
 }
@@ -64,6 +72,7 @@ impl Instance {
             params: cfg.params.clone(),
             breakpoints: cfg.breakpoints(),
             h_hint: 0.0,
+            step_budget: cfg.solver.max_steps.min(STEP_BUDGET),
             cfg,
             u: 0.0,
             t_load: 0.0,
@@ -87,6 +96,11 @@ impl Instance {
         }
         self.start_time = t0;
         Ok(())
+    }
+
+    /// Lower (or raise) the solver steps one communication step may take [–] (at least 1).
+    pub fn set_step_budget(&mut self, steps: u64) {
+        self.step_budget = steps.max(1);
     }
 
     /// Enter initialisation mode.
@@ -194,8 +208,19 @@ impl Instance {
     }
 
     /// Advance from host time `t` [s] by `h` [s] with the inputs held.
+    ///
+    /// A communication point or step size that is not finite is refused before any work;
+    /// a step is given at most [`STEP_BUDGET`] solver steps (fewer when the configuration's
+    /// `max_steps` is lower), and one that would need more is refused at once when that is
+    /// evident (a sampled controller's instants, or a bounded solver step `h_max`), or
+    /// fails when the budget runs out.
     pub fn do_step(&mut self, t: f64, h: f64) -> Result<(), String> {
         self.expect(&[Phase::Stepping], "do a step")?;
+        if !t.is_finite() {
+            return Err(format!(
+                "doStep at communication point t = {t}: expected a finite time [s]"
+            ));
+        }
         if !(h.is_finite() && h >= 0.0) {
             return Err(format!("communication step size = {h}: expected a finite step >= 0 [s]"));
         }
@@ -208,10 +233,27 @@ impl Instance {
         if h == 0.0 {
             return Ok(());
         }
+        let target = t + h - self.start_time;
+        if !target.is_finite() {
+            return Err(format!("doStep from t = {t} s by {h} s: the end time overflows [s]"));
+        }
         self.ensure_run()?;
         self.hold_inputs(h);
         self.rates = [0.0; 2];
-        let target = t + h - self.start_time;
+        let budget = self.step_budget;
+        let period = self.sampling_period();
+        // The fewest solver steps the step needs: one per sampling instant, and one per
+        // h_max of the span.
+        let least = [period, Some(self.cfg.solver.h_max)]
+            .into_iter()
+            .flatten()
+            .map(|p| h / p)
+            .fold(0.0f64, f64::max);
+        if least > budget as f64 {
+            return Err(format!(
+                "communication step size = {h} s needs at least {least:.3e} solver steps, more than the {budget} one step may take: use shorter communication steps"
+            ));
+        }
         let mut opts = self.cfg.solver;
         if opts.h_init == 0.0 && self.h_hint > 0.0 {
             opts.h_init = self.h_hint.min(h);
@@ -219,14 +261,60 @@ impl Instance {
         let Some(run) = self.run.as_mut() else {
             return Err("the run was not assembled".to_string());
         };
-        let steps = run.stats.steps;
-        if let Err(e) = run.advance(target, &self.breakpoints, &opts, &mut |_, _| {}) {
-            self.phase = Phase::Failed;
-            return Err(format!("step from t = {t} s by {h} s failed: {e}"));
+        let work = |r: &Stepper| r.stats.steps + r.stats.rejected;
+        let (steps, work0) = (run.stats.steps, work(run));
+        let over_budget = |reached: f64| {
+            format!(
+                "step from t = {t} s by {h} s stopped at t = {reached} s: it needs more than the {budget} solver steps one communication step may take (use shorter communication steps)"
+            )
+        };
+        // A sampled controller's run goes one sampling interval per call (as the run
+        // itself splits it), so that the budget bounds the work of the whole step; a
+        // continuous drive is one solve.
+        while run.t < target {
+            let used = work(run) - work0;
+            if used >= budget {
+                self.phase = Phase::Failed;
+                return Err(over_budget(self.start_time + run.t));
+            }
+            let stop = match period {
+                Some(p) => {
+                    let k = (run.t / p).floor() + 1.0;
+                    if k * p > run.t { k * p } else { (k + 1.0) * p }
+                }
+                None => target,
+            };
+            opts.max_steps = budget - used;
+            let before = run.t;
+            let result = run.advance(stop.min(target), &self.breakpoints, &opts, &mut |_, _| {});
+            if let Err(e) = result {
+                self.phase = Phase::Failed;
+                let reached = self.start_time + run.t;
+                return Err(match e {
+                    SolverError::TooManySteps { .. }
+                        if opts.max_steps < self.cfg.solver.max_steps =>
+                    {
+                        over_budget(reached)
+                    }
+                    e => format!("step from t = {t} s by {h} s failed: {e}"),
+                });
+            }
+            if run.t <= before {
+                self.phase = Phase::Failed;
+                return Err(format!(
+                    "step from t = {t} s by {h} s made no progress at t = {before} s"
+                ));
+            }
         }
         // Steps after the first show the solver's own step size.
         self.h_hint = h / (run.stats.steps - steps).saturating_sub(1).max(1) as f64;
         Ok(())
+    }
+
+    /// The sampling period of the exported controller when it runs sampled [s].
+    fn sampling_period(&self) -> Option<f64> {
+        let ctl = self.run.as_ref()?.sys.ctl.as_ref()?;
+        ctl.is_sampled().then_some(ctl.cfg.period)
     }
 
     /// The configuration with the host's parameter values.
@@ -308,3 +396,7 @@ impl Instance {
         };
     }
 }
+
+#[cfg(test)]
+#[path = "instance_tests.rs"]
+mod tests;

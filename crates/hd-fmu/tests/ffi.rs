@@ -73,6 +73,28 @@ fn instantiate2(dir: &std::path::Path, token: &str) -> *mut c_void {
 
 use hd_fmu::ffi::Fmi2Logger;
 
+fn instantiate3(dir: &std::path::Path, token: &str) -> *mut c_void {
+    let path = CString::new(format!("{}/", dir.display())).unwrap();
+    let token = CString::new(token).unwrap();
+    // SAFETY: valid strings and callback.
+    unsafe {
+        fmi3InstantiateCoSimulation(
+            c"test3".as_ptr(),
+            token.as_ptr(),
+            path.as_ptr(),
+            false,
+            false,
+            false,
+            false,
+            std::ptr::null(),
+            0,
+            std::ptr::null_mut(),
+            Some(logger3),
+            std::ptr::null(),
+        )
+    }
+}
+
 #[test]
 fn one_fmi2_step_is_hdw_simulate_to_the_bit() {
     let cfg = SimConfig::default();
@@ -101,8 +123,7 @@ fn one_fmi2_step_is_hdw_simulate_to_the_bit() {
     };
     let out = simulate(&reference).unwrap();
     assert_eq!(got, *out.trace.unwrap().theta_z.last().unwrap());
-    // SAFETY: an instance from fmi2Instantiate.
-    unsafe { fmi2FreeInstance(c) };
+    fmi2FreeInstance(c);
 }
 
 #[test]
@@ -128,33 +149,14 @@ fn errors_are_statuses_with_a_message_naming_the_cause() {
     assert!(logged("doStep from t = 0.5 s"));
     assert_eq!(fmi2DoStep(std::ptr::null_mut(), 0.0, 1e-3, 1), Status::Error);
     assert_eq!(fmi2GetFMUstate(c), Status::Error);
-    // SAFETY: an instance from fmi2Instantiate.
-    unsafe { fmi2FreeInstance(c) };
+    fmi2FreeInstance(c);
 }
 
 #[test]
 fn fmi3_steps_and_reports_time() {
     let cfg = SimConfig::default();
     let (dir, token) = resources(&cfg);
-    let path = CString::new(format!("{}/", dir.path().display())).unwrap();
-    let token = CString::new(token).unwrap();
-    // SAFETY: valid strings and callback.
-    let c = unsafe {
-        fmi3InstantiateCoSimulation(
-            c"test3".as_ptr(),
-            token.as_ptr(),
-            path.as_ptr(),
-            false,
-            false,
-            false,
-            false,
-            std::ptr::null(),
-            0,
-            std::ptr::null_mut(),
-            Some(logger3),
-            std::ptr::null(),
-        )
-    };
+    let c = instantiate3(dir.path(), &token);
     assert!(!c.is_null());
     assert_eq!(fmi3EnterInitializationMode(c, false, 0.0, 1.0, false, 0.0), Status::Ok);
     assert_eq!(fmi3ExitInitializationMode(c), Status::Ok);
@@ -175,8 +177,7 @@ fn fmi3_steps_and_reports_time() {
     // SAFETY: one reference, one value.
     unsafe { assert_eq!(fmi3SetFloat64(c, &ms_n, 1, &40.0, 1), Status::Error) };
     assert!(logged("'ms_n' = 40"));
-    // SAFETY: an instance from fmi3InstantiateCoSimulation.
-    unsafe { fmi3FreeInstance(c) };
+    fmi3FreeInstance(c);
 }
 
 #[test]
@@ -204,6 +205,140 @@ fn input_derivatives_ramp_the_voltage_over_the_step() {
     let reference = SimConfig { input: Input::Recorded(ramp), t_end: 0.01, ..SimConfig::default() };
     let out = simulate(&reference).unwrap();
     assert_eq!(got, *out.trace.unwrap().theta_z.last().unwrap());
-    // SAFETY: an instance from fmi2Instantiate.
-    unsafe { fmi2FreeInstance(c) };
+    fmi2FreeInstance(c);
+}
+
+/// Every FMI 2 instance function at `c`, each expected to answer `status`.
+fn every_fmi2_call(c: *mut c_void, status: Status) {
+    let (mut v, mut b, vr) = (0.0, 0, 1u32);
+    // SAFETY: valid out-pointers; the handle is what is tested.
+    unsafe {
+        assert_eq!(fmi2SetReal(c, &vr, 1, &1.0), status);
+        assert_eq!(fmi2GetReal(c, &vr, 1, &mut v), status);
+        assert_eq!(fmi2GetRealStatus(c, 2, &mut v), status);
+        assert_eq!(fmi2GetBooleanStatus(c, 3, &mut b), status);
+    }
+    assert_eq!(fmi2SetDebugLogging(c, 0, 0, std::ptr::null()), status);
+    assert_eq!(fmi2SetupExperiment(c, 0, 0.0, 0.0, 0, 0.0), status);
+    assert_eq!(fmi2EnterInitializationMode(c), status);
+    assert_eq!(fmi2ExitInitializationMode(c), status);
+    assert_eq!(fmi2DoStep(c, 0.0, 1e-3, 1), status);
+    assert_eq!(fmi2Terminate(c), status);
+    assert_eq!(fmi2Reset(c), status);
+}
+
+#[test]
+fn fmi2_handles_freed_twice_used_after_free_null_or_foreign_are_errors_not_crashes() {
+    let cfg = SimConfig::default();
+    let (dir, token) = resources(&cfg);
+    let a = instantiate2(dir.path(), &token);
+    assert!(!a.is_null());
+    every_fmi2_call(a, Status::Ok);
+    fmi2FreeInstance(a);
+    fmi2FreeInstance(a); // the double free: ignored, the heap untouched
+    every_fmi2_call(a, Status::Error);
+    every_fmi2_call(std::ptr::null_mut(), Status::Error);
+    fmi2FreeInstance(std::ptr::null_mut());
+    // A pointer this library never made is neither read nor written.
+    let mut foreign = [7u64; 64];
+    let f = foreign.as_mut_ptr() as *mut c_void;
+    every_fmi2_call(f, Status::Error);
+    fmi2FreeInstance(f);
+    assert!(foreign.iter().all(|&w| w == 7));
+    // A new instance does not take the freed one's address: the stale handle stays dead.
+    let b = instantiate2(dir.path(), &token);
+    assert_ne!(a, b);
+    every_fmi2_call(a, Status::Error);
+    every_fmi2_call(b, Status::Ok);
+    fmi2FreeInstance(a);
+    every_fmi2_call(b, Status::Ok);
+    fmi2FreeInstance(b);
+}
+
+#[test]
+fn fmi3_handles_freed_twice_used_after_free_or_null_are_errors_not_crashes() {
+    let cfg = SimConfig::default();
+    let (dir, token) = resources(&cfg);
+    let c = instantiate3(dir.path(), &token);
+    assert!(!c.is_null());
+    fmi3FreeInstance(c);
+    fmi3FreeInstance(c);
+    for h in [c, std::ptr::null_mut()] {
+        let (mut v, mut flag, vr) = (0.0, false, 1u32);
+        assert_eq!(fmi3EnterInitializationMode(h, false, 0.0, 0.0, false, 0.0), Status::Error);
+        assert_eq!(fmi3ExitInitializationMode(h), Status::Error);
+        assert_eq!(fmi3EnterStepMode(h), Status::Error);
+        // SAFETY: valid pointers; the handle is what is tested.
+        unsafe {
+            assert_eq!(fmi3GetFloat64(h, &vr, 1, &mut v, 1), Status::Error);
+            assert_eq!(fmi3SetFloat64(h, &vr, 1, &1.0, 1), Status::Error);
+            let s = fmi3DoStep(h, 0.0, 1e-3, true, &mut flag, &mut flag, &mut flag, &mut v);
+            assert_eq!(s, Status::Error);
+        }
+        assert_eq!(fmi3SetDebugLogging(h, true, 0, std::ptr::null()), Status::Error);
+        assert_eq!(fmi3Terminate(h), Status::Error);
+        assert_eq!(fmi3Reset(h), Status::Error);
+        assert_eq!(fmi3GetFMUState(h), Status::Error);
+    }
+    fmi3FreeInstance(std::ptr::null_mut());
+}
+
+#[test]
+fn non_finite_communication_points_are_errors_at_once_in_both_versions() {
+    let cfg = SimConfig::default();
+    let (dir, token) = resources(&cfg);
+    let c = instantiate2(dir.path(), &token);
+    assert_eq!(fmi2SetupExperiment(c, 0, 0.0, 0.0, 0, 0.0), Status::Ok);
+    assert_eq!(fmi2EnterInitializationMode(c), Status::Ok);
+    assert_eq!(fmi2ExitInitializationMode(c), Status::Ok);
+    let start = std::time::Instant::now();
+    assert_eq!(fmi2DoStep(c, f64::NAN, 1e-3, 1), Status::Error);
+    assert!(logged("doStep at communication point t = NaN"));
+    assert_eq!(fmi2DoStep(c, f64::INFINITY, 1e-3, 1), Status::Error);
+    assert!(logged("doStep at communication point t = inf"));
+    assert_eq!(fmi2DoStep(c, 0.0, f64::NAN, 1), Status::Error);
+    assert_eq!(fmi2DoStep(c, 0.0, f64::INFINITY, 1), Status::Error);
+    assert!(logged("communication step size = inf"));
+    assert!(start.elapsed().as_secs_f64() < 1.0, "refused before any work");
+    assert_eq!(fmi2DoStep(c, 0.0, 1e-3, 1), Status::Ok, "the instance steps on");
+    fmi2FreeInstance(c);
+
+    let c = instantiate3(dir.path(), &token);
+    assert_eq!(fmi3EnterInitializationMode(c, false, 0.0, 0.0, false, 0.0), Status::Ok);
+    assert_eq!(fmi3ExitInitializationMode(c), Status::Ok);
+    let (mut flag, mut last) = (false, -1.0);
+    let start = std::time::Instant::now();
+    for (t, h) in [(f64::NAN, 1e-3), (f64::INFINITY, 1e-3), (0.0, f64::NAN), (0.0, f64::INFINITY)] {
+        // SAFETY: valid out-pointers.
+        let s = unsafe { fmi3DoStep(c, t, h, true, &mut flag, &mut flag, &mut flag, &mut last) };
+        assert_eq!(s, Status::Error, "t = {t}, h = {h}");
+        assert_eq!(last, 0.0, "nothing advanced");
+    }
+    assert!(start.elapsed().as_secs_f64() < 1.0, "refused before any work");
+    fmi3FreeInstance(c);
+}
+
+#[test]
+fn an_absurd_communication_step_is_an_error_in_bounded_time() {
+    // h_max bounds the solver's step: a step of 1e6 s needs 1e10 of them, refused at once.
+    let mut cfg = SimConfig::default();
+    cfg.solver.h_max = 1e-4;
+    let (dir, token) = resources(&cfg);
+    let start = std::time::Instant::now();
+    let c = instantiate2(dir.path(), &token);
+    assert_eq!(fmi2SetupExperiment(c, 0, 0.0, 0.0, 0, 0.0), Status::Ok);
+    assert_eq!(fmi2EnterInitializationMode(c), Status::Ok);
+    assert_eq!(fmi2ExitInitializationMode(c), Status::Ok);
+    assert_eq!(fmi2DoStep(c, 0.0, 1e6, 1), Status::Error);
+    assert!(logged("needs at least 1.000e10 solver steps"));
+    fmi2FreeInstance(c);
+    let c = instantiate3(dir.path(), &token);
+    assert_eq!(fmi3EnterInitializationMode(c, false, 0.0, 0.0, false, 0.0), Status::Ok);
+    assert_eq!(fmi3ExitInitializationMode(c), Status::Ok);
+    let (mut flag, mut last) = (false, -1.0);
+    // SAFETY: valid out-pointers.
+    let s = unsafe { fmi3DoStep(c, 0.0, 1e6, true, &mut flag, &mut flag, &mut flag, &mut last) };
+    assert_eq!(s, Status::Error);
+    assert!(start.elapsed().as_secs_f64() < 2.0, "refused before any work");
+    fmi3FreeInstance(c);
 }

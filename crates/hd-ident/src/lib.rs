@@ -49,7 +49,9 @@ pub mod varpro;
 pub use data::{HysteresisData, SteadyData, TransientData};
 pub use error::{DataError, FitError};
 pub use fix::Fixed;
-pub use friction::{FrictionFit, FrictionOptions, fit_friction, fit_friction_with};
+pub use friction::{
+    FrictionFit, FrictionOptions, JointSettings, fit_friction, fit_friction_with, fit_joint_with,
+};
 pub use hysteresis::{HYSTERESIS_PARAMS, fit_hysteresis, fit_hysteresis_with};
 pub use report::{DataSource, Estimate, FitReport};
 pub use separable::SeparableFit;

@@ -118,17 +118,11 @@ pub static REGISTRY: &[ParamInfo] = &[
     p!("sigma0", sigma0, "N·m/rad", 0.0, false, INF, "LuGre bristle stiffness"),
     p!("sigma1", sigma1, "N·m·s/rad", 0.0, true, INF, "LuGre bristle damping"),
     p!("sigma2", sigma2, "N·m·s/rad", 0.0, true, INF, "LuGre viscous friction"),
-    p!("Tc", tc, "N·m", 0.0, false, INF, "Coulomb friction torque"),
+    p!("Tc", tc, "N·m", 0.0, true, INF, "Coulomb friction torque"),
     p!("Ts", ts, "N·m", 0.0, false, INF, "static friction torque"),
     p!("ws", ws, "rad/s", 0.0, false, INF, "Stribeck velocity"),
     // The negative-side levels follow Tc and Ts until they are set.
-    p_neg!(
-        "Tc_neg",
-        tc_neg,
-        tc,
-        false,
-        "Coulomb friction torque for negative speeds (default: Tc)"
-    ),
+    p_neg!("Tc_neg", tc_neg, tc, true, "Coulomb friction torque for negative speeds (default: Tc)"),
     p_neg!("Ts_neg", ts_neg, ts, false, "static friction torque for negative speeds (default: Ts)"),
     p!("mu_c_fwd", mu_c_fwd, "-", 0.0, true, INF, "Coulomb level growth per |Tb|, forward"),
     p!("mu_s_fwd", mu_s_fwd, "-", 0.0, true, INF, "static level growth per |Tb|, forward"),

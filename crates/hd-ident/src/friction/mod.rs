@@ -12,6 +12,6 @@ mod transient;
 pub use combined::{
     ASYMMETRIC_PARAMS, FRICTION_PARAMS, FrictionFit, fit_friction, fit_friction_with,
 };
-pub use joint::{FrictionOptions, OFFSET, fit_joint};
+pub use joint::{FrictionOptions, JointSettings, OFFSET, fit_joint, fit_joint_with};
 pub use steady::{STATIC_PARAMS, SteadyOptions, SteadyProblem};
 pub use transient::{DYNAMIC_PARAMS, TransientProblem, bristle_states};

@@ -13,7 +13,7 @@
 //! The load-dependent levels (`mu_*`) are not used here: these updates are for records of
 //! friction alone (the fits hold the factors at zero).
 
-use super::friction::{FrictionLaw, LuGre, term_is_invisible};
+use super::friction::{FrictionLaw, LuGre, floored_level, term_is_invisible};
 
 /// Index of each parameter in a [`ShapeGrad`]: the Coulomb and static levels, the
 /// Stribeck speed, the bristle stiffness, and the negative-side levels.
@@ -58,7 +58,7 @@ impl LuGre {
         let r = v * (1.0 / self.ws);
         let x = r * r;
         let e = if term_is_invisible(x, ts - tc, tc) { 0.0 } else { (-x).exp() };
-        let level = crate::fma::fmadd(ts - tc, e, tc);
+        let level = floored_level(crate::fma::fmadd(ts - tc, e, tc), tc, ts);
         let mut grad = [0.0; 6];
         let (kc, ks) = if v < 0.0 { (4, 5) } else { (0, 1) };
         grad[kc] = 1.0 - e;

@@ -14,8 +14,11 @@
 //!    ([`super::quasi_steady`]) with the static fit, or from plain torque levels when the series
 //!    has too few;
 //! 2. start σ0 by a global search over ln σ0 (grid + Brent), the others held;
-//! 3. refine all free parameters jointly from that start and from [`EXTRA_STARTS`]
-//!    perturbed ones (real data have local optima); the best wins;
+//! 3. refine all free parameters jointly from that start, from [`EXTRA_STARTS`] perturbed
+//!    ones, from Stribeck-dominated ones and (asymmetric law) from the symmetric law's
+//!    optimum (real data have local optima); the best wins ([`pipeline`]);
+//! 3b. hold each free Coulomb level at exactly 0 and refine the rest: an optimum on that
+//!    bound, which the logarithms can only approach, is reached and reported on its bound;
 //! 4. standard errors, intervals, correlations and determined flags from the Jacobian at
 //!    the optimum, as for every fit.
 
@@ -24,28 +27,24 @@ mod fast;
 mod finish;
 mod kernel;
 mod normal;
+mod pipeline;
+mod race;
 mod sigma0_pass;
 mod start;
 mod vexp;
 
 use super::bristle::{BristleRun, bristle_run};
-use crate::data::{TransientData, require_samples};
-use crate::error::{FitError, chain};
+use crate::data::TransientData;
+use crate::error::FitError;
 use crate::fix::Fixed;
 use crate::linear::bounded_least_squares;
 use crate::lm::{
-    LmOptions, LmPaused, LmStep, hit_budget, levenberg_marquardt_normal, lm_normal_paused,
-    lm_normal_resume,
+    LmOptions, LmPaused, LmStep, levenberg_marquardt_normal, lm_normal_paused, lm_normal_resume,
 };
-use crate::report::{Explanation, SearchSummary};
-use crate::search::{GRID_POINTS, search_log};
-use crate::separable::SeparableFit;
-use finish::finish;
+use crate::report::Explanation;
 use hd_model::laws::friction::LuGre;
 use hd_model::registry::lookup;
-use rayon::prelude::*;
-use start::{speed_range, static_start};
-use std::time::Instant;
+use start::speed_range;
 
 /// Which optional terms the friction fits include.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -57,6 +56,7 @@ pub struct FrictionOptions {
 }
 
 pub use crate::fix::OFFSET;
+pub use pipeline::{JointSettings, fit_joint, fit_joint_with};
 
 /// Perturbed starts refined besides the main one (ωs and σ0 moved by a factor each way).
 pub const EXTRA_STARTS: usize = 4;
@@ -99,6 +99,9 @@ pub struct JointProblem<'a> {
     ones: Vec<f64>,
     /// Buffers for the evaluations ([`fast`]).
     pool: fast::Pool,
+    /// Levels held on their lower bound 0 because the fit is best there
+    /// ([`pipeline`]'s bound stage): reported "on its bound", not "fixed".
+    on_bound: Vec<&'static str>,
 }
 
 /// The model's pieces for one set of nonlinear values.
@@ -159,6 +162,7 @@ impl<'a> JointProblem<'a> {
             first_bias: 0.0,
             ones: vec![1.0; data.len()],
             pool: fast::Pool::default(),
+            on_bound: Vec::new(),
         }
     }
 
@@ -341,239 +345,6 @@ impl<'a> JointProblem<'a> {
         };
         Explanation { effect, remedy }
     }
-}
-
-impl Refined {
-    fn from_outcome(problem: &JointProblem, out: crate::lm::LmOutcome) -> Self {
-        Refined {
-            values: problem.values(&out.x),
-            rss: out.cost,
-            iterations: out.iterations,
-            evaluations: out.evaluations,
-            failed: out.failed_trials,
-            termination: out.termination,
-            dropped: false,
-        }
-    }
-}
-
-/// How many of the refinement's `ends` were starts stopped early.
-fn refined_dropped(ends: &[String]) -> usize {
-    ends.iter().filter(|e| e.starts_with("stopped after")).count()
-}
-
-/// One refined start.
-struct Refined {
-    values: [f64; 6],
-    rss: f64,
-    iterations: usize,
-    evaluations: usize,
-    failed: usize,
-    termination: String,
-    /// Stopped early as far above the other starts ([`DROP_FACTOR`]).
-    dropped: bool,
-}
-
-/// Fit every free LuGre parameter (and, by `opts`, the negative-side levels and the
-/// offset) to one time series.
-pub fn fit_joint(
-    data: &TransientData,
-    fixed: &Fixed,
-    opts: FrictionOptions,
-) -> Result<SeparableFit, FitError> {
-    let started = Instant::now();
-    let mut remarks = Vec::new();
-    let (start, how) = static_start(data, fixed, opts);
-    remarks.push(how);
-    let mut problem = JointProblem::new(data, fixed, opts, &start);
-    let free_linear: Vec<&str> =
-        problem.linear.iter().filter(|(_, f)| f.is_none()).map(|(n, _)| *n).collect();
-    let free_names: Vec<&str> =
-        problem.nonlinear.iter().copied().chain(free_linear.iter().copied()).collect();
-    if free_names.is_empty() {
-        return Err(FitError::NothingFree { fit: "friction" });
-    }
-    if let Some(w) = require_samples(data.len(), &free_names)? {
-        remarks.push(w);
-    }
-
-    // σ0's start: a global search over ln σ0 with the static start held.
-    let mut base = problem.base;
-    let mut search = None;
-    let mut evaluations = 0usize;
-    let mut failed = 0usize;
-    if problem.nonlinear.contains(&"sigma0") {
-        let level = base[0].max(base[1]).max(base[4]).max(base[5]);
-        let (mut lo, mut hi) = problem.sigma0_range(level);
-        lo = lo.max(f64::MIN_POSITIVE);
-        hi = hi.min(f64::MAX);
-        // One pass per trial with the levels' quantities worked out once; the general
-        // path where that pass cannot be used.
-        let pass = sigma0_pass::Sigma0Pass::new(&problem, problem.law(&base));
-        let cost = |s0: f64| match pass.rss(&problem, s0) {
-            Some(c) => Ok(c),
-            None => {
-                let mut v = base;
-                v[3] = s0;
-                problem.rss_at(&v)
-            }
-        };
-        let out = search_log(&cost, lo, hi)?;
-        base[3] = out.value;
-        evaluations += out.evaluations as usize;
-        failed += out.failed_trials as usize;
-        if out.failed_trials > 0 {
-            remarks.push(format!(
-                "{} of the σ0 search's trials failed and counted as the worst cost (first: {})",
-                out.failed_trials,
-                out.first_failure.as_deref().unwrap_or("a non-finite cost")
-            ));
-        }
-        search = Some(SearchSummary {
-            parameter: "sigma0".into(),
-            range: [lo, hi],
-            grid_points: GRID_POINTS,
-            starts: out.starts,
-        });
-    }
-
-    // Joint refinement from the main start and the perturbed ones.
-    let mut starts = vec![base];
-    let k_ws = 2;
-    let k_s0 = 3;
-    for (k, factor) in [
-        (k_ws, START_FACTOR),
-        (k_ws, 1.0 / START_FACTOR),
-        (k_s0, START_FACTOR),
-        (k_s0, 1.0 / START_FACTOR),
-    ] {
-        if problem.nonlinear.contains(&NONLINEAR_ALL[k]) && starts.len() <= EXTRA_STARTS {
-            let mut v = base;
-            v[k] *= factor;
-            starts.push(v);
-        }
-    }
-    let lm = LmOptions { max_iterations: MAX_ITERATIONS, secant: true, ..Default::default() };
-    // Every start runs RACE_ITERATIONS iterations; those far above the lowest cost reached
-    // by then stop, the rest resume where they stood. The comparison is made at the same
-    // point for every start, so the outcome does not depend on which thread ran first.
-    let first: Vec<Result<LmStep, FitError>> = starts
-        .par_iter()
-        .map(|v| problem.refine_paused(&problem.x_of(v), &lm, RACE_ITERATIONS))
-        .collect();
-    let lowest = first
-        .iter()
-        .filter_map(|r| match r {
-            Ok(LmStep::Done(out)) => Some(out.cost),
-            Ok(LmStep::Paused(p)) => Some(p.cost()),
-            Err(_) => None,
-        })
-        .fold(f64::INFINITY, f64::min);
-    let refined: Vec<Result<Refined, FitError>> = first
-        .into_par_iter()
-        .map(|r| match r? {
-            LmStep::Done(out) => Ok(Refined::from_outcome(&problem, out)),
-            LmStep::Paused(p) if p.cost() > DROP_FACTOR * lowest => Ok(Refined {
-                values: problem.values(p.x()),
-                rss: p.cost(),
-                iterations: p.iterations(),
-                evaluations: p.evaluations(),
-                failed: p.failed_trials(),
-                termination: format!(
-                    "stopped after {} iterations: RSS {:.6e} above {DROP_FACTOR} × the lowest of all starts then ({lowest:.6e})",
-                    p.iterations(),
-                    p.cost()
-                ),
-                dropped: true,
-            }),
-            LmStep::Paused(p) => Ok(Refined::from_outcome(&problem, problem.resume(p, &lm)?)),
-        })
-        .collect();
-    let ends: Vec<String> = refined
-        .iter()
-        .map(|r| match r {
-            Ok(r) if r.dropped => r.termination.clone(),
-            Ok(r) => {
-                format!("RSS {:.6e} after {} iterations ({})", r.rss, r.iterations, r.termination)
-            }
-            Err(e) => format!("could not be evaluated: {}", chain(e)),
-        })
-        .collect();
-    let mut best: Option<Refined> = None;
-    let mut iterations = 0usize;
-    let mut start_failures = Vec::new();
-    for r in refined {
-        match r {
-            Ok(r) => {
-                iterations += r.iterations;
-                evaluations += r.evaluations;
-                failed += r.failed;
-                if !r.dropped && best.as_ref().is_none_or(|b| r.rss < b.rss) {
-                    best = Some(r);
-                }
-            }
-            Err(e) => start_failures.push(chain(&e)),
-        }
-    }
-    let Some(best) = best else {
-        return Err(FitError::Optimiser(format!(
-            "no start of the joint refinement could be evaluated ({})",
-            start_failures.join("; ")
-        )));
-    };
-    let dropped = refined_dropped(&ends);
-    if dropped > 0 {
-        remarks.push(format!(
-            "{dropped} of {} starts stopped after {RACE_ITERATIONS} iterations, their RSS over {DROP_FACTOR} × the lowest any start had reached then (fit.json refinement_ends)",
-            starts.len()
-        ));
-    }
-    if !start_failures.is_empty() {
-        remarks.push(format!(
-            "{} of {} starts could not be evaluated and were skipped",
-            start_failures.len(),
-            starts.len()
-        ));
-    }
-    if failed > 0 {
-        remarks.push(format!("{failed} trial parameter sets failed to integrate or gave non-finite torques; each counted as a rejected trial"));
-    }
-    // The bristle state starts from the first torque less the offset and viscous term,
-    // which are only known now: refine once more with that start (a fixed point in one
-    // step: the start's effect on the optimum is second order).
-    let mut best = best;
-    let proj = problem.project(&best.values)?;
-    let beta = |name: &str| {
-        problem.linear.iter().position(|(n, _)| *n == name).map_or(0.0, |j| proj.beta[j])
-    };
-    let bias = beta(OFFSET) + beta("sigma2") * data.omega()[0];
-    if bias != 0.0 {
-        problem.first_bias = bias;
-        let x0 = problem.x_of(&best.values);
-        if let Ok(out) = problem.refine(&x0, &lm) {
-            iterations += out.iterations;
-            evaluations += out.evaluations;
-            best = Refined::from_outcome(&problem, out);
-        }
-    }
-    if hit_budget(&best.termination) {
-        remarks.push(format!(
-            "warning: the best start's refinement stopped on its iteration budget ({MAX_ITERATIONS}) before converging; the optimum may lie further on (try --fix on a poorly determined parameter)"
-        ));
-    }
-    let fit = finish(
-        &problem,
-        &best.values,
-        started,
-        remarks,
-        search,
-        iterations,
-        evaluations,
-        &best.termination,
-        &starts,
-        ends,
-    )?;
-    Ok(fit)
 }
 
 #[cfg(test)]

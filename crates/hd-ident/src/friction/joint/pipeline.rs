@@ -1,0 +1,395 @@
+//! The joint fit's pipeline: starts, refinement, the bound stage, the nested law's
+//! guarantee and the report.
+//!
+//! Two guarantees a user can leave the fit to:
+//! - **nested laws stay nested**: the asymmetric law contains the symmetric one (equal
+//!   levels on both sides), so the asymmetric fit first fits the symmetric law and starts
+//!   (among its starts) from that optimum with its levels copied to both sides; its final
+//!   cost is then never above the symmetric fit's;
+//! - **optima on a bound are reachable**: the levels are refined by their logarithms, which
+//!   can only approach 0. The bound stage holds each Coulomb level at exactly 0 (an active
+//!   set of one bound) and refines the rest from the best fit and from Stribeck-dominated
+//!   starts; where that is lower, the level is reported on its bound.
+
+use super::race::{Refined, refine_starts};
+use super::sigma0_pass::Sigma0Pass;
+use super::start::{speed_range, static_start};
+use super::{
+    EXTRA_STARTS, FrictionOptions, JointProblem, MAX_ITERATIONS, NONLINEAR_ALL, OFFSET,
+    START_FACTOR, finish::finish,
+};
+use crate::data::{TransientData, require_samples};
+use crate::error::FitError;
+use crate::fix::Fixed;
+use crate::lm::{LmOptions, hit_budget};
+use crate::report::SearchSummary;
+use crate::search::{GRID_POINTS, search_log};
+use crate::separable::SeparableFit;
+use std::time::Instant;
+
+/// How the joint fit treats its starts.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct JointSettings {
+    /// Stop starts far above the others early ([`super::DROP_FACTOR`]); false runs every
+    /// start to its end (the reference the race is checked against on a corpus).
+    pub race: bool,
+}
+
+impl Default for JointSettings {
+    fn default() -> Self {
+        Self { race: true }
+    }
+}
+
+/// The Coulomb levels the bound stage may hold at 0, in the order it tries them.
+const BOUND_LEVELS: [&str; 2] = ["Tc", "Tc_neg"];
+
+/// Share of the largest level a Stribeck-dominated start gives the Coulomb level [–].
+const STRIBECK_START_SHARE: f64 = 0.02;
+
+/// Fit every free LuGre parameter (and, by `opts`, the negative-side levels and the
+/// offset) to one time series.
+pub fn fit_joint(
+    data: &TransientData,
+    fixed: &Fixed,
+    opts: FrictionOptions,
+) -> Result<SeparableFit, FitError> {
+    fit_joint_with(data, fixed, opts, JointSettings::default())
+}
+
+/// A finished fit of the nested (symmetric) law, as a start of the richer one.
+struct Nested {
+    values: [f64; 6],
+    /// Part of the first torque that is not bristle torque at its optimum [N·m].
+    bias: f64,
+    rss: f64,
+    on_bound: Vec<&'static str>,
+}
+
+/// [`fit_joint`] with explicit settings.
+pub fn fit_joint_with(
+    data: &TransientData,
+    fixed: &Fixed,
+    opts: FrictionOptions,
+    settings: JointSettings,
+) -> Result<SeparableFit, FitError> {
+    let started = Instant::now();
+    let mut remarks = Vec::new();
+    let nested =
+        if opts.asymmetric && (fixed.get("Tc_neg").is_none() || fixed.get("Ts_neg").is_none()) {
+            nested_fit(data, fixed, opts, settings)
+        } else {
+            None
+        };
+    let (start, how) = static_start(data, fixed, opts);
+    remarks.push(how);
+    let mut problem = JointProblem::new(data, fixed, opts, &start);
+    let free_linear: Vec<&str> =
+        problem.linear.iter().filter(|(_, f)| f.is_none()).map(|(n, _)| *n).collect();
+    let free_names: Vec<&str> =
+        problem.nonlinear.iter().copied().chain(free_linear.iter().copied()).collect();
+    if free_names.is_empty() {
+        return Err(FitError::NothingFree { fit: "friction" });
+    }
+    if let Some(w) = require_samples(data.len(), &free_names)? {
+        remarks.push(w);
+    }
+
+    // σ0's start: a global search over ln σ0 with the static start held.
+    let mut base = problem.base;
+    let mut search = None;
+    let mut evaluations = 0usize;
+    let mut failed = 0usize;
+    if problem.nonlinear.contains(&"sigma0") {
+        let level = base[0].max(base[1]).max(base[4]).max(base[5]);
+        let (mut lo, mut hi) = problem.sigma0_range(level);
+        lo = lo.max(f64::MIN_POSITIVE);
+        hi = hi.min(f64::MAX);
+        // One pass per trial with the levels' quantities worked out once; the general
+        // path where that pass cannot be used.
+        let pass = Sigma0Pass::new(&problem, problem.law(&base));
+        let cost = |s0: f64| match pass.rss(&problem, s0) {
+            Some(c) => Ok(c),
+            None => {
+                let mut v = base;
+                v[3] = s0;
+                problem.rss_at(&v)
+            }
+        };
+        let out = search_log(&cost, lo, hi)?;
+        base[3] = out.value;
+        evaluations += out.evaluations as usize;
+        failed += out.failed_trials as usize;
+        if out.failed_trials > 0 {
+            remarks.push(format!(
+                "{} of the σ0 search's trials failed and counted as the worst cost (first: {})",
+                out.failed_trials,
+                out.first_failure.as_deref().unwrap_or("a non-finite cost")
+            ));
+        }
+        search = Some(SearchSummary {
+            parameter: "sigma0".into(),
+            range: [lo, hi],
+            grid_points: GRID_POINTS,
+            starts: out.starts,
+        });
+    }
+
+    let starts = start_set(&problem, base, nested.as_ref());
+    let lm = LmOptions { max_iterations: MAX_ITERATIONS, secant: true, ..Default::default() };
+    let race = refine_starts(&problem, &starts, &lm, settings.race);
+    let mut iterations = race.iterations;
+    evaluations += race.evaluations;
+    failed += race.failed;
+    let mut ends = race.ends;
+    let Some(mut best) = race.best else {
+        return Err(FitError::Optimiser(format!(
+            "no start of the joint refinement could be evaluated ({})",
+            race.start_failures.join("; ")
+        )));
+    };
+    if race.dropped > 0 {
+        remarks.push(format!(
+            "{} of {} starts stopped after {} iterations, their RSS over {} × the lowest any start had reached then (fit.json refinement_ends)",
+            race.dropped,
+            starts.len(),
+            super::RACE_ITERATIONS,
+            super::DROP_FACTOR
+        ));
+    }
+    if !race.start_failures.is_empty() {
+        remarks.push(format!(
+            "{} of {} starts could not be evaluated and were skipped",
+            race.start_failures.len(),
+            starts.len()
+        ));
+    }
+
+    // The bound stage: each free Coulomb level held at exactly 0.
+    for name in BOUND_LEVELS {
+        if !problem.nonlinear.contains(&name) {
+            continue;
+        }
+        let Some((held, refined, tried)) = bound_candidate(&problem, fixed, opts, &best, name, &lm)
+        else {
+            continue;
+        };
+        iterations += tried.iterations;
+        evaluations += tried.evaluations;
+        ends.extend(tried.ends.iter().map(|e| format!("{name} held at 0: {e}")));
+        if refined.rss < best.rss {
+            remarks.push(format!(
+                "{name} is best on its bound 0: held there, the RSS is {:.6e} against {:.6e} with it free (bound stage)",
+                refined.rss, best.rss
+            ));
+            problem = held;
+            best = refined;
+        }
+    }
+    if failed > 0 {
+        remarks.push(format!("{failed} trial parameter sets failed to integrate or gave non-finite torques; each counted as a rejected trial"));
+    }
+
+    // The bristle state starts from the first torque less the offset and viscous term,
+    // which are only known now: refine once more with that start (a fixed point in one
+    // step: the start's effect on the optimum is second order).
+    let bias = bias_at(&problem, &best.values)?;
+    if bias != 0.0 {
+        problem.first_bias = bias;
+        let x0 = problem.x_of(&best.values);
+        if let Ok(out) = problem.refine(&x0, &lm) {
+            iterations += out.iterations;
+            evaluations += out.evaluations;
+            best = Refined::from_outcome(&problem, out);
+        }
+    }
+
+    // The nested law's guarantee: never above its optimum.
+    if let Some(n) = &nested
+        && n.rss < best.rss
+    {
+        let mut held = held_problem(data, fixed, opts, &n.values, &n.on_bound)?;
+        held.first_bias = n.bias;
+        if let Ok(out) = held.refine(&held.x_of(&n.values), &lm) {
+            iterations += out.iterations;
+            evaluations += out.evaluations;
+            remarks.push(format!(
+                "the symmetric law's optimum (RSS {:.6e}) was below the asymmetric fit's ({:.6e}); refined from it: RSS {:.6e}",
+                n.rss, best.rss, out.cost
+            ));
+            best = Refined::from_outcome(&held, out);
+            problem = held;
+        }
+    }
+    if hit_budget(&best.termination) {
+        remarks.push(format!(
+            "warning: the best start's refinement stopped on its iteration budget ({MAX_ITERATIONS}) before converging; the optimum may lie further on (try --fix on a poorly determined parameter)"
+        ));
+    }
+    finish(
+        &problem,
+        &best.values,
+        started,
+        remarks,
+        search,
+        iterations,
+        evaluations,
+        &best.termination,
+        &starts,
+        ends,
+    )
+}
+
+/// The symmetric law's fit, for the asymmetric one to start from (None where it fails:
+/// the richer fit then goes on from its own starts).
+fn nested_fit(
+    data: &TransientData,
+    fixed: &Fixed,
+    opts: FrictionOptions,
+    settings: JointSettings,
+) -> Option<Nested> {
+    let sym = FrictionOptions { asymmetric: false, ..opts };
+    let held = fixed.restricted_to(&["Tc", "Ts", "ws", "sigma0", "sigma1", "sigma2", OFFSET]);
+    let fit = fit_joint_with(data, &held, sym, settings).ok()?;
+    let get = |name: &str| fit.values.iter().find(|(n, _)| *n == name).map(|v| v.1);
+    let (tc, ts) = (get("Tc")?, get("Ts")?);
+    let values = [tc, ts, get("ws")?, get("sigma0")?, tc, ts];
+    let bias = get(OFFSET).unwrap_or(0.0) + get("sigma2").unwrap_or(0.0) * data.omega()[0];
+    let rss = fit.residuals.iter().map(|r| r * r).sum();
+    let on_bound = fit
+        .report
+        .parameters
+        .0
+        .iter()
+        .filter(|(n, e)| n == "Tc" && e.value == 0.0 && !e.fixed)
+        .flat_map(|_| ["Tc", "Tc_neg"])
+        .collect();
+    Some(Nested { values, bias, rss, on_bound })
+}
+
+/// The part of the first measured torque that is not bristle torque at `v` [N·m].
+fn bias_at(problem: &JointProblem, v: &[f64; 6]) -> Result<f64, FitError> {
+    let proj = problem.project(v)?;
+    let beta = |name: &str| {
+        problem.linear.iter().position(|(n, _)| *n == name).map_or(0.0, |j| proj.beta[j])
+    };
+    Ok(beta(OFFSET) + beta("sigma2") * problem.data.omega()[0])
+}
+
+/// The refinement's starts: the searched one, ωs and σ0 moved each way, two
+/// Stribeck-dominated ones (the Coulomb level small, the static level the largest, ωs as
+/// found and in the middle of the record's speeds), and the nested law's optimum.
+fn start_set(problem: &JointProblem, base: [f64; 6], nested: Option<&Nested>) -> Vec<[f64; 6]> {
+    let mut starts = vec![base];
+    for (k, factor) in
+        [(2, START_FACTOR), (2, 1.0 / START_FACTOR), (3, START_FACTOR), (3, 1.0 / START_FACTOR)]
+    {
+        if problem.nonlinear.contains(&NONLINEAR_ALL[k]) && starts.len() <= EXTRA_STARTS {
+            let mut v = base;
+            v[k] *= factor;
+            starts.push(v);
+        }
+    }
+    if problem.nonlinear.contains(&"Tc") && problem.nonlinear.contains(&"Ts") {
+        let (lo, hi) = speed_range(problem.data.omega());
+        let mid = (lo * hi).sqrt();
+        for ws in [base[2], mid] {
+            if !(ws.is_finite() && ws > 0.0) || !problem.nonlinear.contains(&"ws") && ws != base[2]
+            {
+                continue;
+            }
+            starts.push(stribeck_dominated(&base, ws));
+        }
+    }
+    if let Some(n) = nested {
+        // A level on its bound in the nested fit enters the free refinement just above it.
+        let floor = 1e-6 * n.values.iter().fold(0.0f64, |m, v| m.max(*v));
+        starts.push(n.values.map(|v| v.max(floor)));
+    }
+    starts
+}
+
+/// `v` with each side's Coulomb level at [`STRIBECK_START_SHARE`] of its larger level, the
+/// static level at that larger level, and ωs at `ws`.
+fn stribeck_dominated(v: &[f64; 6], ws: f64) -> [f64; 6] {
+    let mut s = *v;
+    for (c, st) in [(0, 1), (4, 5)] {
+        let top = v[c].max(v[st]);
+        s[c] = STRIBECK_START_SHARE * top;
+        s[st] = top;
+    }
+    s[2] = ws;
+    s
+}
+
+/// A problem with the levels `on_bound` held at exactly 0 (and reported so), the other
+/// free parameters starting from `values`.
+fn held_problem<'a>(
+    data: &'a TransientData,
+    fixed: &Fixed,
+    opts: FrictionOptions,
+    values: &[f64; 6],
+    on_bound: &[&'static str],
+) -> Result<JointProblem<'a>, FitError> {
+    let mut held = fixed.clone();
+    for name in on_bound {
+        if opts.asymmetric || !name.ends_with("_neg") {
+            held.insert(name, 0.0)?;
+        }
+    }
+    let start: Vec<(&'static str, f64)> =
+        NONLINEAR_ALL.iter().copied().zip(values.iter().copied()).collect();
+    let mut problem = JointProblem::new(data, &held, opts, &start);
+    problem.on_bound = on_bound.to_vec();
+    Ok(problem)
+}
+
+/// The best refinement with `name` held at 0 on top of `problem`'s own bounds: from the
+/// best fit with that level at 0 and from Stribeck-dominated starts. None where the held
+/// problem cannot be set up or no start could be evaluated.
+fn bound_candidate<'a>(
+    problem: &JointProblem<'a>,
+    fixed: &Fixed,
+    opts: FrictionOptions,
+    best: &Refined,
+    name: &'static str,
+    lm: &LmOptions,
+) -> Option<(JointProblem<'a>, Refined, super::race::RaceOutcome)> {
+    let mut on_bound = problem.on_bound.clone();
+    on_bound.push(name);
+    let k = NONLINEAR_ALL.iter().position(|n| *n == name)?;
+    let mut at_zero = best.values;
+    at_zero[k] = 0.0;
+    if !opts.asymmetric {
+        at_zero[4] = 0.0;
+    }
+    let held = held_problem(problem.data, fixed, opts, &at_zero, &on_bound).ok()?;
+    let mut starts = vec![at_zero];
+    let (lo, hi) = speed_range(problem.data.omega());
+    for ws in [best.values[2], (lo * hi).sqrt()] {
+        if ws.is_finite() && ws > 0.0 && (ws == best.values[2] || held.nonlinear.contains(&"ws")) {
+            let mut s = stribeck_dominated(&best.values, ws);
+            s[k] = 0.0;
+            if !opts.asymmetric {
+                s[4] = 0.0;
+            }
+            for (i, held_name) in NONLINEAR_ALL.iter().enumerate() {
+                if on_bound.contains(held_name) {
+                    s[i] = 0.0;
+                }
+            }
+            starts.push(s);
+        }
+    }
+    let tried = refine_starts(&held, &starts, lm, false);
+    let refined = tried.best.as_ref().map(|b| Refined {
+        values: b.values,
+        rss: b.rss,
+        iterations: b.iterations,
+        evaluations: b.evaluations,
+        failed: b.failed,
+        termination: b.termination.clone(),
+        dropped: false,
+    })?;
+    Some((held, refined, tried))
+}
