@@ -1,9 +1,11 @@
 //! The outputs of a compliant-drive fit: fit.json, params.toml (a params file `hdw simulate
-//! --params` runs), report.md with plots, and the summary printed to the terminal. All of
-//! them land together or not at all.
+//! --params` runs), report.md with plots, series.parquet with the residual analysis, and
+//! the summary printed to the terminal. All of them land together or not at all. Scores
+//! count every sample (a compliant configuration has no `[score]` table).
 
 use super::fit_drive_compliant_loop::LoopInfo;
 use super::fit_drive_out::pair_plots;
+use super::fit_drive_out::resid::{self, OutputPair, RecordRun};
 use anyhow::Result;
 use hd_ident::drive::compliant::fit::{CompliantSpec, RecordScore, Signal, simulate_on_zeros};
 use hd_ident::drive::compliant::model::ix::{TC_NEG, TC_NEG_L, TS_NEG, TS_NEG_L};
@@ -11,6 +13,7 @@ use hd_ident::drive::compliant::model::{gear_law, in_drive};
 use hd_ident::drive::compliant::units::{parameter_unit, signal_unit};
 use hd_ident::drive::compliant::{CompliantFit, NAMES, VoltageRecord};
 use hd_ident::drive::model::Axis;
+use hd_ident::drive::score_rule::ScoreRule;
 use serde_json::{Map, Value, json};
 use std::fmt::Write as _;
 use std::path::Path;
@@ -90,20 +93,48 @@ fn fmt_score(s: &RecordScore, ctl: Option<&LoopInfo>, axis: Axis) -> String {
         .join("; ")
 }
 
-/// Measured against simulated, and the residuals, of every compared output of `r`, as
-/// `prefix<output>.svg` and `prefix residuals-<output>.svg`.
-fn plots(dir: &Path, o: &Outcome, r: &VoltageRecord, prefix: &str) -> Result<Vec<String>> {
+/// The fitted drive simulated on `r`: every compared output, measured and simulated, and
+/// the input that drives it (the reference in a loop, else the voltage).
+fn run_of(o: &Outcome, r: &VoltageRecord, set: &'static str) -> RecordRun {
     let (sim, _, _) = simulate_on_zeros(&o.spec, &o.spec.drive(o.fit.values), r);
+    let outputs = o
+        .spec
+        .outputs
+        .iter()
+        .filter_map(|(s, _)| {
+            let meas = s.measured(r)?;
+            Some(OutputPair {
+                name: s.name().to_string(),
+                unit: unit_of(*s, o.controller.as_ref(), o.axis).to_string(),
+                measured: meas.to_vec(),
+                simulated: s.simulated(&sim).to_vec(),
+            })
+        })
+        .collect();
+    let (input_name, input_unit, input) = match (&r.closed, &o.controller) {
+        (Some(c), Some(l)) => ("reference", l.position_unit, c.reference.clone()),
+        _ => ("voltage", "V", r.u.clone()),
+    };
+    RecordRun {
+        experiment: r.name.clone(),
+        set,
+        model: "compliant".into(),
+        t: r.t.clone(),
+        h: r.h,
+        input_name: input_name.into(),
+        input_unit: input_unit.into(),
+        input,
+        outputs,
+    }
+}
+
+/// Measured against simulated, and the residuals, of every compared output of `run`, as
+/// `prefix<output>.svg` and `prefix residuals-<output>.svg`.
+fn plots(dir: &Path, run: &RecordRun, prefix: &str) -> Result<Vec<String>> {
     let mut files = Vec::new();
-    for (s, _) in &o.spec.outputs {
-        let Some(meas) = s.measured(r) else { continue };
-        let what = (
-            r.name.as_str(),
-            s.name(),
-            unit_of(*s, o.controller.as_ref(), o.axis),
-            "compliant drive",
-        );
-        files.extend(pair_plots(dir, prefix, what, &r.t, meas, s.simulated(&sim))?);
+    for p in &run.outputs {
+        let what = (run.experiment.as_str(), p.name.as_str(), p.unit.as_str(), "compliant drive");
+        files.extend(pair_plots(dir, prefix, what, &run.t, &p.measured, &p.simulated)?);
     }
     Ok(files)
 }
@@ -187,10 +218,33 @@ fn write_all(dir: &Path, o: &Outcome) -> Result<()> {
         let _ = writeln!(params, "{n} = {:e}", f.values[k]);
     }
 
-    let mut figs = plots(dir, o, &o.records[0], "")?;
-    if let Some(v) = &o.validation {
-        figs.extend(plots(dir, o, v, "validation-")?);
+    // Every record simulated: the series, the plots (first record and validation) and
+    // the residual analysis of each.
+    let rule = ScoreRule::default();
+    let mut series = hd_io::FitSeries::default();
+    let (mut figs, mut verdicts, mut analysis) = (Vec::new(), Vec::new(), Map::new());
+    let sets = o.records.iter().map(|r| (r, "estimation"));
+    for (j, (rec, set)) in sets.chain(o.validation.iter().map(|v| (v, "validation"))).enumerate() {
+        let run = run_of(o, rec, set);
+        resid::add_series(&mut series, &run, &rule);
+        let prefix = match (set, j) {
+            ("validation", _) => "validation-".to_string(),
+            (_, 0) => String::new(),
+            _ => format!("{}-", rec.name),
+        };
+        if j == 0 || set == "validation" {
+            figs.extend(plots(dir, &run, &prefix)?);
+        }
+        let a = resid::analyse_record(dir, &prefix, &run, &rule)?;
+        figs.extend(a.figs);
+        verdicts.extend(a.lines);
+        analysis.insert(rec.name.clone(), a.json);
     }
+    hd_io::write_fit_series(&dir.join("series.parquet"), &series)?;
+    let mut doc = doc;
+    doc["residual_analysis"] = json!({"law": "compliant", "records": analysis});
+    doc["score_rule"] = json!({"name": rule.name, "skip_first": 0, "skip_last": 0,
+        "metric": rule.metric, "description": rule.describe()});
 
     let mut r = String::new();
     let _ = writeln!(r, "# Compliant drive fit: {}\n", o.config);
@@ -259,6 +313,15 @@ fn write_all(dir: &Path, o: &Outcome) -> Result<()> {
     }
     if let Some(v) = &o.validation_scores {
         let _ = writeln!(r, "- validation: {}", fmt_score(v, ctl, o.axis));
+    }
+    let _ = writeln!(r, "\nScores count every sample (score rule {}).", rule.describe());
+    let _ = writeln!(r, "\n## Residual analysis\n");
+    let _ = writeln!(
+        r,
+        "Per output: the residuals' autocorrelation and their cross-correlation with the input against the 99 % bounds of white noise, and the frequency response from the input, measured and simulated (docs/fit-drive.md). The measured and simulated outputs are in series.parquet.\n"
+    );
+    for v in &verdicts {
+        let _ = writeln!(r, "- {v}");
     }
     let _ = writeln!(r, "\n## Plots\n");
     for fig in &figs {

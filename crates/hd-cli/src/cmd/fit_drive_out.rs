@@ -1,13 +1,20 @@
-//! The outputs of `hdw fit drive`: fit.json, params.toml, report.md with plots, and the
-//! summary printed to the terminal. Everything is computed before the first file is written.
+//! The outputs of `hdw fit drive`: fit.json, params.toml, report.md with plots,
+//! series.parquet with the residual analysis, and the summary printed to the terminal.
+//! Everything is computed before the first file is written. Scores follow the
+//! configuration's `[score]` rule, with the all-samples score beside each.
+
+#[path = "fit_drive_resid.rs"]
+pub mod resid;
 
 use super::common::{staged_plot, write_json};
 use anyhow::Result;
+use hd_ident::drive::score_rule::{RuledScore, ScoreRule};
 use hd_ident::drive::{
-    Axis, Controller, DisturbanceCheck, DriveFit, Experiment, ExperimentScore, IdimFit, OutputKind,
-    Reproduction, simulate,
+    Axis, Controller, DisturbanceCheck, DriveConfig, DriveFit, Experiment, ExperimentScore,
+    FrictionLaw, IdimFit, OutputKind, Reproduction, simulate,
 };
 use hd_plot::{Series, line_plot};
+use resid::{OutputPair, RecordRun};
 use serde_json::{Map, Value, json};
 use std::fmt::Write as _;
 use std::path::Path;
@@ -46,26 +53,80 @@ fn unit_of(axis: Axis, o: OutputKind) -> &'static str {
     }
 }
 
-fn scores_json(s: &ExperimentScore) -> Value {
+/// One record's scores by the rule: (record name, per output its kind and scores).
+type Ruled = (String, Vec<(OutputKind, RuledScore)>);
+
+/// `{output: {rel_error, rmse, fit_percent (by the rule), rule, samples, all_samples}}`.
+pub fn scores_json(s: &Ruled, rule: &ScoreRule) -> Value {
     let mut m = Map::new();
-    for (o, sc) in &s.outputs {
+    for (o, sc) in &s.1 {
+        let (r, a) = (sc.rule, sc.all);
         m.insert(
             o.name().into(),
-            json!({"rel_error": sc.rel_error, "rmse": sc.rmse, "fit_percent": sc.fit_percent}),
+            json!({"rel_error": r.rel_error, "rmse": r.rmse, "fit_percent": r.fit_percent,
+                   "rule": rule.name, "samples": sc.samples,
+                   "all_samples": {"rel_error": a.rel_error, "rmse": a.rmse, "fit_percent": a.fit_percent}}),
         );
     }
     Value::Object(m)
 }
 
-fn experiments_json(v: &[ExperimentScore]) -> Value {
-    Value::Object(v.iter().map(|s| (s.name.clone(), scores_json(s))).collect())
+fn experiments_json(v: &[Ruled], rule: &ScoreRule) -> Value {
+    Value::Object(v.iter().map(|s| (s.0.clone(), scores_json(s, rule))).collect())
+}
+
+/// The `[score]` rule of the configuration file `config` (every sample if it cannot be
+/// read again).
+fn rule_of(config: &str) -> ScoreRule {
+    std::fs::read_to_string(config)
+        .ok()
+        .and_then(|t| DriveConfig::parse(&t, config).ok())
+        .map(|c| c.score.rule())
+        .unwrap_or_default()
+}
+
+/// `law` with `values` simulated on `e`: the record's run (its input is the reference in
+/// closed loop, the command in open loop) and its scores by `rule`.
+fn run_of(
+    o: &Outcome,
+    rule: &ScoreRule,
+    (law, values): (FrictionLaw, &[f64]),
+    e: &Experiment,
+    set: &'static str,
+) -> (RecordRun, Ruled) {
+    let s = simulate(law, values, &o.controller, e);
+    let mut outputs = Vec::new();
+    let mut scores = Vec::new();
+    for &(kind, _) in &o.outputs {
+        let measured = kind.measured(e, o.gain);
+        let simulated: Vec<f64> = match kind {
+            OutputKind::Force => s.command.iter().map(|u| o.gain * u).collect(),
+            OutputKind::Position => s.position.clone(),
+        };
+        scores.push((kind, rule.score(&measured, &simulated)));
+        let (name, unit) = (kind.name().to_string(), unit_of(o.axis, kind).to_string());
+        outputs.push(OutputPair { name, unit, measured, simulated });
+    }
+    let open = o.controller.open_loop.is_some();
+    let run = RecordRun {
+        experiment: e.name.clone(),
+        set,
+        model: law.name().to_string(),
+        t: e.t.clone(),
+        h: e.h,
+        input_name: if open { "command" } else { "reference" }.into(),
+        input_unit: if open { "V".into() } else { o.axis.position_unit().to_string() },
+        input: if open { e.command.clone() } else { e.reference.clone() },
+        outputs,
+    };
+    (run, (e.name.clone(), scores))
 }
 
 fn law_json(
     o: &Outcome,
     fit: &DriveFit,
     secs: f64,
-    val: Option<&ExperimentScore>,
+    (scores, val, rule): (&[Ruled], Option<&Ruled>, &ScoreRule),
     rank: usize,
 ) -> Value {
     let mut params = Map::new();
@@ -84,8 +145,8 @@ fn law_json(
         "residuals": fit.n,
         "parameters": params,
         "correlation": {"parameters": free, "matrix": fit.correlation},
-        "experiments": experiments_json(&fit.scores),
-        "validation": val.map(scores_json),
+        "experiments": experiments_json(scores, rule),
+        "validation": val.map(|v| scores_json(v, rule)),
         "determination": fit.determination.sentences,
         "iterations": fit.iterations,
         "failed_trials": fit.failed_trials,
@@ -94,41 +155,40 @@ fn law_json(
     })
 }
 
-fn fmt_score(s: &ExperimentScore, axis: Axis) -> String {
-    s.outputs
-        .iter()
+/// One record's scores in words: each by the rule, the all-samples value beside it.
+fn fmt_score(s: &Ruled, axis: Axis, rule: &ScoreRule) -> String {
+    let tag = if rule.is_all() { "all samples".to_string() } else { format!("{} rule", rule.name) };
+    s.1.iter()
         .map(|(o, sc)| {
+            let (r, a) = (sc.rule, sc.all);
+            let beside = if rule.is_all() {
+                String::new()
+            } else {
+                format!(
+                    "; all samples {:.3} %, {:.4e}, {:.2} %",
+                    a.rel_error, a.rmse, a.fit_percent
+                )
+            };
             format!(
-                "{} {:.3} % (RMSE {:.4e} {}, fit {:.2} %)",
+                "{} {:.3} % (RMSE {:.4e} {}, fit {:.2} %; {tag}{beside})",
                 o.name(),
-                sc.rel_error,
-                sc.rmse,
+                r.rel_error,
+                r.rmse,
                 unit_of(axis, *o),
-                sc.fit_percent
+                r.fit_percent
             )
         })
         .collect::<Vec<_>>()
         .join("; ")
 }
 
-/// Measured against simulated, and the residuals, of `fit` on `e`, as SVG files `prefix*.svg`.
-fn plots(
-    dir: &Path,
-    o: &Outcome,
-    fit: &DriveFit,
-    e: &Experiment,
-    prefix: &str,
-) -> Result<Vec<String>> {
-    let s = simulate(fit.law, &fit.values, &o.controller, e);
+/// Measured against simulated, and the residuals, of every output of `run`, as SVG files
+/// `prefix*.svg`.
+fn plots(dir: &Path, run: &RecordRun, prefix: &str) -> Result<Vec<String>> {
     let mut files = Vec::new();
-    for &(kind, _) in &o.outputs {
-        let meas = kind.measured(e, o.gain);
-        let sim: Vec<f64> = match kind {
-            OutputKind::Force => s.command.iter().map(|u| o.gain * u).collect(),
-            OutputKind::Position => s.position.clone(),
-        };
-        let what = (e.name.as_str(), kind.name(), unit_of(o.axis, kind), fit.law.name());
-        files.extend(pair_plots(dir, prefix, what, &e.t, &meas, &sim)?);
+    for p in &run.outputs {
+        let what = (run.experiment.as_str(), p.name.as_str(), p.unit.as_str(), run.model.as_str());
+        files.extend(pair_plots(dir, prefix, what, &run.t, &p.measured, &p.simulated)?);
     }
     Ok(files)
 }
@@ -179,16 +239,48 @@ fn write_all(dir: &Path, o: &Outcome) -> Result<()> {
         rank[k] = r + 1;
     }
 
+    // Every law on every record and the validation record: the series and the scores by
+    // the configuration's rule; the best law's runs kept for the plots and the analysis.
+    let rule = rule_of(&o.config);
+    let mut series = hd_io::FitSeries::default();
+    let mut scored: Vec<(Vec<Ruled>, Option<Ruled>)> = Vec::new();
+    let mut best_runs: Vec<RecordRun> = Vec::new();
+    let mut start_scores: Vec<Vec<Ruled>> = Vec::new();
+    for (k, (fit, _, _)) in o.fitted.iter().enumerate() {
+        let sets = o.experiments.iter().map(|e| (e, "estimation"));
+        let sets = sets.chain(o.validation.iter().map(|v| (v, "validation")));
+        let (mut scores, mut val) = (Vec::new(), None);
+        for (e, set) in sets {
+            let (run, sc) = run_of(o, &rule, (fit.law, &fit.values), e, set);
+            resid::add_series(&mut series, &run, &rule);
+            if set == "validation" {
+                val = Some(sc)
+            } else {
+                scores.push(sc)
+            }
+            if k == order[0] {
+                best_runs.push(run);
+            }
+        }
+        scored.push((scores, val));
+        let start = (fit.law, o.starts[k].2.as_slice());
+        start_scores.push(o.experiments.iter().map(|e| run_of(o, &rule, start, e, "").1).collect());
+    }
+
     // fit.json
     let laws: Vec<Value> = order
         .iter()
-        .map(|&k| law_json(o, &o.fitted[k].0, o.fitted[k].1, o.fitted[k].2.as_ref(), rank[k]))
+        .map(|&k| {
+            let with = (scored[k].0.as_slice(), scored[k].1.as_ref(), &rule);
+            law_json(o, &o.fitted[k].0, o.fitted[k].1, with, rank[k])
+        })
         .collect();
     let starts: Vec<Value> = o
         .starts
         .iter()
         .zip(&o.fitted)
-        .map(|((idim, sc, values), (fit, _, _))| {
+        .zip(&start_scores)
+        .map(|(((idim, _, values), (fit, _, _)), sc)| {
             json!({
                 "law": fit.law.name(),
                 "from": if fit.law.is_lugre() {
@@ -207,12 +299,12 @@ fn write_all(dir: &Path, o: &Outcome) -> Result<()> {
                     "condition": f.condition,
                     "rows": f.rows,
                 })),
-                "closed_loop": experiments_json(sc),
+                "closed_loop": experiments_json(sc, &rule),
             })
         })
         .collect();
     let best_json = &laws[0];
-    let doc = json!({
+    let mut doc = json!({
         "config": o.config,
         "axis": o.axis.name(),
         "gain": o.gain,
@@ -254,11 +346,29 @@ fn write_all(dir: &Path, o: &Outcome) -> Result<()> {
         let _ = writeln!(params, "{n} = {v:e}");
     }
 
-    // plots (best law)
-    let mut figs = plots(dir, o, best, &o.experiments[0], "")?;
-    if let Some(v) = &o.validation {
-        figs.extend(plots(dir, o, best, v, "validation-")?);
+    // plots of the best law (the first record's and the validation's), its residual
+    // analysis on every record, the series of every law
+    let mut figs = Vec::new();
+    let mut analysis = Map::new();
+    let mut verdicts = Vec::new();
+    for (j, run) in best_runs.iter().enumerate() {
+        let prefix = match (run.set, j) {
+            ("validation", _) => "validation-".to_string(),
+            (_, 0) => String::new(),
+            _ => format!("{}-", run.experiment),
+        };
+        if j == 0 || run.set == "validation" {
+            figs.extend(plots(dir, run, &prefix)?);
+        }
+        let a = resid::analyse_record(dir, &prefix, run, &rule)?;
+        figs.extend(a.figs);
+        verdicts.extend(a.lines);
+        analysis.insert(run.experiment.clone(), a.json);
     }
+    hd_io::write_fit_series(&dir.join("series.parquet"), &series)?;
+    doc["residual_analysis"] = json!({"law": best.law.name(), "records": analysis});
+    doc["score_rule"] = json!({"name": rule.name, "skip_first": rule.skip_first,
+        "skip_last": rule.skip_last, "metric": rule.metric, "description": rule.describe()});
 
     // report.md and the terminal summary
     let mut r = String::new();
@@ -298,8 +408,15 @@ fn write_all(dir: &Path, o: &Outcome) -> Result<()> {
             .collect::<Vec<_>>()
             .join(", ")
     );
+    let _ = writeln!(
+        r,
+        "Scores: relative error ‖y − ŷ‖/‖y‖, RMSE and fit 100·(1 − ‖y − ŷ‖/‖y − ȳ‖), by the rule {}{}.\n",
+        rule.describe(),
+        if rule.is_all() { "" } else { ", each followed by the same three over all samples" }
+    );
     let _ = writeln!(r, "## Inverse-model start (IDIM-LS)\n");
-    for ((idim, sc, values), (fit, _, _)) in o.starts.iter().zip(&o.fitted) {
+    for (((idim, _, values), (fit, _, _)), sc) in o.starts.iter().zip(&o.fitted).zip(&start_scores)
+    {
         if let Some(f) = idim {
             let vals: Vec<String> = f
                 .names
@@ -331,14 +448,14 @@ fn write_all(dir: &Path, o: &Outcome) -> Result<()> {
             let _ = writeln!(
                 r,
                 "  - closed loop with these values on {}: {}",
-                s.name,
-                fmt_score(s, o.axis)
+                s.0,
+                fmt_score(s, o.axis, &rule)
             );
         }
     }
     let _ = writeln!(r, "\n## Output-error fits, ranked by BIC\n");
     for &k in &order {
-        let (fit, secs, val) = &o.fitted[k];
+        let (fit, secs, _) = &o.fitted[k];
         let _ = writeln!(
             r,
             "### {}. {} (BIC {:.1}, {} iterations, {:.2} s)\n",
@@ -358,23 +475,38 @@ fn write_all(dir: &Path, o: &Outcome) -> Result<()> {
             let _ = writeln!(r, "| {n} | {:.4} | {se} | {} |", fit.values[j], o.axis.unit_of(n));
         }
         let _ = writeln!(r);
-        for s in &fit.scores {
-            let _ = writeln!(r, "- {}: {}", s.name, fmt_score(s, o.axis));
+        for s in &scored[k].0 {
+            let _ = writeln!(r, "- {}: {}", s.0, fmt_score(s, o.axis, &rule));
         }
-        if let Some(v) = val {
-            let _ = writeln!(r, "- validation ({}): {}", v.name, fmt_score(v, o.axis));
+        if let Some(v) = &scored[k].1 {
+            let _ = writeln!(r, "- validation ({}): {}", v.0, fmt_score(v, o.axis, &rule));
         }
         for s in &fit.determination.sentences {
             let _ = writeln!(r, "- {s}");
         }
         let _ = writeln!(r);
     }
+    let _ = writeln!(r, "## Residual analysis ({})\n", best.law.name());
+    let _ = writeln!(
+        r,
+        "Per output: the residuals' autocorrelation (lags 1–{l}) and their cross-correlation with the input (lags −{l}–{l}) against the 99 % bounds of white noise, ±2.58/√N, over the samples scored; and the frequency response from the input to the output (Welch H1), measured and simulated, over the band where the input has power (docs/fit-drive.md). Every law's measured and simulated outputs are in series.parquet.\n",
+        l = resid_lags()
+    );
+    for v in &verdicts {
+        let _ = writeln!(r, "- {v}");
+    }
+    let _ = writeln!(r);
     let _ = writeln!(r, "## Plots ({})\n", best.law.name());
     for f in &figs {
         let _ = writeln!(r, "![{f}]({f})");
     }
 
     finish(dir, &doc, &params, &r)
+}
+
+/// Lags of the residual analysis [samples].
+fn resid_lags() -> usize {
+    hd_ident::drive::residual_analysis::DEFAULT_LAGS
 }
 
 /// Write fit.json, params.toml and report.md into `dir` (atomically, with the rest of the
