@@ -23,6 +23,7 @@ pub mod idim;
 pub mod lm;
 pub mod lugre;
 pub mod model;
+pub mod nested;
 pub mod record;
 pub mod residual_analysis;
 pub mod score;
