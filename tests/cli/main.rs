@@ -11,6 +11,7 @@ mod fit_cli;
 mod fit_compliant_cli;
 mod fit_compliant_loop_cli;
 mod fit_drive_cli;
+mod fit_drive_refusals;
 mod fit_drive_series;
 mod fit_laws;
 mod fit_nested;

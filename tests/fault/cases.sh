@@ -127,3 +127,57 @@ row "a study into another study's folder" o8 "$HDW" study second.toml --out o8
 row "↳ then with --resume" o8 "$HDW" study second.toml --out o8 --resume
 (umask 022; "$HDW" simulate --t-end 0.01 --out u1 >/dev/null 2>&1)
 echo "| umask 022: mode of trace.parquet | | $(stat -c %a u1/trace.parquet 2>/dev/null) | | | |"
+
+# Identification (issue #51): `hdw fit drive` on the shipped configurations with one change
+# each. Before: the first five ran at full CPU for minutes (nalgebra's SVD on a NaN matrix).
+EMPS="$REPO/data/emps"
+emps_cfg() { sed "s|file = \"DATA_EMPS.mat\"|file = \"$EMPS/DATA_EMPS.mat\"|" "$EMPS/fit.toml"; }
+cv() { sed 's/friction = "all"/friction = "coulomb-viscous"/'; }
+{ emps_cfg; printf '\n[params]\nM = -5.0\n'; } > i1.toml
+row "fit drive: EMPS [params] M = -5" i1 "$HDW" fit drive --config i1.toml --out i1
+{ emps_cfg | cv; printf '\n[bounds]\nM = [1.0, 2.0]\n'; } > i2.toml
+row "fit drive: EMPS [bounds] M = [1, 2]" i2 "$HDW" fit drive --config i2.toml --out i2
+{ emps_cfg | sed 's/friction = "all"/friction = "lugre"/'; printf '\n[params]\nsigma0 = -1.0\n'; } > i3.toml
+row "fit drive: EMPS lugre, [params] sigma0 = -1" i3 "$HDW" fit drive --config i3.toml --out i3
+"$HDW" synth drive --input chirp --freq 5 --t-end 1 --out chirp.csv >/dev/null 2>&1
+compliant_cfg() { # record, extra lines before [[experiment]]
+  sed -e "s|\"start.toml\"|\"$REPO/data/compliant/start.toml\"|" \
+      -e "s|\"../../out/compliant/chirp.csv\"|\"$PWD/$1\"|" \
+      -e "0,/^\[\[experiment\]\]/s||$2\n[[experiment]]|" "$REPO/data/compliant/fit.toml"
+}
+compliant_cfg chirp.csv '[params]\nJz = inf\n' > i4.toml
+row "fit drive: compliant [params] Jz = inf" i4 "$HDW" fit drive --config i4.toml --out i4
+awk -F, -v OFS=, 'NR==1{for(k=1;k<=NF;k++) if($k=="i") c=k; print; next} {$c=0; print}' chirp.csv > dead.csv
+compliant_cfg dead.csv '' > i5.toml
+row "fit drive: compliant, current column all zeros" i5 "$HDW" fit drive --config i5.toml --out i5
+compliant_cfg chirp.csv '[params]\nR = 0.0\n' > i6.toml
+row "fit drive: compliant [params] R = 0" i6 "$HDW" fit drive --config i6.toml --out i6
+compliant_cfg chirp.csv 'substeps = 1000000\n' > i7.toml
+row "fit drive: compliant substeps = 1000000" i7 "$HDW" fit drive --config i7.toml --out i7
+emps_cfg | sed 's/delay = "auto"/delay = -1/' > i8.toml
+row "fit drive: delay = -1" i8 "$HDW" fit drive --config i8.toml --out i8
+emps_cfg | sed 's/gain = "gtau"/gain = nan/' > i9.toml
+row "fit drive: gain = nan" i9 "$HDW" fit drive --config i9.toml --out i9
+emps_cfg | sed 's/kp = "kp"/kp = nan/' > i10.toml
+row "fit drive: kp = nan" i10 "$HDW" fit drive --config i10.toml --out i10
+emps_cfg | sed 's/speed_filter = \[0.5, 0.5\]/speed_filter = [nan]/' > i11.toml
+row "fit drive: speed_filter = [nan]" i11 "$HDW" fit drive --config i11.toml --out i11
+{ emps_cfg | cv; printf '\n[params]\nsigma0 = 1e5\n'; } > i12.toml
+row "fit drive: coulomb-viscous with [params] sigma0" i12 "$HDW" fit drive --config i12.toml --out i12
+row "fit drive --config /dev/zero" i13 "$HDW" fit drive --config /dev/zero --out i13
+row "fit drive --config a 250 MB file" i14 "$HDW" fit drive --config big.csv --out i14
+compliant_cfg chirp.csv '' | sed "s|params_file = .*|params_file = \"/dev/zero\"|" > i15.toml
+row "fit drive: params_file = /dev/zero" i15 "$HDW" fit drive --config i15.toml --out i15
+emps_cfg | sed "s|file = \".*DATA_EMPS.mat\"|file = \"/dev/zero\"|" > i16.toml
+row "fit drive: experiment file = /dev/zero" i16 "$HDW" fit drive --config i16.toml --out i16
+emps_cfg > i17.toml
+row "fit drive --validate /dev/zero" i17 "$HDW" fit drive --config i17.toml --validate /dev/zero --out i17
+row "fit drive --validate a folder" i17 "$HDW" fit drive --config i17.toml --validate . --out i17
+emps_cfg | cv > i18.toml
+"$HDW" fit drive --config i18.toml --out i18 >/dev/null 2>&1
+echo '<svg/>' > i18/validation-position.svg  # as an earlier fit with --validate leaves it
+row "a fit into a folder holding an earlier fit's validation plot" i18 "$HDW" fit drive --config i18.toml --out i18
+"$HDW" fit drive --config i17.toml --out i19 >/dev/null 2>&1 &
+sleep 2
+row "a second fit into a running fit's folder" i19 "$HDW" fit drive --config i18.toml --out i19
+kill -INT %1 2>/dev/null; wait

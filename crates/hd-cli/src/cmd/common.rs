@@ -35,6 +35,24 @@ pub fn read_params_text(path: &Path) -> Result<String> {
     read_text(path, "params file", MAX_SETTINGS_BYTES).map_err(anyhow::Error::msg)
 }
 
+/// Largest fit configuration read [bytes], as for params and study files.
+pub const MAX_CONFIG_BYTES: u64 = MAX_SETTINGS_BYTES;
+
+/// Refuse a data file (a record, a validation record) that cannot be one, before it is
+/// opened: missing, a folder, or not a regular file (`/dev/zero`, a pipe) is one line
+/// naming `what` and the path. Records may be large: there is no size cap here.
+pub fn check_data_file(path: &Path, what: &str) -> Result<()> {
+    let at = || format!("{what} {}", path.display());
+    let meta = std::fs::metadata(path).map_err(|e| anyhow::anyhow!("cannot read {}: {e}", at()))?;
+    if meta.is_dir() {
+        bail!("{} is a folder: expected a data file (CSV, Parquet or MAT)", at());
+    }
+    if !meta.is_file() {
+        bail!("{} is not a regular file (a device or pipe?): expected a data file", at());
+    }
+    Ok(())
+}
+
 /// Default of `--max-output-values`: about 1.6 GB of numbers before compression [–].
 pub const DEFAULT_MAX_OUTPUT_VALUES: u64 = 200_000_000;
 
@@ -90,4 +108,55 @@ pub fn stage_json(path: &Path, value: &serde_json::Value) -> Result<hd_io::atomi
         f.write_all(text.as_bytes()).map_err(|e| hd_io::IoError::fs(path, e))
     })?;
     Ok(staged)
+}
+
+/// The outputs an earlier run left in a folder (files a command writes, with the identity
+/// of each: inode and modification time), to remove those the next run did not replace:
+/// a new fit must not leave the earlier fit's plots beside its own fit.json.
+#[derive(Debug)]
+pub struct EarlierOutputs {
+    files: Vec<(PathBuf, Option<(u64, std::time::SystemTime)>)>,
+}
+
+/// Identity of a file: inode (0 where unknown) and modification time.
+fn identity(path: &Path) -> Option<(u64, std::time::SystemTime)> {
+    let meta = std::fs::symlink_metadata(path).ok()?;
+    #[cfg(unix)]
+    let ino = std::os::unix::fs::MetadataExt::ino(&meta);
+    #[cfg(not(unix))]
+    let ino = 0;
+    Some((ino, meta.modified().ok()?))
+}
+
+impl EarlierOutputs {
+    /// The regular files of `dir` whose names `is_output` claims, when `dir` holds an
+    /// earlier run's `fit.json` (a folder without one is left alone: its files are not
+    /// known to be a fit's).
+    pub fn scan(dir: &Path, is_output: fn(&str) -> bool) -> Self {
+        let mut files = Vec::new();
+        if dir.join("fit.json").is_file()
+            && let Ok(entries) = std::fs::read_dir(dir)
+        {
+            for e in entries.flatten() {
+                let name = e.file_name().to_string_lossy().to_string();
+                if is_output(&name) && e.file_type().is_ok_and(|t| t.is_file()) {
+                    files.push((e.path(), identity(&e.path())));
+                }
+            }
+        }
+        EarlierOutputs { files }
+    }
+
+    /// Remove the earlier outputs the run did not write again (same inode and time);
+    /// returns how many were removed.
+    pub fn remove_stale(self) -> usize {
+        let mut removed = 0;
+        for (path, before) in self.files {
+            if before.is_some() && identity(&path) == before && std::fs::remove_file(&path).is_ok()
+            {
+                removed += 1;
+            }
+        }
+        removed
+    }
 }

@@ -4,7 +4,7 @@
 //! optionally scores a validation record, and writes fit.json, params.toml and report.md with
 //! plots — all computed before anything is written.
 
-use super::common::ensure_dir;
+use super::common::{EarlierOutputs, MAX_CONFIG_BYTES, check_data_file, ensure_dir};
 use super::fit_drive_out::{Outcome, write_outputs};
 use anyhow::{Context, Result, anyhow};
 use clap::Args;
@@ -17,6 +17,9 @@ use indicatif::{ProgressBar, ProgressStyle};
 use rayon::prelude::*;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
+
+#[path = "fit_drive_files.rs"]
+mod files;
 
 /// `hdw fit drive`.
 #[derive(Args, Debug)]
@@ -56,6 +59,7 @@ pub struct DriveArgs {
 
 /// Read one experiment with `ec`'s mapping from `path`.
 fn load(ec: &ExperimentConfig, name: &str, path: &Path) -> Result<Experiment> {
+    check_data_file(path, &format!("record of [[experiment]] '{}'", ec.name))?;
     let mut names = vec![ec.time.as_str(), &ec.position, &ec.command];
     if let Some(r) = &ec.reference {
         names.push(r);
@@ -83,7 +87,7 @@ fn load(ec: &ExperimentConfig, name: &str, path: &Path) -> Result<Experiment> {
         cols.pop().unwrap_or_default().iter().map(|x| x * ec.position_scale).collect();
     let t = cols.pop().unwrap_or_default();
     let disturbance = disturbance.iter().map(|u| u * ec.command_scale).collect();
-    Ok(Experiment::new(
+    let e = Experiment::new(
         name,
         &path.display().to_string(),
         t,
@@ -91,7 +95,10 @@ fn load(ec: &ExperimentConfig, name: &str, path: &Path) -> Result<Experiment> {
         reference,
         command,
         disturbance,
-    )?)
+    )?;
+    // A dead encoder or an amplifier that was off: nothing to fit.
+    files::refuse_dead(path, &[(&ec.position, &e.position), (&ec.command, &e.command)])?;
+    Ok(e)
 }
 
 /// A number of the configuration, or a scalar variable of `file`.
@@ -125,16 +132,46 @@ pub fn spinner(message: String) -> ProgressBar {
     bar
 }
 
-/// Run `hdw fit drive`.
+/// Run `hdw fit drive`: every file it reads and every number of the configuration checked
+/// first; then, with the output folder locked against a second fit, the fit; then the
+/// plots an earlier fit left in the folder that this one did not replace are removed.
 pub fn run(args: DriveArgs) -> Result<()> {
     let file = args.config.display().to_string();
-    let text = std::fs::read_to_string(&args.config)
-        .with_context(|| format!("cannot read configuration {file}"))?;
+    let text = hd_model::text_file::read_text(&args.config, "configuration", MAX_CONFIG_BYTES)
+        .map_err(anyhow::Error::msg)?;
     // `transmission = "compliant"`: the compliant drive under voltage tests.
-    if hd_ident::drive::config::transmission_of(&text).as_deref() == Some("compliant") {
-        return super::fit_drive_compliant::run(&args, &text);
+    let compliant = hd_ident::drive::config::transmission_of(&text).as_deref() == Some("compliant");
+    let cfg = if compliant {
+        files::check_compliant(&args, &text)?;
+        None
+    } else {
+        let cfg = DriveConfig::parse(&text, &file)?;
+        let base = args.config.parent().unwrap_or(Path::new("."));
+        for e in &cfg.experiment {
+            check_data_file(
+                &base.join(&e.file),
+                &format!("record of [[experiment]] '{}'", e.name),
+            )?;
+        }
+        Some(cfg)
+    };
+    if let Some(v) = &args.validate {
+        check_data_file(v, "--validate record")?;
     }
-    let cfg = DriveConfig::parse(&text, &file)?;
+    let dir = ensure_dir(&args.out)?;
+    let _lock = hd_io::lock::lock_folder(&dir.join(".hdw-fit.lock"), "a fit")?;
+    let earlier = EarlierOutputs::scan(&dir, files::is_fit_output);
+    match cfg {
+        None => super::fit_drive_compliant::run(&args, &text)?,
+        Some(cfg) => rigid(&args, cfg, file)?,
+    }
+    earlier.remove_stale();
+    Ok(())
+}
+
+/// The fit of a rigid drive (`cfg`, checked, read from `file`).
+fn rigid(args: &DriveArgs, cfg: DriveConfig, file: String) -> Result<()> {
+    use hd_ident::drive::config::validate;
     let base = args.config.parent().unwrap_or(Path::new("."));
     let axis = cfg.axis(&file)?;
     let mut experiments: Vec<Experiment> = cfg
@@ -144,12 +181,19 @@ pub fn run(args: DriveArgs) -> Result<()> {
         .collect::<Result<_>>()?;
     let first = base.join(&cfg.experiment[0].file);
     let gain = resolve(&cfg.gain, "gain", &first)?;
+    validate::positive(&file, "gain", gain, "the drive gain")?;
     let (kp, kv) = match &cfg.controller {
         Some(c) => {
-            (resolve(&c.kp, "[controller] kp", &first)?, resolve(&c.kv, "[controller] kv", &first)?)
+            let kp = resolve(&c.kp, "[controller] kp", &first)?;
+            let kv = resolve(&c.kv, "[controller] kv", &first)?;
+            validate::gain(&file, "[controller] kp", kp)?;
+            validate::gain(&file, "[controller] kv", kv)?;
+            (kp, kv)
         }
         None => (0.0, 0.0),
     };
+    let rows = experiments.iter().map(Experiment::len).min().unwrap_or(0);
+    validate::with_records(&cfg, &file, experiments[0].h, rows)?;
     let mut validation = match &args.validate {
         Some(p) => Some(load(&cfg.experiment[0], "validation", p)?),
         None => None,
@@ -176,7 +220,7 @@ pub fn run(args: DriveArgs) -> Result<()> {
     let laws = cfg.laws(&file)?;
     let out_kinds: Vec<_> = outputs.iter().map(|o| o.0).collect();
 
-    let dir = ensure_dir(&args.out)?;
+    let dir = args.out.clone();
 
     let bar = spinner(format!("fitting {} law(s)", laws.len()));
     let fit_all = |specs: &[FitSpec]| -> Vec<(Result<DriveFit, _>, f64)> {
@@ -211,6 +255,7 @@ pub fn run(args: DriveArgs) -> Result<()> {
     let mut base_specs = Vec::new();
     for &law in &bases {
         let idim = setup::start(&cfg, law, gain, &experiments)?;
+        files::idim_in_bounds(&cfg, &file, idim.as_ref())?;
         base_specs.push(spec(law, idim.as_ref(), None)?);
         idims.push(idim);
     }
@@ -252,6 +297,15 @@ pub fn run(args: DriveArgs) -> Result<()> {
     for (b, spec) in best.into_iter().zip(&lugre_specs) {
         let (fit, secs) = b.ok_or_else(|| anyhow!("{}: no start", spec.law.name()))?;
         lugre_fits.push((fit.with_context(|| format!("{} friction", spec.law.name()))?, secs));
+    }
+    {
+        use super::fit_drive_nested::{Stage, keep_nested};
+        let (b, l) = (&mut base_fits, &mut lugre_fits);
+        let mut stages = [
+            Stage { laws: &bases, specs: &base_specs, fits: b },
+            Stage { laws: &lugre, specs: &lugre_specs, fits: l },
+        ];
+        keep_nested(&mut stages, &fit_all);
     }
     bar.finish_and_clear();
 

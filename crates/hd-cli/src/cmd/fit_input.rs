@@ -30,6 +30,7 @@ pub fn column_names(text: &str, counts: &[usize], flag: &str) -> Result<Vec<Stri
 
 /// Read the named columns of `path`.
 pub fn load(path: &Path, names: &[String]) -> Result<Vec<Vec<f64>>> {
+    super::common::check_data_file(path, "data file")?;
     let refs: Vec<&str> = names.iter().map(String::as_str).collect();
     Ok(hd_io::read_columns(path, &refs)?)
 }

@@ -142,3 +142,23 @@ pub fn starts_in_bounds(
     }
     Ok(())
 }
+
+/// Checks that need the records: `rows` the shortest record's length [samples]. A delay
+/// (fixed, or one of those compared) must leave the loop samples to act on.
+pub fn with_records(c: &CompliantConfig, file: &str, rows: usize) -> Result<(), DriveError> {
+    let Some(ctl) = &c.controller else { return Ok(()) };
+    let mut asked: Vec<usize> = ctl.delays.clone().unwrap_or_default();
+    if let Some(DelayChoice::Samples(d)) = ctl.delay {
+        asked.push(d);
+    }
+    let taps = ctl.speed_filter.as_ref().map_or(1, Vec::len);
+    match asked.into_iter().find(|&d| d + taps + 1 >= rows) {
+        Some(d) => Err(DriveError::config(
+            at(file, "[controller] delay"),
+            format!(
+                "{d} samples; expected fewer than the shortest record's {rows} samples (with this delay the loop would never act on it)"
+            ),
+        )),
+        None => Ok(()),
+    }
+}

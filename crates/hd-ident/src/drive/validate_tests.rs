@@ -207,3 +207,28 @@ fn compliant_start_from_the_params_file_inside_bounds() {
     base[ix::R] = 1.5;
     starts_in_bounds(&c, "fit.toml", &base).unwrap();
 }
+
+#[test]
+fn a_delay_longer_than_the_records_is_refused() {
+    use crate::drive::config::validate_compliant::with_records;
+    let text = compliant(true, &[("delay = \"auto\"", "delay = 100")], "");
+    let c = CompliantConfig::parse(&text, "fit.toml").unwrap();
+    let e = with_records(&c, "fit.toml", 50).unwrap_err().to_string();
+    assert!(e.contains("[controller] delay") && e.contains("50 samples"), "{e}");
+    with_records(&c, "fit.toml", 5000).unwrap();
+    let rigid_text = rigid(&[("delay = \"auto\"", "delay = 100")], "");
+    let r = DriveConfig::parse(&rigid_text, "fit.toml").unwrap();
+    let e = crate::drive::config::validate::with_records(&r, "fit.toml", 1e-3, 50).unwrap_err();
+    assert!(e.to_string().contains("50 samples"), "{e}");
+    let e = crate::drive::config::validate::with_records(
+        &DriveConfig::parse(&rigid(&[], ""), "f").unwrap(),
+        "f",
+        0.1,
+        5000,
+    )
+    .unwrap_err();
+    assert!(
+        e.to_string().contains("[start] cutoff_hz") && e.to_string().contains("Nyquist"),
+        "{e}"
+    );
+}
