@@ -12,6 +12,7 @@ pub mod fit_drive;
 pub mod fit_drive_compliant;
 pub mod fit_drive_compliant_loop;
 pub mod fit_drive_compliant_out;
+pub mod fit_drive_nested;
 pub mod fit_drive_out;
 pub mod fit_hysteresis;
 pub mod fit_input;
