@@ -47,6 +47,13 @@ fn emps_estimation_run_controller_start_and_fits() {
     for pair in laws.windows(2) {
         assert!(pair[0]["bic"].as_f64().unwrap() <= pair[1]["bic"].as_f64().unwrap());
     }
+    // Nested laws stay nested: a law never fits worse than a law it contains.
+    let cost =
+        |name: &str| laws.iter().find(|l| l["law"] == name).unwrap()["cost"].as_f64().unwrap();
+    for (rich, inner) in [("directional", "coulomb-viscous"), ("directional-lugre", "lugre")] {
+        println!("cost {rich} {:.6e}, {inner} {:.6e}", cost(rich), cost(inner));
+        assert!(cost(rich) <= cost(inner), "{rich} {} above {inner} {}", cost(rich), cost(inner));
+    }
     assert_eq!(j["best"], laws[0]["law"]);
     let params = std::fs::read_to_string(out.join("params.toml")).unwrap();
     assert!(params.contains("[params]") && params.contains("M = "), "{params}");

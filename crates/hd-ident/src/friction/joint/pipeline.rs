@@ -170,8 +170,8 @@ pub fn fit_joint_with(
         if !problem.nonlinear.contains(&name) {
             continue;
         }
-        let Some((held, refined, tried)) = bound_candidate(&problem, fixed, opts, &best, name, &lm)
-        else {
+        let candidate = bound_candidate(&problem, fixed, opts, &best, name, &lm, settings.race);
+        let Some((held, refined, tried)) = candidate else {
             continue;
         };
         iterations += tried.iterations;
@@ -345,8 +345,9 @@ fn held_problem<'a>(
 }
 
 /// The best refinement with `name` held at 0 on top of `problem`'s own bounds: from the
-/// best fit with that level at 0 and from Stribeck-dominated starts. None where the held
-/// problem cannot be set up or no start could be evaluated.
+/// best fit with that level at 0 and from Stribeck-dominated starts (raced as the main
+/// starts are, with `race`). None where the held problem cannot be set up or no start
+/// could be evaluated.
 fn bound_candidate<'a>(
     problem: &JointProblem<'a>,
     fixed: &Fixed,
@@ -354,6 +355,7 @@ fn bound_candidate<'a>(
     best: &Refined,
     name: &'static str,
     lm: &LmOptions,
+    race: bool,
 ) -> Option<(JointProblem<'a>, Refined, super::race::RaceOutcome)> {
     let mut on_bound = problem.on_bound.clone();
     on_bound.push(name);
@@ -381,7 +383,7 @@ fn bound_candidate<'a>(
             starts.push(s);
         }
     }
-    let tried = refine_starts(&held, &starts, lm, false);
+    let tried = refine_starts(&held, &starts, lm, race);
     let refined = tried.best.as_ref().map(|b| Refined {
         values: b.values,
         rss: b.rss,
