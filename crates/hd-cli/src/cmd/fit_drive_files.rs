@@ -16,7 +16,8 @@ use std::path::Path;
 
 /// Whether `name` is a file `hdw fit drive` writes into its folder.
 pub fn is_fit_output(name: &str) -> bool {
-    matches!(name, "fit.json" | "params.toml" | "report.md") || name.ends_with(".svg")
+    matches!(name, "fit.json" | "params.toml" | "report.md" | "series.parquet")
+        || name.ends_with(".svg")
 }
 
 /// Refuse a record column that holds one value on every row (`cols`: column name, values

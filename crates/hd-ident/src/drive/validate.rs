@@ -254,8 +254,9 @@ fn of_laws(file: &str, key: &str, name: &str, laws: &[FrictionLaw]) -> Result<()
     Err(DriveError::config(
         at(file, &format!("{key} {name}")),
         format!(
-            "{name} belongs to the {} law, not to {} configured here (friction = \"{}\"); remove it, or fit a law that has it",
+            "{name} belongs to the {} law{}, not to {} configured here (friction = \"{}\"); remove it, or fit a law that has it",
             owners.join(" and "),
+            if owners.len() > 1 { "s" } else { "" },
             if asked.len() == 1 { "the one" } else { "those" },
             asked.join("\", \"")
         ),
