@@ -46,3 +46,51 @@ fn bad_values_and_a_missing_binary_are_one_line_errors() {
     let help = ok(&hdw(&["export", "fmu", "--help"]));
     assert!(help.trim_end().lines().rev().take(5).any(|l| l.contains("hdw export fmu")), "{help}");
 }
+
+/// A 64-byte ELF header: 64-bit, little-endian, of type `kind` (3: shared object) for
+/// machine `machine` (62: x86-64); nothing after it.
+fn elf_header(kind: u16, machine: u16) -> Vec<u8> {
+    let mut h = vec![0u8; 64];
+    h[..4].copy_from_slice(b"\x7fELF");
+    (h[4], h[5], h[6]) = (2, 1, 1);
+    h[16..18].copy_from_slice(&kind.to_le_bytes());
+    h[18..20].copy_from_slice(&machine.to_le_bytes());
+    h
+}
+
+#[test]
+fn lib_must_be_a_linux_shared_library_exporting_the_fmi_functions() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("x.fmu");
+    let o = out.to_str().unwrap();
+    let file = |name: &str, bytes: &[u8]| {
+        let p = dir.path().join(name);
+        std::fs::write(&p, bytes).unwrap();
+        p.to_str().unwrap().to_string()
+    };
+    let folder = dir.path().join("lib.so");
+    std::fs::create_dir(&folder).unwrap();
+    let cases: Vec<(String, &[&str])> = vec![
+        ("/dev/zero".to_string(), &["/dev/zero", "not a regular file", "ELF shared library"]),
+        (folder.to_str().unwrap().to_string(), &["lib.so", "is a folder", "libhd_fmu.so"]),
+        (file("notes.txt", b"just some notes\n"), &["notes.txt", "a text file", "no ELF magic"]),
+        (file("empty.so", b""), &["empty.so", "is empty"]),
+        (file("win.dll", b"MZ\x90\0\x03\0\0\0"), &["win.dll", "PE (Windows)"]),
+        (file("mac.dylib", &[0xcf, 0xfa, 0xed, 0xfe, 7, 0, 0, 1]), &["mac.dylib", "Mach-O"]),
+        (file("exe", &elf_header(2, 62)), &["exe", "ELF executable"]),
+        (file("arm.so", &elf_header(3, 183)), &["arm.so", "aarch64"]),
+        (file("other.so", &elf_header(3, 62)), &["other.so", "without fmi2DoStep"]),
+    ];
+    for (lib, needles) in &cases {
+        let r = hdw(&["export", "fmu", "--lib", lib, "--out", o]);
+        assert_one_line_error(&r, needles);
+        assert!(!out.exists(), "nothing written for --lib {lib}");
+    }
+    // $HDW_FMU_LIB is checked the same way.
+    let r = std::process::Command::new(env!("CARGO_BIN_EXE_hdw"))
+        .args(["export", "fmu", "--out", o])
+        .env("HDW_FMU_LIB", &cases[2].0)
+        .output()
+        .unwrap();
+    assert_one_line_error(&r, &["notes.txt", "a text file"]);
+}

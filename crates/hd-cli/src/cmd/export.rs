@@ -27,7 +27,7 @@ enum ExportWhat {
 /// Write a co-simulation FMU of the drive.
 #[derive(Args, Debug)]
 #[command(
-    after_help = "The FMU runs the drive exactly as `hdw simulate` would (same laws, solver and tolerances,\nthe controller when the params select one), one communication step at a time.\n  inputs      u [V] (open loop) and T_load [N·m], held over each communication step\n  outputs     the trace columns: i, theta_j, omega_j, theta_z, omega_z, theta, z, s, Tb, Tf, K, C0\n              (closed loop also u, ref, error, u_ff, tf_hat, tb_hat)\n  parameters  every registry parameter, start values from --params/--set\nThe FMU's binary is hd-fmu's shared library, built by cargo beside hdw\n(target/<profile>/libhd_fmu.so); --lib or $HDW_FMU_LIB name another one.\n\nExample:\n  hdw export fmu --out out/drive.fmu\n  hdw export fmu --stiffness maxwell-slip --set ms_n=10 --fmi 3 --out out/slip.fmu\n  hdw datasheet --k1 6.7e4 --k2 1.1e5 --k3 1.2e5 --t1 29 --t2 108 --hysteresis-loss 1 --out out/ds\n  hdw export fmu --params out/ds/catalogue.toml --out out/catalogue.fmu\n  python -c \"import fmpy; fmpy.dump('out/drive.fmu')\""
+    after_help = "The FMU runs the drive exactly as `hdw simulate` would (same laws, solver and tolerances,\nthe controller when the params select one), one communication step at a time.\n  inputs      u [V] (open loop) and T_load [N·m], held over each communication step\n  outputs     the trace columns: i, theta_j, omega_j, theta_z, omega_z, theta, z, s, Tb, Tf, K, C0\n              (closed loop also u, ref, error, u_ff, tf_hat, tb_hat)\n  parameters  every registry parameter, start values from --params/--set\nThe FMU's binary is hd-fmu's shared library, built by cargo beside hdw\n(target/<profile>/libhd_fmu.so); --lib or $HDW_FMU_LIB name another one, which must be a\nLinux x86-64 ELF shared library exporting the FMI functions (anything else is refused).\n\nExample:\n  hdw export fmu --out out/drive.fmu\n  hdw export fmu --stiffness maxwell-slip --set ms_n=10 --fmi 3 --out out/slip.fmu\n  hdw datasheet --k1 6.7e4 --k2 1.1e5 --k3 1.2e5 --t1 29 --t2 108 --hysteresis-loss 1 --out out/ds\n  hdw export fmu --params out/ds/catalogue.toml --out out/catalogue.fmu\n  python -c \"import fmpy; fmpy.dump('out/drive.fmu')\""
 )]
 pub struct FmuArgs {
     /// Parameters, stiffness law, variant and the solver inside the FMU (as `hdw simulate`
@@ -43,7 +43,8 @@ pub struct FmuArgs {
     /// Closed-loop control (its reference runs inside the FMU).
     #[command(flatten)]
     pub control: ControlArgs,
-    /// The FMU binary to pack [default: libhd_fmu.so beside the hdw executable].
+    /// The FMU binary to pack [default: libhd_fmu.so beside the hdw executable]: a Linux
+    /// x86-64 ELF shared library exporting fmi2DoStep (FMI 2) or fmi3DoStep (FMI 3).
     #[arg(long, value_name = "FILE.so")]
     pub lib: Option<PathBuf>,
     /// The FMU file to write.
@@ -61,7 +62,7 @@ pub fn run(args: ExportArgs) -> Result<()> {
 fn run_fmu(a: FmuArgs) -> Result<()> {
     let version = if a.fmi == 3 { FmiVersion::Fmi3 } else { FmiVersion::Fmi2 };
     let lib = find_library(a.lib.as_deref())?;
-    let binary = std::fs::read(&lib).with_context(|| format!("cannot read {}", lib.display()))?;
+    let binary = read_library(&lib, version)?;
     let out = a.out.clone();
     // The run configuration exactly as `hdw simulate` checks it from the same options.
     let sim = SimulateArgs {
@@ -127,10 +128,10 @@ fn find_library(given: Option<&Path>) -> Result<PathBuf> {
     if let Some(p) =
         given.map(Path::to_path_buf).or_else(|| std::env::var_os("HDW_FMU_LIB").map(PathBuf::from))
     {
-        if p.is_file() {
-            return Ok(p);
+        if std::fs::metadata(&p).is_err_and(|e| e.kind() == std::io::ErrorKind::NotFound) {
+            bail!("FMU binary {} does not exist (expected hd-fmu's {name})", p.display());
         }
-        bail!("FMU binary {} does not exist (expected hd-fmu's {name})", p.display());
+        return Ok(p);
     }
     let exe = std::env::current_exe().context("cannot locate the hdw executable")?;
     let dir = exe.parent().map(Path::to_path_buf).unwrap_or_default();
@@ -144,4 +145,100 @@ fn find_library(given: Option<&Path>) -> Result<PathBuf> {
         "the FMU binary {name} is not beside hdw (looked in {}); build it with `cargo build {profile}-p hd-fmu`, or name it with --lib",
         dir.display()
     )
+}
+
+/// Largest FMU binary read [bytes]: hd-fmu's library is a few MB (tens with debug
+/// information); anything far larger is not it.
+const MAX_LIBRARY_BYTES: u64 = 1 << 30;
+
+/// The bytes of the FMU binary at `path`, checked to be what the archive's platform folder
+/// promises: a regular file, a 64-bit x86-64 ELF shared library (the folder is
+/// `binaries/linux64` or `binaries/x86_64-linux`), exporting the FMI functions of
+/// `version`. Anything else (a folder, a device, a text file, an executable, a macOS or
+/// Windows library) is refused with the path and what was expected.
+fn read_library(path: &Path, version: FmiVersion) -> Result<Vec<u8>> {
+    let shown = path.display();
+    let expected = format!(
+        "expected hd-fmu's lib{MODEL_IDENTIFIER}.so, a Linux x86-64 ELF shared library for {}",
+        version.binary_dir()
+    );
+    let meta =
+        std::fs::metadata(path).with_context(|| format!("cannot read FMU binary {shown}"))?;
+    if meta.is_dir() {
+        bail!("FMU binary {shown} is a folder: {expected}");
+    }
+    if !meta.is_file() {
+        bail!("FMU binary {shown} is not a regular file (a device or pipe?): {expected}");
+    }
+    if meta.len() > MAX_LIBRARY_BYTES {
+        bail!(
+            "FMU binary {shown} is {} MB, more than the {} MB a shared library of hd-fmu could be: {expected}",
+            meta.len() >> 20,
+            MAX_LIBRARY_BYTES >> 20
+        );
+    }
+    let bytes = std::fs::read(path).with_context(|| format!("cannot read FMU binary {shown}"))?;
+    library_kind(&bytes)
+        .map_err(|what| anyhow::anyhow!("FMU binary {shown} is {what}: {expected}"))?;
+    // The dynamic symbol table names every exported function.
+    let needed = match version {
+        FmiVersion::Fmi2 => "fmi2DoStep",
+        FmiVersion::Fmi3 => "fmi3DoStep",
+    };
+    if !bytes.windows(needed.len()).any(|w| w == needed.as_bytes()) {
+        bail!(
+            "FMU binary {shown} is a shared library without {needed}, not an FMU binary: {expected}"
+        );
+    }
+    Ok(bytes)
+}
+
+/// Whether `bytes` are a 64-bit little-endian x86-64 ELF shared object; otherwise what
+/// they are instead, in words.
+fn library_kind(bytes: &[u8]) -> Result<(), String> {
+    let u16_at = |i: usize| bytes.get(i..i + 2).map(|b| u16::from_le_bytes([b[0], b[1]]));
+    let magic = bytes.get(..4).unwrap_or(bytes);
+    if magic == b"\x7fELF" {
+        if bytes.len() < 64 {
+            return Err("a truncated ELF file".to_string());
+        }
+        if bytes[4] != 2 || bytes[5] != 1 {
+            return Err("a 32-bit or big-endian ELF file".to_string());
+        }
+        match u16_at(16) {
+            Some(3) => {}
+            Some(1) => return Err("an ELF object file (.o), not a shared library".to_string()),
+            Some(2) => return Err("an ELF executable, not a shared library".to_string()),
+            Some(t) => return Err(format!("an ELF file of type {t}, not a shared library")),
+            None => return Err("a truncated ELF file".to_string()),
+        }
+        return match u16_at(18) {
+            Some(62) => Ok(()),
+            Some(183) => Err("an ELF shared library for aarch64 (ARM), not x86-64".to_string()),
+            Some(m) => Err(format!("an ELF shared library for machine {m}, not x86-64 (62)")),
+            None => Err("a truncated ELF file".to_string()),
+        };
+    }
+    const MACH_O: [[u8; 4]; 5] = [
+        [0xfe, 0xed, 0xfa, 0xce],
+        [0xfe, 0xed, 0xfa, 0xcf],
+        [0xce, 0xfa, 0xed, 0xfe],
+        [0xcf, 0xfa, 0xed, 0xfe],
+        [0xca, 0xfe, 0xba, 0xbe],
+    ];
+    if MACH_O.iter().any(|m| magic == m) {
+        return Err("a Mach-O (macOS) binary; the FMU's binary folder is for Linux".to_string());
+    }
+    if magic.starts_with(b"MZ") {
+        return Err("a PE (Windows) binary; the FMU's binary folder is for Linux".to_string());
+    }
+    if bytes.is_empty() {
+        return Err("empty".to_string());
+    }
+    let text = bytes.iter().take(512).all(|&b| b.is_ascii_graphic() || b.is_ascii_whitespace());
+    Err(if text {
+        "a text file, not a shared library (no ELF magic)".to_string()
+    } else {
+        "not a shared library (no ELF magic)".to_string()
+    })
 }
