@@ -59,7 +59,7 @@ fn bad_tests_are_refused_in_one_line() {
     let r = hdw(&["synth", "drive", "--sample-period", "0", "--out", o]);
     assert_one_line_error(&r, &["--sample-period"]);
     let r = hdw(&["synth", "drive", "--t-end", "1e9", "--out", o]);
-    assert_one_line_error(&r, &["rows"]);
+    assert_one_line_error(&r, &["--t-end 1000000000", "samples"]);
     let r = hdw(&["synth", "drive", "--applied", "smooth", "--out", o]);
     assert_one_line_error(&r, &["--applied smooth", "held or continuous"]);
     assert!(!out.exists());
@@ -85,4 +85,97 @@ fn a_held_voltage_logs_the_same_samples_as_the_continuous_one() {
     let span = c[5].iter().fold(0.0f64, |m, v| m.max(v.abs()));
     let diff = h[5].iter().zip(&c[5]).fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
     assert!(diff > 0.0 && diff < 0.05 * span, "held and continuous differ by {diff} of {span}");
+}
+
+/// Options that would give a useless, absurd or endless record are refused before any
+/// work, each naming the option at fault; nothing is written.
+#[test]
+fn unusable_records_are_refused_naming_the_option() {
+    let dir = scratch("synth-drive-refused");
+    let out = dir.join("x.csv");
+    let o = out.to_str().unwrap();
+    let cases: &[(&[&str], &[&str])] = &[
+        // Two rows (t = 0 and t = 2) are no record.
+        (
+            &["--sample-period", "10"],
+            &["--sample-period 10 s", "0.2 sample intervals", "50 samples"],
+        ),
+        (
+            &["--t-end", "0.04"],
+            &[
+                "--sample-period 0.001",
+                "40 sample intervals",
+                "use --sample-period 0.00081 s or less",
+            ],
+        ),
+        // The band 600-60000 Hz against the 500 Hz Nyquist frequency of a 1 ms log.
+        (&["--freq", "6000"], &["--freq 6000 Hz", "wholly above the Nyquist frequency 500 Hz"]),
+        (&["--voltage", "1e308"], &["--voltage 1e308", "at most 1e4 V"]),
+        (&["--voltage", "0"], &["--voltage 0", "not zero"]),
+        (&["--voltage", "nan"], &["--voltage NaN"]),
+        // 20 000 s at 1 ms: 20 M samples, once 25 minutes and 3.3 GB without a word.
+        (&["--t-end", "20000"], &["--t-end 20000", "2.000e7 samples", "1e7"]),
+        (
+            &[
+                "--input",
+                "multisine",
+                "--freq",
+                "4000",
+                "--sample-period",
+                "1e-4",
+                "--t-end",
+                "100",
+            ],
+            &["--input multisine", "--freq 4000", "profile points"],
+        ),
+    ];
+    let loop_cases: &[(&[&str], &[&str])] = &[
+        (&["--loop-amplitude", "1e308"], &["--loop-amplitude 1e308", "at most 1e4 rad"]),
+        (&["--loop-amplitude", "0"], &["--loop-amplitude 0", "not zero"]),
+        (
+            &["--loop-amplitude", "100", "--loop-reference", "chirp"],
+            &["--loop-amplitude 100", "--freq 20", "rad/s"],
+        ),
+        (&["--loop-delay", "1000000000"], &["--loop-delay 1000000000", "half the record"]),
+        (&["--loop-delay", "1001"], &["--loop-delay 1001 samples (1.001 s)", "2001 samples"]),
+        (&["--loop-kv", "-0.5"], &["--loop-kv -0.5", "gain > 0"]),
+        (&["--loop-kp", "0"], &["--loop-kp 0", "gain > 0"]),
+        (&["--loop-reference", "ramp"], &["--loop-reference ramp", "steps or chirp"]),
+    ];
+    let run = |extra: &[&str]| {
+        let mut args = vec!["synth", "drive"];
+        args.extend_from_slice(extra);
+        args.extend_from_slice(&["--out", o]);
+        let start = std::time::Instant::now();
+        let r = hdw(&args);
+        assert!(start.elapsed().as_secs_f64() < 10.0, "{extra:?} took long");
+        r
+    };
+    for (extra, needles) in cases {
+        assert_one_line_error(&run(extra), needles);
+    }
+    for (extra, needles) in loop_cases {
+        let mut args = vec!["--t-end", "2"];
+        for (gain, value) in [("--loop-kp", "30"), ("--loop-kv", "0.5")] {
+            if !extra.contains(&gain) {
+                args.extend_from_slice(&[gain, value]);
+            }
+        }
+        args.extend_from_slice(extra);
+        assert_one_line_error(&run(&args), needles);
+    }
+    assert!(!out.exists());
+}
+
+/// A band that only reaches past the Nyquist frequency is recorded, with a warning.
+#[test]
+fn a_band_reaching_past_nyquist_is_a_warning() {
+    let dir = scratch("synth-drive-alias");
+    let out = dir.join("a.csv");
+    let args =
+        ["synth", "drive", "--freq", "100", "--t-end", "0.2", "--out", out.to_str().unwrap()];
+    let r = hdw_ok(&args);
+    let err = String::from_utf8_lossy(&r.stderr);
+    assert!(err.contains("warning: --freq 100 Hz: the band reaches 1000 Hz"), "{err}");
+    assert_eq!(columns(&out)[0].len(), 201);
 }
