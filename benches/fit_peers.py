@@ -11,7 +11,7 @@ exactly over each sample, as hdw does (docs/model.md §5), in the physical param
 bounds (levels ≥ 0, so a level can sit exactly on 0; σ1, σ2 ≥ 0; ωs, σ0 > 0) and
 x_scale='jac'. It knows nothing of hdw's starts: it derives its own from the record, as a
 user's script would (a grid of four decades over σ0 around the record's plausible range,
-the Coulomb level from the median |torque| while sliding, and a Stribeck-dominated start;
+the Coulomb level from the median |torque| while sliding, and Stribeck-dominated starts;
 the asymmetric fit also from the peer's own symmetric optimum), and the best start wins.
 It runs as one Python process per record (its two fits): the process's wall time includes
 imports and numba's compilation, as a user sees it; each fit is then timed again warm.

@@ -25,10 +25,12 @@ one numba pass (`jac="analytic"`), or scipy's forward difference of the numba re
 
 Starts (`data_starts`), from the record alone: the level L is the median |torque| while
 sliding (|ω| above 1 % of the record's 99th-percentile speed; per side for the asymmetric
-law), ωs the 10th percentile of the sliding speeds, Ts = 1.3·L, and σ0 on a grid of four
-decades: the values at which the bristle relaxes over 1, 10, 100 and 1000 sample intervals
-at the median sliding speed (σ0 = L / (|ω|_median · Δt · k)). Then a Stribeck-dominated
-start: Tc = 2 % of L, Ts = L, ωs the median sliding speed, σ0 the grid's geometric middle.
+law), ωs the 10th percentile of the sliding speeds ω10, Ts = 1.3·L, and σ0 on a grid of four
+decades: the values at which the bristle, at the peak level P (95th percentile of |torque|
+while sliding), relaxes over 1, 10, 100 and 1000 sample intervals at ω10
+(σ0 = P / (ω10 · Δt · k)). Then two Stribeck-dominated starts: Tc = 2 % of L, Ts = L, and
+Tc = 2 % of P, Ts = P, each with ωs the median sliding speed and σ0 the grid's geometric
+middle.
 The asymmetric fit also starts from the peer's own symmetric optimum (levels copied to both
 sides), as a user fitting the richer law after the poorer one would. σ1, σ2 (and the offset)
 start from linear least squares at each start. The best start wins.
@@ -261,13 +263,15 @@ def data_starts(t, v, y, asymmetric: bool) -> list[list[float]]:
         lp, ln = (lp if lp > 0 else level), (ln if ln > 0 else level)
     else:
         lp = ln = level
+    peak = float(np.percentile(np.abs(y[slide]), 95))
     ws_lo = float(np.percentile(av[slide], 10))
     ws_mid = float(np.median(av[slide]))
     dt = float(np.median(np.diff(t)))
-    grid = [level / (ws_mid * dt * k) for k in (1.0, 10.0, 100.0, 1000.0)]
+    grid = [peak / (ws_lo * dt * k) for k in (1.0, 10.0, 100.0, 1000.0)]
     starts = [[lp, 1.3 * lp, ws_lo, s0, ln, 1.3 * ln] for s0 in grid]
     s_mid = math.sqrt(grid[1] * grid[2])
     starts.append([0.02 * lp, lp, ws_mid, s_mid, 0.02 * ln, ln])
+    starts.append([0.02 * peak, peak, ws_mid, s_mid, 0.02 * peak, peak])
     return starts
 
 
