@@ -305,7 +305,7 @@ fn rigid(args: &DriveArgs, cfg: DriveConfig, file: String) -> Result<()> {
             Stage { laws: &bases, specs: &base_specs, fits: b },
             Stage { laws: &lugre, specs: &lugre_specs, fits: l },
         ];
-        keep_nested(&mut stages, &fit_all);
+        keep_nested(&mut stages, fit_all);
     }
     bar.finish_and_clear();
 

@@ -17,9 +17,9 @@
 //! 3. refine all free parameters jointly from that start, from [`EXTRA_STARTS`] perturbed
 //!    ones, from Stribeck-dominated ones and (asymmetric law) from the symmetric law's
 //!    optimum (real data have local optima); the best wins ([`pipeline`]);
-//! 3b. hold each free Coulomb level at exactly 0 and refine the rest: an optimum on that
+//! 4. hold each free Coulomb level at exactly 0 and refine the rest: an optimum on that
 //!    bound, which the logarithms can only approach, is reached and reported on its bound;
-//! 4. standard errors, intervals, correlations and determined flags from the Jacobian at
+//! 5. standard errors, intervals, correlations and determined flags from the Jacobian at
 //!    the optimum, as for every fit.
 
 mod exact;

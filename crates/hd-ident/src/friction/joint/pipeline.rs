@@ -137,7 +137,7 @@ pub fn fit_joint_with(
 
     let starts = start_set(&problem, base, nested.as_ref());
     let lm = LmOptions { max_iterations: MAX_ITERATIONS, secant: true, ..Default::default() };
-    let race = refine_starts(&problem, &starts, &lm, settings.race);
+    let race = refine_starts(&problem, &starts, &lm, settings.race, f64::INFINITY);
     let mut iterations = race.iterations;
     evaluations += race.evaluations;
     failed += race.failed;
@@ -383,7 +383,9 @@ fn bound_candidate<'a>(
             starts.push(s);
         }
     }
-    let tried = refine_starts(&held, &starts, lm, race);
+    // The held problem is the free one restricted to a bound (same objective): its starts
+    // race against the free optimum's cost too.
+    let tried = refine_starts(&held, &starts, lm, race, best.rss);
     let refined = tried.best.as_ref().map(|b| Refined {
         values: b.values,
         rss: b.rss,

@@ -52,14 +52,16 @@ pub(super) struct RaceOutcome {
 
 /// Refine every start of `starts` on `problem`. With `race`, every start first runs
 /// [`RACE_ITERATIONS`] iterations and those whose cost is then above [`DROP_FACTOR`] × the
-/// lowest any start reached stop there; the comparison is made at the same point for every
-/// start, so the outcome does not depend on which thread ran first. Without `race`, every
-/// start runs to its own end.
+/// lowest any start reached (or `reference`, a cost already reached on the same objective,
+/// if lower) stop there; the comparison is made at the same point for every start, so the
+/// outcome does not depend on which thread ran first. Without `race`, every start runs to
+/// its own end.
 pub(super) fn refine_starts(
     problem: &JointProblem,
     starts: &[[f64; 6]],
     lm: &LmOptions,
     race: bool,
+    reference: f64,
 ) -> RaceOutcome {
     let refined: Vec<Result<Refined, FitError>> = if race {
         let first: Vec<Result<LmStep, FitError>> = starts
@@ -73,7 +75,7 @@ pub(super) fn refine_starts(
                 Ok(LmStep::Paused(p)) => Some(p.cost()),
                 Err(_) => None,
             })
-            .fold(f64::INFINITY, f64::min);
+            .fold(reference, f64::min);
         first
             .into_par_iter()
             .map(|r| match r? {
@@ -85,7 +87,7 @@ pub(super) fn refine_starts(
                     evaluations: p.evaluations(),
                     failed: p.failed_trials(),
                     termination: format!(
-                        "stopped after {} iterations: RSS {:.6e} above {DROP_FACTOR} × the lowest of all starts then ({lowest:.6e})",
+                        "stopped after {} iterations: RSS {:.6e} above {DROP_FACTOR} × the lowest of all starts then or before ({lowest:.6e})",
                         p.iterations(),
                         p.cost()
                     ),
