@@ -38,7 +38,39 @@ pub enum FitWhat {
     Hysteresis(super::fit_hysteresis::HysteresisArgs),
     /// Fit the LuGre parameters: static (Tc, Ts, ws, sigma2) and/or dynamic (sigma0, sigma1).
     Friction(FrictionArgs),
-    /// Identify a rigid drive (mass/inertia, friction, offset) from its logged closed loop.
+    /// Identify a drive: a rigid one (mass/inertia, friction, offset) from its logged closed
+    /// loop, or the compliant one (transmission = "compliant") from voltage tests or its loop.
+    ///
+    /// Rigid: the configuration names the records, the drive gain, the controller and the
+    /// friction law(s) (data/emps/fit.toml).
+    ///
+    /// Compliant (transmission = "compliant"): the simulator's drive (DC motor, hysteretic
+    /// gear, load, LuGre friction) re-run under each record's voltage and fitted to the motor
+    /// and load encoders and the current (data/compliant/fit.toml; in its position loop with
+    /// a [controller], data/compliant/loop.toml). Its keys:
+    ///   params_file                start values and the gear ratio N (an hdw simulate file)
+    ///   voltage_between            "hold" (default: a digital amplifier), "linear", "cubic"
+    ///   current_sampled            "after" (default: the current read just after the new
+    ///                              voltage is applied) or "before" (just before it)
+    ///   km_equals_ke, directional_friction, directional_load_friction, friction_velocity,
+    ///   axis, substeps
+    ///   [[experiment]]             name, file, time, voltage (or command and reference),
+    ///                              motor, load, current, *_scale factors to SI
+    ///   [controller]               kp, kv, delay, feedback, amplifier (closed-loop records)
+    ///   [fit]                      outputs, noise.motor/load/current/command, free, fix,
+    ///                              max_iterations, current_offset
+    ///   [params], [bounds]         start values and bounds by parameter name
+    /// A fit that does not reach the noise, a current whose scale the voltage and R do not
+    /// explain, or a controller that does not reproduce the recorded command is in doubt:
+    /// fit.json has "in_doubt": true, the reasons in "doubt" (the likely cause named:
+    /// voltage_between, current_sampled, direction-dependent friction, a scale), and
+    /// "in_doubt" instead of "determined" on each parameter.
+    ///
+    /// Compliant example:
+    ///   hdw synth drive --input chirp --freq 5 --t-end 2 --out out/compliant/chirp.csv
+    ///   hdw fit drive --config data/compliant/fit.toml --out out/compliant/fit \
+    ///       --validate out/compliant/multisine.csv
+    #[command(verbatim_doc_comment)]
     Drive(super::fit_drive::DriveArgs),
 }
 

@@ -10,6 +10,7 @@ use hd_ident::drive::compliant::accuracy::accurate_substeps;
 use hd_ident::drive::compliant::config::VoltageExperimentConfig;
 use hd_ident::drive::compliant::fit::{CompliantSpec, score_records};
 use hd_ident::drive::compliant::model::{P, has_load_law, on_law};
+use hd_ident::drive::compliant::scale_check::{check_command, check_current};
 use hd_ident::drive::compliant::supported::load_law_problem;
 use hd_ident::drive::compliant::{
     Amplifier, CompliantConfig, NAMES, Signal, VoltageRecord, fit_compliant, substeps_of,
@@ -169,6 +170,26 @@ pub fn run(args: &DriveArgs, text: &str) -> Result<()> {
         }
     }
     let between = cfg.between(&file)?;
+    // Which instant the logged current refers to ([`CurrentSampled`]).
+    let sampled = hd_ident::drive::compliant::sampling::current_sampled(&cfg, &file)?;
+    let records: Vec<VoltageRecord> =
+        records.into_iter().map(|r| r.with_current_sampled(sampled)).collect();
+    let validation = validation.map(|r| r.with_current_sampled(sampled));
+    // The controller check, judged: a configured controller that does not reproduce the
+    // recorded command puts every value in doubt (said first).
+    let mut doubt: Vec<String> = Vec::new();
+    if let Some(info) = &controller {
+        let percent = info
+            .checks
+            .iter()
+            .find(|c| c.delay == info.controller.delay)
+            .map_or(0.0, |c| c.percent);
+        for r in &records {
+            let Some(cl) = &r.closed else { continue };
+            let q = cl.measured_feedback(r);
+            doubt.extend(check_command(&info.controller, r, q, &cl.reference, percent));
+        }
+    }
     let Base { values: params, n, law, sets_negative, sets_negative_load, friction_velocity } =
         base_params(&cfg, base)?;
     // A negative side's level set in [params] counts as set, as one in the params file.
@@ -267,6 +288,11 @@ pub fn run(args: &DriveArgs, text: &str) -> Result<()> {
         let (substeps, _) = accurate_substeps(&spec, &records);
         CompliantSpec { substeps, ..spec }
     };
+    // The current's scale against what the start values drive from the voltage.
+    doubt.extend(records.iter().filter_map(|r| check_current(&spec, r)));
+    for d in &doubt {
+        eprintln!("warning: {d}");
+    }
     let dir = ensure_dir(&args.out)?;
     let bar = super::fit_drive::spinner("fitting the compliant drive".into());
     let t0 = Instant::now();
@@ -275,8 +301,15 @@ pub fn run(args: &DriveArgs, text: &str) -> Result<()> {
             bar.set_message(format!("compliant drive: iteration {it}, cost {cost:.6e}"));
         }
     };
-    let fit = fit_compliant(&spec, &records, &progress)
+    let mut fit = fit_compliant(&spec, &records, &progress)
         .map_err(|e| anyhow::anyhow!("{file}: the compliant fit failed: {e}"))?;
+    if !doubt.is_empty() {
+        let d = &mut fit.determination;
+        d.sentences.retain(|s| !s.starts_with("Every free parameter is determined"));
+        d.sentences.splice(0..0, doubt.iter().cloned());
+        d.all_determined = false;
+        fit.doubt.splice(0..0, doubt);
+    }
     let secs = t0.elapsed().as_secs_f64();
     bar.finish_and_clear();
     // The noise levels the fit ended with (estimated ones replaced by the residuals' RMS).
@@ -284,12 +317,18 @@ pub fn run(args: &DriveArgs, text: &str) -> Result<()> {
     let start_scores = score_records(&spec, &spec.start, &records, &|o, k| {
         spec.outputs.iter().find(|x| x.0 == o).map_or(f64::NAN, |x| x.1[k])
     });
-    // The validation record's outputs are weighed by the first record's levels: the same
-    // sensors, and third differences overstate the noise of a signal with content near the
-    // Nyquist band.
+    // The validation record is scored against its own noise levels: a level the
+    // configuration gives, else the one the validation record itself shows (its third
+    // differences, as the fitted records' were estimated before the fit). A current's noise
+    // scales with its RMS, so the estimation record's level would misstate it (1.86× where
+    // the truth is 1.00).
     let validation_scores = validation.as_ref().map(|v| {
         score_records(&spec, &fit.values, std::slice::from_ref(v), &|o, _| {
-            spec.outputs.iter().find(|x| x.0 == o).map_or(f64::NAN, |x| x.1[0])
+            cfg.fit
+                .noise
+                .get(o.name())
+                .copied()
+                .unwrap_or_else(|| o.measured(v).map_or(f64::NAN, estimated_noise))
         })
         .remove(0)
     });
@@ -304,6 +343,7 @@ pub fn run(args: &DriveArgs, text: &str) -> Result<()> {
         validation_scores,
         controller,
         axis,
+        between_given: cfg.voltage_between.is_some(),
     };
     write_outputs(&dir, &outcome)
 }

@@ -40,6 +40,8 @@ pub struct Outcome {
     pub controller: Option<LoopInfo>,
     /// The axis, whose units the outputs carry.
     pub axis: Axis,
+    /// Whether the configuration named `voltage_between` (else the default, `hold`).
+    pub between_given: bool,
 }
 
 /// The unit of output `o` on `axis`: the command's is the amplifier's (V or A).
@@ -158,6 +160,9 @@ fn write_all(dir: &Path, o: &Outcome) -> Result<()> {
             && !(sp.symmetric_friction && [TC_NEG, TS_NEG].contains(&k))
             && !(sp.symmetric_load_friction && [TC_NEG_L, TS_NEG_L].contains(&k))
     };
+    // A fit in doubt (it does not reach the noise, a scale or the controller check fails):
+    // what the records would determine is "in_doubt", and nothing "determined".
+    let doubt = !f.doubt.is_empty();
     let parameters: Map<String, Value> = NAMES
         .iter()
         .enumerate()
@@ -166,7 +171,8 @@ fn write_all(dir: &Path, o: &Outcome) -> Result<()> {
             (
                 n.to_string(),
                 json!({"value": f.values[k], "std_error": f.std_errors[k], "free": f.free[k],
-                       "held": f.held.contains(&k), "determined": f.determined[k],
+                       "held": f.held.contains(&k), "determined": f.determined[k] && !doubt,
+                       "in_doubt": f.determined[k] && doubt,
                        "start": sp.start[k], "unit": parameter_unit(n, o.axis)}),
             )
         })
@@ -178,6 +184,10 @@ fn write_all(dir: &Path, o: &Outcome) -> Result<()> {
         "N": sp.n,
         "axis": o.axis.name(),
         "voltage_between": if ctl.is_some() { "hold" } else { sp.between.name() },
+        "voltage_between_from": if ctl.is_some() { "loop" } else if o.between_given { "configuration" } else { "default" },
+        "current_sampled": o.records.first().map_or("after", |r| r.current_sampled.name()),
+        "in_doubt": doubt,
+        "doubt": f.doubt,
         "substeps": sp.substeps,
         "km_equals_ke": sp.km_is_ke,
         "directional_friction": !sp.symmetric_friction,
@@ -256,7 +266,12 @@ fn write_all(dir: &Path, o: &Outcome) -> Result<()> {
         if ctl.is_some() {
             "closed loop, the command held over each sample".to_string()
         } else {
-            format!("voltage read `{}` between samples", sp.between.name())
+            format!(
+                "voltage read `{}` between samples{}, current read {} the new voltage",
+                sp.between.name(),
+                if o.between_given { "" } else { " (the default)" },
+                o.records.first().map_or("after", |r| r.current_sampled.name())
+            )
         },
         sp.substeps,
         f.starts,
@@ -278,6 +293,13 @@ fn write_all(dir: &Path, o: &Outcome) -> Result<()> {
             sp.n
         );
     }
+    if doubt {
+        let _ = writeln!(r, "**The fit is in doubt.**\n");
+        for d in &f.doubt {
+            let _ = writeln!(r, "- {d}");
+        }
+        let _ = writeln!(r);
+    }
     let _ = writeln!(r, "| parameter | start | value | std. error | determined | unit |");
     let _ = writeln!(r, "|---|---:|---:|---:|---|---|");
     for (k, n) in NAMES.iter().enumerate().filter(|(k, _)| shown(*k)) {
@@ -287,12 +309,11 @@ fn write_all(dir: &Path, o: &Outcome) -> Result<()> {
             (true, false, Some(s)) => format!("{s:.3e}"),
             (true, false, None) => "—".to_string(),
         };
-        let det = if !f.free[k] {
-            ""
-        } else if f.determined[k] {
-            "yes"
-        } else {
-            "no"
+        let det = match (f.free[k], f.determined[k], doubt) {
+            (false, _, _) => "",
+            (true, true, true) => "in doubt",
+            (true, true, false) => "yes",
+            (true, false, _) => "no",
         };
         let _ = writeln!(
             r,

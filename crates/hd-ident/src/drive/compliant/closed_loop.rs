@@ -163,9 +163,14 @@ pub fn simulate_loop<T: Scalar>(
         let command = if k >= c.delay { computed[k - c.delay] } else { T::cst(rec.u[k]) };
         out.theta_m.push(y.theta_j);
         out.theta_l.push(theta_l);
+        // A current read just before the new command follows the one held until then.
+        let driving = match (rec.current_sampled, out.command.last()) {
+            (super::record::CurrentSampled::Before, Some(&prev)) => prev,
+            _ => command,
+        };
         out.current.push(match cl.amplifier {
-            Amplifier::Voltage => d.current(0.0, y.omega_j) + command / d.p[ix::R],
-            Amplifier::Current => command,
+            Amplifier::Voltage => d.current(0.0, y.omega_j) + driving / d.p[ix::R],
+            Amplifier::Current => driving,
         });
         out.command.push(command);
         if k + 1 == n {

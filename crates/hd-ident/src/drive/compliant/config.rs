@@ -86,8 +86,12 @@ pub struct CompliantConfig {
     /// A params file of `hdw simulate` (relative to the configuration) holding the start
     /// values and the gear ratio N; default the seed's parameters.
     pub params_file: Option<String>,
-    /// How the voltage runs between samples: `hold`, `linear` (default) or `cubic`.
+    /// How the voltage runs between samples: `hold` (default: a digital amplifier's
+    /// zero-order hold), `linear` or `cubic`.
     pub voltage_between: Option<String>,
+    /// Which instant the logged current refers to: `after` (default, just after the new
+    /// voltage is applied) or `before` (just before it); [`super::sampling`].
+    pub current_sampled: Option<String>,
     /// Whether Km equals Ke (SI units); default true.
     pub km_equals_ke: Option<bool>,
     /// Whether the friction levels differ by direction (Tc_neg, Ts_neg their own
@@ -165,6 +169,7 @@ impl CompliantConfig {
             return Err(DriveError::config(file, "no [[experiment]]; expected at least one"));
         }
         c.between(file)?;
+        super::sampling::current_sampled(&c, file)?;
         c.outputs(file)?;
         super::loop_config::check(&c, file)?;
         c.free(file, None, true, true, true)?;
@@ -226,7 +231,7 @@ impl CompliantConfig {
     /// How the voltage runs between samples.
     pub fn between(&self, file: &str) -> Result<Between, DriveError> {
         match &self.voltage_between {
-            None => Ok(Between::Linear),
+            None => Ok(super::sampling::DEFAULT_BETWEEN),
             Some(s) => Between::parse(s).ok_or_else(|| {
                 DriveError::config(
                     format!("{file}, voltage_between"),

@@ -206,7 +206,8 @@ fn stiffness_rule(
             " The load inertia Jz is not determined, and the record sees the stiffness only relative to it (the resonance): K holds at the fitted Jz, and scales with it."
         };
         format!(
-            "{what}: the load resonates at {f:.2} ± {se_f:.2} Hz, where the gear's stiffness is K = c + A·ω²/(B² + ω²) = {k:.4e} ± {se_k:.2e} N·m/rad.{tail}"
+            "{what}: the load resonates at {} Hz, where the gear's stiffness is K = c + A·ω²/(B² + ω²) = {k:.4e} ± {se_k:.2e} N·m/rad.{tail}",
+            with_se(f, se_f)
         )
     };
     added.push(sentence);
@@ -264,22 +265,39 @@ pub fn not_determined_by_agreement(best: &mut CompliantFit, rivals: &[&Compliant
 /// not to reach the noise (a good fit sits near 1; the tests ask ≤ 1.2).
 pub const MISFIT_RATIO: f64 = 1.5;
 
-/// One sentence per output of `fit` whose residuals stay above [`MISFIT_RATIO`] times a
-/// noise level the configuration gave (`given(output)`; an estimated level is the best
-/// fit's own RMS, so it cannot show a misfit): the standard errors assume the residuals are
-/// the noise.
+/// One sentence per output of `fit` whose residuals stay above [`MISFIT_RATIO`] times its
+/// noise level: one the configuration gave (`given(output)`), or one estimated from the
+/// record itself (its third differences; the fit keeps that level where its residuals stay
+/// far above it, [`super::stages`], so a level the misfit set is never called the noise).
+/// The standard errors assume the residuals are the noise, so every value is in doubt.
 pub fn misfit_sentences(fit: &CompliantFit, given: impl Fn(Signal) -> bool) -> Vec<String> {
     let mut out = Vec::new();
     for score in &fit.scores {
-        for (o, _, _, ratio) in &score.outputs {
-            if given(*o) && *ratio > MISFIT_RATIO {
+        for (o, sc, level, ratio) in &score.outputs {
+            if *ratio > MISFIT_RATIO {
+                let whose = if given(*o) {
+                    "the level given"
+                } else {
+                    "the noise level the record itself shows (its third differences, which if anything overstate it)"
+                };
                 out.push(format!(
-                    "The fit does not reach the noise on {}'s {} ({ratio:.2} times the level given): the standard errors assume it does, so every value is in doubt; a start nearer the drive, more parameters free, or a noise level nearer the record's may help.",
+                    "The fit does not reach the noise on {}'s {}: its residual RMS {:.3e} is {ratio:.2} times {whose}, {level:.3e}. The standard errors assume the residuals are the noise, so every value below, determined or not, is in doubt.",
                     score.name,
-                    o.name()
+                    o.name(),
+                    sc.rmse
                 ));
             }
         }
     }
     out
+}
+
+/// `v ± se` with as many decimals as the standard error's two significant digits need, or
+/// `v (standard error undetermined)` where there is none.
+pub fn with_se(v: f64, se: f64) -> String {
+    if !(se > 0.0 && se.is_finite()) {
+        return format!("{v:.4} (its standard error undetermined)");
+    }
+    let decimals = (1 - se.log10().floor() as i64).clamp(0, 12) as usize;
+    format!("{v:.decimals$} ± {se:.decimals$}")
 }

@@ -262,6 +262,10 @@ pub struct CompliantFit {
     /// Per parameter: free and determined by the records (a standard error, and in no
     /// undetermined combination or inseparable pair).
     pub determined: [bool; P],
+    /// Why the fit is in doubt, said before anything else (the fit does not reach the
+    /// noise, a scale or the controller check fails; [`super::diagnose`]); empty when it
+    /// is not. Where it is not empty, no parameter's `determined` should be trusted.
+    pub doubt: Vec<String>,
 }
 
 /// Score every output of every record with parameters `p` ([`NAMES`] order), against the
@@ -536,5 +540,6 @@ pub(super) fn fit_stage(
         noise: spec.outputs.clone(),
         starts: 1,
         determined,
+        doubt: Vec::new(),
     })
 }

@@ -10,6 +10,7 @@ pub mod config;
 pub mod correlated;
 pub mod creeping;
 pub mod determined;
+pub mod diagnose;
 pub mod fit;
 pub mod loop_config;
 pub mod model;
@@ -17,6 +18,9 @@ pub mod params;
 pub mod ratio_check;
 pub mod record;
 pub mod requantised;
+pub mod sampling;
+pub mod scale_check;
+pub mod sentences;
 pub mod simulate;
 pub mod split;
 pub mod stages;
@@ -31,6 +35,8 @@ mod tests_both;
 #[cfg(test)]
 mod tests_deflection;
 #[cfg(test)]
+mod tests_doubt;
+#[cfg(test)]
 mod tests_laws;
 #[cfg(test)]
 mod tests_load;
@@ -41,6 +47,6 @@ pub use closed_loop::{Amplifier, ClosedLoop, Feedback};
 pub use config::CompliantConfig;
 pub use fit::{CompliantFit, CompliantSpec, RecordScore, Signal, substeps_for, substeps_of};
 pub use model::{Compliant, NAMES};
-pub use record::{Between, VoltageRecord};
+pub use record::{Between, CurrentSampled, VoltageRecord};
 pub use simulate::{Outputs, on_encoder_zeros, simulate};
 pub use stages::fit_compliant;

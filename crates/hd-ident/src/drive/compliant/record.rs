@@ -38,6 +38,48 @@ impl Between {
     }
 }
 
+/// Which instant a logged current sample refers to, relative to the voltage (or command)
+/// that changes at that sample ([`VoltageRecord::current_sampled`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum CurrentSampled {
+    /// Just after the new voltage is applied (the logger reads the current in the same tick
+    /// as it writes the voltage, after it): the current at sample k follows the voltage of
+    /// sample k. What `hdw synth drive` logs.
+    #[default]
+    After,
+    /// Just before the new voltage is applied (the current read at the start of the tick,
+    /// then the new voltage written): the current at sample k still follows the voltage
+    /// of the interval that ends there, sample k − 1's when held.
+    Before,
+}
+
+impl CurrentSampled {
+    /// Parse `after` or `before`.
+    pub fn parse(s: &str) -> Option<CurrentSampled> {
+        match s {
+            "after" => Some(CurrentSampled::After),
+            "before" => Some(CurrentSampled::Before),
+            _ => None,
+        }
+    }
+
+    /// The configuration name.
+    pub fn name(self) -> &'static str {
+        match self {
+            CurrentSampled::After => "after",
+            CurrentSampled::Before => "before",
+        }
+    }
+
+    /// The other instant.
+    pub fn other(self) -> CurrentSampled {
+        match self {
+            CurrentSampled::After => CurrentSampled::Before,
+            CurrentSampled::Before => CurrentSampled::After,
+        }
+    }
+}
+
 /// One logged voltage test.
 #[derive(Clone, Debug, PartialEq)]
 pub struct VoltageRecord {
@@ -60,6 +102,8 @@ pub struct VoltageRecord {
     /// The loop the record was logged in, if any; `u` is then the recorded command
     /// (the controller's output, [V] or [A]) ([`VoltageRecord::in_loop`]).
     pub closed: Option<ClosedLoop>,
+    /// Which instant the logged current refers to (default just after the new voltage).
+    pub current_sampled: CurrentSampled,
 }
 
 impl VoltageRecord {
@@ -109,6 +153,7 @@ impl VoltageRecord {
             theta_l,
             current,
             closed: None,
+            current_sampled: CurrentSampled::After,
         })
     }
 
@@ -134,6 +179,20 @@ impl VoltageRecord {
         cl.controller.open_loop = None;
         self.closed = Some(cl);
         Ok(self)
+    }
+
+    /// The record with its current read at instant `s`.
+    pub fn with_current_sampled(self, s: CurrentSampled) -> VoltageRecord {
+        VoltageRecord { current_sampled: s, ..self }
+    }
+
+    /// The voltage the current of sample `k` follows [V]: the voltage at sample `k`, or,
+    /// read just before the new voltage, the end of the interval before it.
+    pub fn voltage_at_current(&self, k: usize, between: Between) -> f64 {
+        match (self.current_sampled, k) {
+            (CurrentSampled::Before, k) if k > 0 => self.voltage(k - 1, 1.0, between),
+            _ => self.u[k],
+        }
     }
 
     /// Number of samples.

@@ -47,7 +47,7 @@ pub fn simulate<T: Scalar>(
     for k in 0..n {
         out.theta_m.push(y.theta_j);
         out.theta_l.push(y.theta_j / d.n - y.theta + zero_l);
-        out.current.push(d.current(rec.u[k], y.omega_j));
+        out.current.push(d.current(rec.voltage_at_current(k, between), y.omega_j));
         if k + 1 == n {
             break;
         }

@@ -154,6 +154,7 @@ pub fn fit_compliant(
             start[k] = used.start[k];
         }
         let mut gap = f64::NAN;
+        let best_cost = best.cost;
         let mut kept_held = false;
         if let Ok(mut alt) = settle(&held, start, records, progress) {
             spent += alt.iterations;
@@ -177,8 +178,8 @@ pub fn fit_compliant(
                 "the record asks for the bound; widen [bounds] if such values are physical"
             };
             best.determination.sentences.push(format!(
-                "{} ran to its bound ({v:.4e}); held at its start value {:.4e} instead, the fit's cost changes by {gap:+.1}: {verdict}.",
-                NAMES[k], used.start[k]
+                "{} ran to its bound ({v:.4e}); held at its start value {:.4e} instead, the fit's cost changes by {gap:+.3e} ({:+.2} % of the best fit's {:.4e}): {verdict}.",
+                NAMES[k], used.start[k], 100.0 * gap / best_cost, best_cost
             ));
         }
     }
@@ -189,11 +190,17 @@ pub fn fit_compliant(
     let given = |s: Signal| {
         spec.outputs.iter().zip(&spec.noise_estimated).any(|((o, _), est)| *o == s && !est)
     };
+    let has_current = used.outputs.iter().any(|(o, _)| *o == Signal::Current);
+    super::sentences::group_pairs(&mut best.determination.sentences, has_current);
     let misfit = super::determined::misfit_sentences(&best, given);
     if !misfit.is_empty() {
+        let mut doubt = misfit;
+        doubt.extend(super::diagnose::diagnose(used, records, &best));
         let d = &mut best.determination;
         d.sentences.retain(|s| !s.starts_with("Every free parameter is determined"));
-        d.sentences.extend(misfit);
+        d.sentences.splice(0..0, doubt.iter().cloned());
+        d.all_determined = false;
+        best.doubt = doubt;
     }
     best.iterations = spent;
     best.failed_trials = failed;
@@ -226,6 +233,12 @@ fn reweigh(spec: &CompliantSpec, fits: &[Result<CompliantFit, String>]) -> Optio
             let Some(&(_, s, _, _)) = score.outputs.iter().find(|o| o.0 == *signal) else {
                 continue;
             };
+            // A residual far above the level the record itself shows (its third
+            // differences, which if anything overstate the noise) is the misfit's, not the
+            // sensor's: the record's level stays, so the report shows the misfit.
+            if s.rmse > super::determined::MISFIT_RATIO * *level {
+                continue;
+            }
             if s.rmse > 0.0 && s.rmse.is_finite() {
                 moved |= (s.rmse / *level - 1.0).abs() > 0.1;
                 *level = s.rmse;
@@ -359,7 +372,7 @@ fn kept_ends(
 }
 
 /// `spec` with only `which` (where `spec` frees them) free, comparing `outputs`, from `start`.
-fn pass(
+pub(super) fn pass(
     spec: &CompliantSpec,
     which: &[usize],
     outputs: Vec<(Signal, Vec<f64>)>,
