@@ -46,6 +46,18 @@ impl Estimate {
             note: Some(format!("held at {value} {unit} ({why}), not fitted")),
         }
     }
+
+    /// A parameter `name` on its bound `value` [`unit`] because the fit is best there: not
+    /// held by the user, not determined as an interior value (no standard error at a bound).
+    pub fn on_bound(name: &str, value: f64, unit: &'static str) -> Self {
+        Estimate {
+            fixed: false,
+            note: Some(format!(
+                "on its bound {value} {unit}: the fit is best with {name} held there (the data favour a smaller value than the range allows), so it has no standard error"
+            )),
+            ..Self::held(value, unit, "")
+        }
+    }
 }
 
 /// Parameters in a fixed order, serialised as a JSON object keyed by registry name.

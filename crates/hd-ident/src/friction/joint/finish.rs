@@ -55,7 +55,7 @@ pub(super) fn finish(
         let unit = unit_of(name);
         let Some(k) = names.iter().position(|n| *n == name) else {
             let estimate = if problem.on_bound.contains(&name) {
-                on_bound(name, value, unit)
+                Estimate::on_bound(name, value, unit)
             } else {
                 Estimate::held(value, unit, "fixed")
             };
@@ -155,20 +155,4 @@ pub(super) fn finish(
         jacobian: jac,
         covariance: cov,
     })
-}
-
-/// A level on its lower bound 0 because the fit is best there: not fixed by the user, not
-/// determined as an interior value (no standard error at a bound).
-fn on_bound(name: &str, value: f64, unit: &'static str) -> Estimate {
-    Estimate {
-        value,
-        unit,
-        std_error: None,
-        ci95: None,
-        determined: false,
-        fixed: false,
-        note: Some(format!(
-            "on its bound {value} {unit}: the fit is best with {name} held there (the data favour a smaller value than the range allows), so it has no standard error"
-        )),
-    }
 }
