@@ -18,12 +18,14 @@ fn pair_of(s: &str) -> Option<(String, String, f64)> {
 }
 
 /// Replace [`GROUP_FROM`] or more pairwise "not separable" sentences in `sentences` by one,
-/// at the first one's place, naming every parameter involved and the smallest |correlation|;
-/// without a current (`has_current` false) it names the torque-scale direction.
+/// at the first one's place, naming every parameter involved, the smallest |correlation| and
+/// the torque-scale direction, where the records log no current (`has_current` false; with
+/// a current they stay as they are).
 pub fn group_pairs(sentences: &mut Vec<String>, has_current: bool) {
     let pairs: Vec<(usize, (String, String, f64))> =
         sentences.iter().enumerate().filter_map(|(k, s)| Some((k, pair_of(s)?))).collect();
-    if pairs.len() < GROUP_FROM {
+    // With a current the pairs say different things, each worth its sentence.
+    if pairs.len() < GROUP_FROM || has_current {
         return;
     }
     let mut names: Vec<String> = Vec::new();
@@ -35,11 +37,7 @@ pub fn group_pairs(sentences: &mut Vec<String>, has_current: bool) {
         }
     }
     let weakest = pairs.iter().map(|(_, p)| p.2.abs()).fold(f64::INFINITY, f64::min);
-    let why = if has_current {
-        "they move together along a few directions the records do not see apart".to_string()
-    } else {
-        "without a current the encoders see every torque only relative to the motor's torque per volt Km/R: R scaled by 1/α and the inertias, damping, stiffness and friction scaled by α leave the motion as it was (the torque-scale direction); log the current, or fix Km (= Ke) and R from the motor's data sheet".to_string()
-    };
+    let why = "without a current the encoders see every torque only relative to the motor's torque per volt Km/R: R scaled by 1/α and the inertias, damping, stiffness and friction scaled by α leave the motion as it was (the torque-scale direction); log the current, or fix Km (= Ke) and R from the motor's data sheet";
     let sentence = format!(
         "{} pairs of {} are not separable on this record (|correlation| ≥ {weakest:.4}): {why}.",
         pairs.len(),
@@ -80,5 +78,9 @@ mod tests {
         few.push("a and b are not separable on this record (correlation -0.9990); fix one.".into());
         group_pairs(&mut few, false);
         assert_eq!(few.len(), 2);
+        let mut with_current = s[..1].to_vec();
+        with_current.extend(std::iter::repeat_n(few[1].clone(), 8));
+        group_pairs(&mut with_current, true);
+        assert_eq!(with_current.len(), 9);
     }
 }

@@ -188,7 +188,10 @@ pub fn fit_compliant(
     super::requantised::widen_by_rounding(used, &mut best, records);
     refine_fit(&mut best, spec.n);
     let given = |s: Signal| {
-        spec.outputs.iter().zip(&spec.noise_estimated).any(|((o, _), est)| *o == s && !est)
+        spec.outputs
+            .iter()
+            .enumerate()
+            .any(|(j, (o, _))| *o == s && !spec.noise_estimated.get(j).copied().unwrap_or(false))
     };
     let has_current = used.outputs.iter().any(|(o, _)| *o == Signal::Current);
     super::sentences::group_pairs(&mut best.determination.sentences, has_current);
