@@ -7,7 +7,7 @@
 //! output unchanged, which is reported with its weights; a pair of parameters whose
 //! correlation reaches [`CORRELATION_LIMIT`] in magnitude is reported as not separable.
 
-use crate::uncertainty::covariance;
+use crate::uncertainty::{Covariance, covariance, covariance_rows};
 use nalgebra::DMatrix;
 
 /// Relative singular value below which a direction counts as undetermined.
@@ -58,10 +58,54 @@ pub fn determination(
     }
     let cols: Vec<Vec<f64>> = (0..k).map(|j| jac.column(j).iter().copied().collect()).collect();
     let cov = covariance(&cols, rss);
+    judge(cov, (k > 0 && jac.nrows() >= k).then_some(jac), names, values)
+}
+
+/// [`determination`] from the triangular factor `r` (k × k) of the Jacobian's QR
+/// factorisation (RᵀR = JᵀJ, as [`crate::qr_stream::StreamingQr`] builds it without holding
+/// the Jacobian) and the number of residuals `n`: the same standard errors, correlations
+/// and combinations, since R has the Jacobian's column norms, singular values and right
+/// singular vectors.
+pub fn determination_r(
+    r: &DMatrix<f64>,
+    n: usize,
+    rss: f64,
+    names: &[&str],
+    values: &[f64],
+) -> Determination {
+    let k = names.len();
+    if k > 0 && (!crate::linear::all_finite(r) || r.ncols() != k) {
+        return not_finite(k);
+    }
+    let mut row = vec![0.0; k];
+    let cov = covariance_rows(k, n, rss, &mut |f: &mut dyn FnMut(&[f64])| {
+        for i in 0..r.nrows() {
+            row.iter_mut().zip(r.row(i).iter()).for_each(|(a, b)| *a = *b);
+            f(&row);
+        }
+        Ok(())
+    });
+    match cov {
+        Ok(cov) => judge(cov, (k > 0 && n >= k).then_some(r), names, values),
+        Err(_) => not_finite(k),
+    }
+}
+
+/// The verdict from the covariance `cov` and, where there are at least as many rows as
+/// parameters, a matrix `m` with the Jacobian's column norms and right singular vectors
+/// (the Jacobian itself or its R factor), whose relative, unit-norm columns give the
+/// undetermined combinations.
+fn judge(
+    cov: Covariance,
+    m: Option<&DMatrix<f64>>,
+    names: &[&str],
+    values: &[f64],
+) -> Determination {
+    let k = names.len();
     let mut sentences = Vec::new();
     let mut in_null = vec![false; k];
     let mut null_directions = Vec::new();
-    if k > 0 && jac.nrows() >= k {
+    if let Some(jac) = m {
         // Relative sensitivities, unit-norm columns.
         let scale: Vec<f64> =
             (0..k).map(|j| if values[j] != 0.0 { values[j].abs() } else { 1.0 }).collect();
