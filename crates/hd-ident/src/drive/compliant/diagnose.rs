@@ -140,7 +140,7 @@ pub fn diagnose(
     if out.is_empty() {
         out.push(format!(
             "None of the cheap alternatives tried ({}) fits this record much better. Check the scales (voltage_scale, current_scale, motor_scale, load_scale, and N), a start nearer the drive, more parameters free, and the noise levels given.",
-            trials.iter().map(|(t, _)| t.what.split(' ').next().unwrap_or("")).collect::<Vec<_>>().join(", ")
+            trials.iter().map(|(t, _)| t.what.split(' ').next().unwrap_or("").trim_matches('`')).collect::<Vec<_>>().join(", ")
         ));
     }
     out

@@ -44,7 +44,7 @@ fn likely(g: f64, key: &str) -> String {
     if g < 0.0 && (0.5..2.0).contains(&g.abs()) {
         return format!("it runs the other way: give it a negative {key}");
     }
-    format!("{key} = {sign}{:e}{unit}?", 1.0 / p)
+    format!("likely {key} = {sign}{:e}{unit}", 1.0 / p)
 }
 
 /// None when the current of `rec` has the scale the drive at `spec.start` gives it from the
