@@ -38,8 +38,10 @@ pub enum FitWhat {
     Hysteresis(super::fit_hysteresis::HysteresisArgs),
     /// Fit the LuGre parameters: static (Tc, Ts, ws, sigma2) and/or dynamic (sigma0, sigma1).
     Friction(FrictionArgs),
-    /// Identify a drive: a rigid one (mass/inertia, friction, offset) from its logged closed
-    /// loop, or the compliant one (transmission = "compliant") from voltage tests or its loop.
+    /// Identify a drive: rigid (from its logged closed loop) or compliant (voltage tests, its loop).
+    ///
+    /// A rigid drive's mass/inertia, friction and offset come from its logged closed loop; with
+    /// transmission = "compliant", the compliant drive from voltage tests or its own loop.
     ///
     /// Rigid: the configuration names the records, the drive gain, the controller and the
     /// friction law(s) (data/emps/fit.toml).
