@@ -247,7 +247,7 @@ impl LuGre {
             (tc, 0.0)
         } else {
             let e = (-x).exp();
-            (floored_level(fmadd(rise, e, tc), tc, ts), e)
+            (floored_level(fmadd(rise, e, tc), ts), e)
         };
         let slope = rise * e * (-2.0 * r / self.ws);
         let d_tb = sg * (mc + (ms - mc) * e);
@@ -272,21 +272,21 @@ fn sign_or_zero(x: f64) -> f64 {
     }
 }
 
-/// Share of the larger level below which the Stribeck level is not allowed to fall [–].
+/// Share of the static level below which the Stribeck level is not allowed to fall [–].
 ///
 /// With a Coulomb level of 0 (a fit whose optimum sits on that bound) the level
 /// `Ts·e^{−(v/ωs)²}` falls towards 0 at speeds well above ωs, and the bristle's rate
-/// `|v|/G` and its derivatives overflow (0·∞ in the exact step). Held at this share of the
-/// larger level, the steady torque changes by at most 1e-9 of it, and only where a level
-/// is below 1e-9 of the other: for every law whose levels are both above that share, the
-/// level is always between them and the floor never acts.
+/// `|v|/G` and its derivatives overflow (0·∞ in the exact step). Held at this share of Ts,
+/// the steady torque changes by at most 1e-9·Ts, and only where Tc < 1e-9·Ts: for every law
+/// with Tc at or above that share the level never falls below it and the floor never acts.
 pub const LEVEL_FLOOR_SHARE: f64 = 1e-9;
 
-/// The Stribeck level `g` [N·m] of one side with levels `tc`, `ts` [N·m], held at or above
-/// [`LEVEL_FLOOR_SHARE`] of the larger one (a no-op unless one level is below that share).
+/// The Stribeck level `g` [N·m] of one side whose static level is `ts` [N·m], held at or
+/// above [`LEVEL_FLOOR_SHARE`] of `ts` (a no-op unless the side's Coulomb level is below
+/// that share).
 #[inline(always)]
-pub fn floored_level(g: f64, tc: f64, ts: f64) -> f64 {
-    g.max(LEVEL_FLOOR_SHARE * tc.abs().max(ts.abs()))
+pub fn floored_level(g: f64, ts: f64) -> f64 {
+    g.max(LEVEL_FLOOR_SHARE * ts.abs())
 }
 
 /// 2⁻⁵⁶ [–].
