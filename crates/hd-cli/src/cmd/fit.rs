@@ -70,6 +70,7 @@ pub enum FitWhat {
     ///
     /// Compliant example:
     ///   hdw synth drive --input chirp --freq 5 --t-end 2 --out out/compliant/chirp.csv
+    ///   hdw synth drive --input multisine --freq 5 --t-end 2 --seed 2 --out out/compliant/multisine.csv
     ///   hdw fit drive --config data/compliant/fit.toml --out out/compliant/fit \
     ///       --validate out/compliant/multisine.csv
     #[command(verbatim_doc_comment)]
