@@ -8,7 +8,7 @@ use crate::common::{assert_one_line_error, fit_drive, hdw_ok, json, ok, scratch,
 /// `[fit]` table.
 fn config(dir: &std::path::Path, extra: &str, fit: &str) -> std::path::PathBuf {
     let text = format!(
-        "transmission = \"compliant\"\nparams_file = \"start.toml\"\nvoltage_between = \"hold\"\n{extra}\n\
+        "transmission = \"compliant\"\nparams_file = \"start.toml\"\n{extra}\n\
          [[experiment]]\nname = \"chirp\"\nfile = \"chirp.csv\"\ntime = \"t\"\nvoltage = \"u\"\n\
          motor = \"theta_m\"\nload = \"theta_l\"\ncurrent = \"i\"\n\n[fit]\n{fit}\n"
     );

@@ -38,7 +38,7 @@ pub enum FitWhat {
     Hysteresis(super::fit_hysteresis::HysteresisArgs),
     /// Fit the LuGre parameters: static (Tc, Ts, ws, sigma2) and/or dynamic (sigma0, sigma1).
     Friction(FrictionArgs),
-    /// Identify a drive: rigid (from its logged closed loop) or compliant (voltage tests, its loop).
+    /// Identify a rigid or a compliant drive from its logged records.
     ///
     /// A rigid drive's mass/inertia, friction and offset come from its logged closed loop; with
     /// transmission = "compliant", the compliant drive from voltage tests or its own loop.
