@@ -247,7 +247,7 @@ impl LuGre {
             (tc, 0.0)
         } else {
             let e = (-x).exp();
-            (floored_level(fmadd(rise, e, tc), ts), e)
+            (floored_level(fmadd(rise, e, tc), tc, ts), e)
         };
         let slope = rise * e * (-2.0 * r / self.ws);
         let d_tb = sg * (mc + (ms - mc) * e);
@@ -281,12 +281,14 @@ fn sign_or_zero(x: f64) -> f64 {
 /// with Tc at or above that share the level never falls below it and the floor never acts.
 pub const LEVEL_FLOOR_SHARE: f64 = 1e-9;
 
-/// The Stribeck level `g` [N·m] of one side whose static level is `ts` [N·m], held at or
-/// above [`LEVEL_FLOOR_SHARE`] of `ts` (a no-op unless the side's Coulomb level is below
-/// that share).
+/// The Stribeck level `g` [N·m] of one side whose levels are `tc`, `ts` [N·m], held at or
+/// above [`LEVEL_FLOOR_SHARE`] of `ts` where the Coulomb level is below that share (and
+/// only there: a level lost to cancellation in an absurd law, Tc = 1e308, stays 0 and is
+/// refused by the simulator's check at rest).
 #[inline(always)]
-pub fn floored_level(g: f64, ts: f64) -> f64 {
-    g.max(LEVEL_FLOOR_SHARE * ts.abs())
+pub fn floored_level(g: f64, tc: f64, ts: f64) -> f64 {
+    let floor = LEVEL_FLOOR_SHARE * ts.abs();
+    if tc.abs() < floor { g.max(floor) } else { g }
 }
 
 /// 2⁻⁵⁶ [–].

@@ -58,7 +58,7 @@ impl LuGre {
         let r = v * (1.0 / self.ws);
         let x = r * r;
         let e = if term_is_invisible(x, ts - tc, tc) { 0.0 } else { (-x).exp() };
-        let level = floored_level(crate::fma::fmadd(ts - tc, e, tc), ts);
+        let level = floored_level(crate::fma::fmadd(ts - tc, e, tc), tc, ts);
         let mut grad = [0.0; 6];
         let (kc, ks) = if v < 0.0 { (4, 5) } else { (0, 1) };
         grad[kc] = 1.0 - e;

@@ -58,7 +58,7 @@ fn level(law: &LuGre, inv_ws: f64, asym: bool, v: f64) -> (f64, [f64; 5]) {
     let (tc, ts) = if neg { (law.tc_neg, law.ts_neg) } else { (law.tc, law.ts) };
     let r = v * inv_ws;
     let e = exp_neg(-(r * r));
-    let g = floored_level((ts - tc).mul_add(e, tc), ts);
+    let g = floored_level((ts - tc).mul_add(e, tc), tc, ts);
     let (gc, gs) = (1.0 - e, e);
     let gw = (ts - tc) * e * 2.0 * r * r / law.ws;
     let grad = if neg { [0.0, 0.0, gc, gs, gw] } else { [gc, gs, 0.0, 0.0, gw] };
