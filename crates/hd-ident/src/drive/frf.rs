@@ -6,8 +6,10 @@
 //! least 16), overlapping by half; each segment has its mean removed and a Hann window
 //! applied, and its discrete Fourier transforms U and Y are averaged into
 //!
-//!     Puu(f) = Σ |U|²,   Pyy(f) = Σ |Y|²,   Pyu(f) = Σ conj(U)·Y,
-//!     H1(f) = Pyu/Puu,   γ²(f) = |Pyu|²/(Puu·Pyy)   (coherence, 0 … 1)
+//! ```text
+//! Puu(f) = Σ |U|²,   Pyy(f) = Σ |Y|²,   Pyu(f) = Σ conj(U)·Y,
+//! H1(f) = Pyu/Puu,   γ²(f) = |Pyu|²/(Puu·Pyy)   (coherence, 0 … 1)
+//! ```
 //!
 //! at f = k·fs/m, k = 1 … m/2. H1 is unbiased by noise on the output; where the input has
 //! no power it means nothing, so [`Frf::band`] keeps the frequencies where the input's

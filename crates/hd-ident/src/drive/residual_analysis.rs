@@ -4,8 +4,10 @@
 //!
 //! With e the residual and u the input, both with their means removed, over N samples:
 //!
-//!     ρ_e(k)  = Σ_t e(t)·e(t+k) / Σ_t e(t)²                       k = 0 … L
-//!     ρ_eu(τ) = Σ_t e(t+τ)·u(t) / √(Σ e² · Σ u²)                  τ = −L … L
+//! ```text
+//! ρ_e(k)  = Σ_t e(t)·e(t+k) / Σ_t e(t)²                       k = 0 … L
+//! ρ_eu(τ) = Σ_t e(t+τ)·u(t) / √(Σ e² · Σ u²)                  τ = −L … L
+//! ```
 //!
 //! (the biased estimates, sums over the samples where both indices exist). If e is white
 //! and independent of u, each ρ (k ≠ 0 for the autocorrelation) is approximately normal
