@@ -28,6 +28,7 @@ pub mod derivative;
 pub mod drive;
 pub mod error;
 pub mod fix;
+pub mod fleet;
 pub mod friction;
 pub mod hysteresis;
 pub mod linear;
