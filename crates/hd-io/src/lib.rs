@@ -9,6 +9,7 @@ pub mod columns;
 pub mod csv_sniff;
 pub mod error;
 pub mod explore;
+pub mod fleet;
 pub mod fit_series;
 pub mod lock;
 pub mod mat;

@@ -64,7 +64,7 @@ pub fn find_plateaus(t: &[f64], omega: &[f64], torque: &[f64], o: &PlateauOption
     let mut i = 0;
     while i < n {
         let w0 = omega[i];
-        if !(w0.abs() >= o.min_speed) {
+        if w0.abs() < o.min_speed || w0.is_nan() {
             i += 1;
             continue;
         }

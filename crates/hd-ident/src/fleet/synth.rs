@@ -63,8 +63,7 @@ pub struct FleetSpec {
 
 impl Default for FleetSpec {
     fn default() -> Self {
-        let mut base = Params::default();
-        base.sigma2 = 0.05;
+        let base = Params { sigma2: 0.05, ..Default::default() };
         Self {
             robots: 4,
             joints: 3,

@@ -1,0 +1,581 @@
+//! Fleet files: the manifest of logs (a CSV or Parquet table, or a path pattern whose
+//! fields become columns), timestamps as days, and the tables `fits.parquet` and
+//! `drift.parquet` written with each column's unit and description in the metadata.
+//!
+//! The fit rows are committed in parts like a study's runs ([`crate::store`]'s
+//! conventions: `parts/fits-TAG-SEQ.parquet`, then one merge, sorted by `run_index`, in
+//! bounded memory), so a killed fleet keeps every finished log and `--shard K/N` slices
+//! merge into the table one run gives.
+
+use crate::atomic::{Staged, commit};
+use crate::error::IoError;
+use crate::runs::{for_each_run, merge_runs_into};
+use crate::table::{ColumnData, Table};
+use polars::prelude::*;
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+/// One column of a fleet table: name, cells, unit, description.
+pub struct FleetColumn {
+    /// Column name.
+    pub name: String,
+    /// Cells.
+    pub cells: FleetCells,
+    /// Unit (`-` for none, `text` for text).
+    pub unit: String,
+    /// One line of description.
+    pub doc: String,
+}
+
+/// Cells of a fleet column.
+pub enum FleetCells {
+    /// Numbers (NaN written as null).
+    F64(Vec<f64>),
+    /// Counts.
+    U64(Vec<u64>),
+    /// Flags.
+    Bool(Vec<bool>),
+    /// Text that may be missing.
+    Text(Vec<Option<String>>),
+}
+
+impl FleetCells {
+    fn len(&self) -> usize {
+        match self {
+            FleetCells::F64(v) => v.len(),
+            FleetCells::U64(v) => v.len(),
+            FleetCells::Bool(v) => v.len(),
+            FleetCells::Text(v) => v.len(),
+        }
+    }
+}
+
+fn frame(cols: &[FleetColumn]) -> Result<DataFrame, PolarsError> {
+    let columns: Vec<Column> = cols
+        .iter()
+        .map(|c| {
+            let name: PlSmallStr = c.name.as_str().into();
+            match &c.cells {
+                FleetCells::F64(v) => {
+                    let ca: Float64Chunked =
+                        v.iter().map(|x| x.is_finite().then_some(*x)).collect();
+                    Column::from(ca.with_name(name).into_series())
+                }
+                FleetCells::U64(v) => Column::new(name, v),
+                FleetCells::Bool(v) => Column::new(name, v),
+                FleetCells::Text(v) => Column::new(name, v),
+            }
+        })
+        .collect();
+    DataFrame::new_infer_height(columns)
+}
+
+/// Parquet key-value metadata: each field's unit and description, the same as one JSON
+/// document under `hdw.columns`, and any `extra` document (e.g. `hdw.parameter_units`).
+fn metadata(
+    df: &DataFrame,
+    docs: &[(String, String, String)],
+    extra: &[(&str, String)],
+) -> KeyValueMetadata {
+    let mut arrow = df.schema().to_arrow(CompatLevel::newest());
+    let mut doc = serde_json::Map::new();
+    for (name, field) in arrow.iter_mut() {
+        let Some((_, unit, text)) = docs.iter().find(|(n, _, _)| n == name.as_str()) else {
+            continue;
+        };
+        let mut md = field.metadata.as_deref().cloned().unwrap_or_default();
+        md.insert("unit".into(), unit.as_str().into());
+        md.insert("description".into(), text.as_str().into());
+        field.metadata = Some(Arc::new(md));
+        doc.insert(name.to_string(), serde_json::json!({ "unit": unit, "description": text }));
+    }
+    let key = polars_parquet::write::schema_to_metadata_key(&arrow);
+    let mut kv = vec![
+        (key.key, key.value.unwrap_or_default()),
+        (crate::parquet_out::COLUMNS_KEY.to_string(), serde_json::Value::Object(doc).to_string()),
+    ];
+    kv.extend(extra.iter().map(|(k, v)| (k.to_string(), v.clone())));
+    KeyValueMetadata::from_static(kv)
+}
+
+/// Write `cols` to `path` (Parquet, atomically) with their units and descriptions.
+pub fn write_fleet_table(
+    path: &Path,
+    cols: &[FleetColumn],
+    extra: &[(&str, String)],
+) -> Result<(), IoError> {
+    if let Some(c) = cols.iter().find(|c| c.cells.len() != cols[0].cells.len()) {
+        return Err(IoError::format(
+            path,
+            format!("column '{}' has another length (internal error)", c.name),
+        ));
+    }
+    let mut df = frame(cols).map_err(IoError::polars(path, "cannot build the table"))?;
+    let docs: Vec<(String, String, String)> =
+        cols.iter().map(|c| (c.name.clone(), c.unit.clone(), c.doc.clone())).collect();
+    let meta = metadata(&df, &docs, extra);
+    crate::atomic::write_atomically(path, |file| {
+        ParquetWriter::new(file)
+            .with_key_value_metadata(Some(meta))
+            .finish(&mut df)
+            .map(|_| ())
+            .map_err(IoError::polars(path, "cannot write Parquet"))
+    })
+}
+
+/// Column docs `(name, unit, description)` and extra `hdw.*` metadata `(key, value)`.
+type Docs = (Vec<(String, String, String)>, Vec<(String, String)>);
+
+/// The column docs and extra metadata of a Parquet file written by [`write_fleet_table`].
+fn read_docs(path: &Path) -> Result<Docs, IoError> {
+    let f = std::fs::File::open(path).map_err(|e| IoError::fs(path, e))?;
+    let mut reader = ParquetReader::new(f);
+    let md = reader.get_metadata().map_err(IoError::polars(path, "cannot read Parquet"))?;
+    let mut docs = Vec::new();
+    let mut extra = Vec::new();
+    for kv in md.key_value_metadata().as_deref().unwrap_or(&[]) {
+        let value = kv.value.clone().unwrap_or_default();
+        if kv.key == crate::parquet_out::COLUMNS_KEY {
+            if let Ok(serde_json::Value::Object(m)) = serde_json::from_str(&value) {
+                for (name, v) in m {
+                    let s = |k: &str| v.get(k).and_then(|x| x.as_str()).unwrap_or("").to_string();
+                    docs.push((name, s("unit"), s("description")));
+                }
+            }
+        } else if kv.key.starts_with("hdw.") {
+            extra.push((kv.key.clone(), value));
+        }
+    }
+    Ok((docs, extra))
+}
+
+/// A fleet's fit rows in their folder: parts while the fleet runs, one table at the end.
+pub struct FitStore {
+    dir: PathBuf,
+    tag: String,
+    next_seq: usize,
+}
+
+impl FitStore {
+    /// Open `dir` for shard `shard = Some((k, n))` or the whole fleet.
+    pub fn open(dir: &Path, shard: Option<(usize, usize)>) -> Result<Self, IoError> {
+        let tag = match shard {
+            Some((k, n)) => format!("shard-{k}-of-{n}"),
+            None => "all".to_string(),
+        };
+        let mut s = FitStore { dir: dir.to_path_buf(), tag, next_seq: 0 };
+        s.next_seq = s.parts()?.len();
+        Ok(s)
+    }
+
+    /// The final table of this shard (`fits.parquet` or `fits-shard-K-of-N.parquet`).
+    pub fn fits_path(&self) -> PathBuf {
+        shard_fits_path(&self.dir, &self.tag)
+    }
+
+    fn parts(&self) -> Result<Vec<PathBuf>, IoError> {
+        list(&self.dir.join("parts"), &format!("fits-{}-", self.tag))
+    }
+
+    /// Whether this shard already has rows in the folder.
+    pub fn has_results(&self) -> Result<bool, IoError> {
+        Ok(self.fits_path().exists() || !self.parts()?.is_empty())
+    }
+
+    /// Call `visit(run_index, run_id)` for every committed row (final table and parts).
+    pub fn committed(&self, visit: &mut dyn FnMut(u64, &str)) -> Result<(), IoError> {
+        if self.fits_path().exists() {
+            for_each_run(&self.fits_path(), visit)?;
+        }
+        for f in self.parts()? {
+            for_each_run(&f, visit)?;
+        }
+        Ok(())
+    }
+
+    /// Commit rows as one part (all or nothing).
+    pub fn commit(
+        &mut self,
+        cols: &[FleetColumn],
+        extra: &[(&str, String)],
+    ) -> Result<(), IoError> {
+        if cols.first().is_none_or(|c| c.cells.len() == 0) {
+            return Ok(());
+        }
+        let parts = self.dir.join("parts");
+        let path = loop {
+            let p = parts.join(format!("fits-{}-{:06}.parquet", self.tag, self.next_seq));
+            self.next_seq += 1;
+            if !p.exists() {
+                break p;
+            }
+        };
+        write_fleet_table(&path, cols, extra)
+    }
+
+    /// Merge the final table and the parts into the final table; remove the parts.
+    /// Returns the number of rows.
+    pub fn finish(&mut self) -> Result<usize, IoError> {
+        let parts = self.parts()?;
+        let mut inputs = Vec::new();
+        if self.fits_path().exists() {
+            inputs.push(self.fits_path());
+        }
+        inputs.extend(parts.iter().cloned());
+        let n = merge_with_docs(&inputs, &self.fits_path())?;
+        for f in &parts {
+            std::fs::remove_file(f).map_err(|e| IoError::fs(f, e))?;
+        }
+        let _ = std::fs::remove_dir(self.dir.join("parts"));
+        Ok(n)
+    }
+}
+
+fn shard_fits_path(dir: &Path, tag: &str) -> PathBuf {
+    if tag == "all" { dir.join("fits.parquet") } else { dir.join(format!("fits-{tag}.parquet")) }
+}
+
+fn list(dir: &Path, prefix: &str) -> Result<Vec<PathBuf>, IoError> {
+    let entries = match std::fs::read_dir(dir) {
+        Ok(e) => e,
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(Vec::new()),
+        Err(e) => return Err(IoError::fs(dir, e)),
+    };
+    let mut files: Vec<PathBuf> = entries
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| {
+            p.file_name()
+                .and_then(|n| n.to_str())
+                .is_some_and(|n| n.starts_with(prefix) && n.ends_with(".parquet"))
+        })
+        .collect();
+    files.sort();
+    Ok(files)
+}
+
+/// The shard tables `fits-shard-K-of-N.parquet` in `dir`.
+pub fn shard_tables(dir: &Path) -> Result<Vec<PathBuf>, IoError> {
+    list(dir, "fits-shard-")
+}
+
+/// Merge `inputs` (fit tables or parts, same columns) into `out`: one row per `run_id`
+/// (the first), sorted by `run_index`, with the first input's units and descriptions.
+/// Memory holds one window of rows ([`crate::runs::MERGE_WINDOW_ROWS`]) plus one chunk
+/// of the copy. Returns the number of rows.
+pub fn merge_with_docs(inputs: &[PathBuf], out: &Path) -> Result<usize, IoError> {
+    if inputs.is_empty() {
+        return Ok(0);
+    }
+    let (docs, extra) = read_docs(&inputs[0])?;
+    let tmp_dest = out.with_file_name(format!(
+        ".{}.merge.parquet",
+        out.file_stem().and_then(|s| s.to_str()).unwrap_or("fits")
+    ));
+    let mut merged = Staged::new(&tmp_dest)?;
+    let n = merge_runs_into(inputs, &mut merged)?;
+    // Copy the merged rows into `out` with the fleet's metadata, a chunk at a time.
+    let src = merged.path().to_path_buf();
+    let extra: Vec<(&str, String)> = extra.iter().map(|(k, v)| (k.as_str(), v.clone())).collect();
+    let mut staged = Staged::new(out)?;
+    staged.write_with(|file| {
+        let f = std::fs::File::open(&src).map_err(|e| IoError::fs(&src, e))?;
+        let rows = ParquetReader::new(f)
+            .num_rows()
+            .map_err(IoError::polars(&src, "cannot read Parquet"))?;
+        let mut writer = None;
+        let chunk = crate::runs::MERGE_WINDOW_ROWS as usize;
+        let mut from = 0;
+        while from < rows.max(1) {
+            let f = std::fs::File::open(&src).map_err(|e| IoError::fs(&src, e))?;
+            let mut df = ParquetReader::new(f)
+                .with_slice(Some((from, chunk)))
+                .finish()
+                .map_err(IoError::polars(&src, "cannot read Parquet"))?;
+            if writer.is_none() {
+                let meta = metadata(&df, &docs, &extra);
+                writer = Some(
+                    ParquetWriter::new(&mut *file)
+                        .with_key_value_metadata(Some(meta))
+                        .batched(&df.schema().clone())
+                        .map_err(IoError::polars(out, "cannot write Parquet"))?,
+                );
+            }
+            df.rechunk_mut();
+            if let Some(w) = writer.as_mut() {
+                w.write_batch(&df).map_err(IoError::polars(out, "cannot write Parquet"))?;
+            }
+            from += chunk;
+        }
+        if let Some(w) = writer {
+            w.finish().map_err(IoError::polars(out, "cannot write Parquet"))?;
+        }
+        Ok(())
+    })?;
+    drop(merged);
+    commit(vec![staged], &[])?;
+    Ok(n)
+}
+
+/// Days since 1970-01-01 of a civil date (proleptic Gregorian).
+fn days_from_civil(y: i64, m: u32, d: u32) -> i64 {
+    let y = if m <= 2 { y - 1 } else { y };
+    let era = if y >= 0 { y } else { y - 399 } / 400;
+    let yoe = y - era * 400;
+    let mp = (m as i64 + 9) % 12;
+    let doy = (153 * mp + 2) / 5 + d as i64 - 1;
+    let doe = yoe * 365 + yoe / 4 - yoe / 100 + doy;
+    era * 146_097 + doe - 719_468
+}
+
+fn days_in_month(y: i64, m: u32) -> u32 {
+    match m {
+        1 | 3 | 5 | 7 | 8 | 10 | 12 => 31,
+        4 | 6 | 9 | 11 => 30,
+        _ if (y % 4 == 0 && y % 100 != 0) || y % 400 == 0 => 29,
+        _ => 28,
+    }
+}
+
+/// A timestamp as days since 1970-01-01 [days]: `YYYY-MM-DD`, `YYYYMMDD`, with an
+/// optional time `THH:MM[:SS[.fff]]` (or a space instead of `T`, a trailing `Z`), or a
+/// plain number (already days). The error says what was expected.
+pub fn parse_day(text: &str) -> Result<f64, String> {
+    let s = text.trim();
+    let bad = || {
+        format!(
+            "'{text}' is not a timestamp: expected YYYY-MM-DD, YYYYMMDD or YYYY-MM-DDTHH:MM[:SS], or a number of days"
+        )
+    };
+    let (date, time) = match s.find(['T', ' ']) {
+        Some(i) => (&s[..i], Some(s[i + 1..].trim_end_matches('Z'))),
+        None => (s, None),
+    };
+    let ymd: Option<(i64, u32, u32)> =
+        if date.len() == 8 && date.bytes().all(|b| b.is_ascii_digit()) && time.is_none() {
+            (|| Some((date[..4].parse().ok()?, date[4..6].parse().ok()?, date[6..].parse().ok()?)))(
+            )
+        } else {
+            let p: Vec<&str> = date.split('-').collect();
+            if p.len() == 3 && p[0].len() == 4 {
+                match (p[0].parse(), p[1].parse(), p[2].parse()) {
+                    (Ok(y), Ok(m), Ok(d)) => Some((y, m, d)),
+                    _ => None,
+                }
+            } else {
+                None
+            }
+        };
+    let Some((y, m, d)) = ymd else {
+        return match s.parse::<f64>() {
+            Ok(v) if v.is_finite() && time.is_none() => Ok(v),
+            _ => Err(bad()),
+        };
+    };
+    if !(1..=12).contains(&m) || d < 1 || d > days_in_month(y, m) {
+        return Err(format!("'{text}': no such date (month 1-12, day within the month)"));
+    }
+    let mut day = days_from_civil(y, m, d) as f64;
+    if let Some(t) = time {
+        let p: Vec<&str> = t.split(':').collect();
+        let num = |k: usize| p.get(k).map_or(Ok(0.0), |v| v.parse::<f64>());
+        match (p.len(), num(0), num(1), num(2)) {
+            (2 | 3, Ok(h), Ok(mi), Ok(sec)) if h < 24.0 && mi < 60.0 && sec < 61.0 => {
+                day += (h * 3600.0 + mi * 60.0 + sec) / 86_400.0;
+            }
+            _ => return Err(bad()),
+        }
+    }
+    Ok(day)
+}
+
+/// The date of a day number, `YYYY-MM-DD` (for labels).
+pub fn format_day(day: f64) -> String {
+    let z = day.floor() as i64 + 719_468;
+    let era = if z >= 0 { z } else { z - 146_096 } / 146_097;
+    let doe = z - era * 146_097;
+    let yoe = (doe - doe / 1460 + doe / 36_524 - doe / 146_096) / 365;
+    let doy = doe - (365 * yoe + yoe / 4 - yoe / 100);
+    let mp = (5 * doy + 2) / 153;
+    let d = doy - (153 * mp + 2) / 5 + 1;
+    let m = if mp < 10 { mp + 3 } else { mp - 9 };
+    let y = yoe + era * 400 + i64::from(m <= 2);
+    format!("{y:04}-{m:02}-{d:02}")
+}
+
+/// Files matching `pattern` (`logs/{robot}/{joint}/{date}.csv`: each `{name}` matches
+/// one or more characters within a path component), as a table with the column `file`
+/// and one text column per field, sorted by file. Literal leading components are not
+/// searched (the walk starts below them).
+pub fn expand_pattern(pattern: &str) -> Result<Table, IoError> {
+    let comps: Vec<&str> = pattern.split('/').collect();
+    let mut fields: Vec<String> = Vec::new();
+    for c in &comps {
+        for f in field_names(c).map_err(|m| IoError::format(pattern, m))? {
+            if fields.contains(&f) {
+                return Err(IoError::format(pattern, format!("field '{{{f}}}' appears twice")));
+            }
+            fields.push(f);
+        }
+    }
+    if fields.is_empty() {
+        return Err(IoError::format(
+            pattern,
+            "no {field} in the pattern: expected e.g. logs/{robot}/{joint}/{date}.csv",
+        ));
+    }
+    let mut found: Vec<(String, Vec<(String, String)>)> = Vec::new();
+    let root = if pattern.starts_with('/') { PathBuf::from("/") } else { PathBuf::from(".") };
+    walk(&root, pattern.starts_with('/'), &comps, 0, String::new(), Vec::new(), &mut found);
+    found.sort();
+    let mut t = Table { height: found.len(), ..Default::default() };
+    t.names.push("file".into());
+    t.columns.push(ColumnData::Text(found.iter().map(|(f, _)| Some(f.clone())).collect()));
+    for name in &fields {
+        let v = found
+            .iter()
+            .map(|(_, kv)| kv.iter().find(|(k, _)| k == name).map(|(_, v)| v.clone()))
+            .collect();
+        t.names.push(name.clone());
+        t.columns.push(ColumnData::Text(v));
+    }
+    Ok(t)
+}
+
+fn field_names(comp: &str) -> Result<Vec<String>, String> {
+    let mut out = Vec::new();
+    let mut rest = comp;
+    while let Some(i) = rest.find('{') {
+        let Some(j) = rest[i..].find('}') else {
+            return Err(format!("'{comp}': a '{{' without '}}'"));
+        };
+        let name = &rest[i + 1..i + j];
+        if name.is_empty() || !name.chars().all(|c| c.is_alphanumeric() || c == '_') {
+            return Err(format!("'{{{name}}}': a field name is letters, digits and _"));
+        }
+        if rest[i + j + 1..].starts_with('{') {
+            return Err(format!("'{comp}': two fields must be separated by a literal"));
+        }
+        out.push(name.to_string());
+        rest = &rest[i + j + 1..];
+    }
+    Ok(out)
+}
+
+/// Match `name` against a component pattern; the fields' values on success.
+fn match_comp(pat: &str, name: &str) -> Option<Vec<(String, String)>> {
+    match pat.find('{') {
+        None => (pat == name).then(Vec::new),
+        Some(i) => {
+            let name_rest = name.strip_prefix(&pat[..i])?;
+            let j = pat[i..].find('}')? + i;
+            let field = &pat[i + 1..j];
+            let after = &pat[j + 1..];
+            // Shortest value first for a literal that follows; the whole rest at the end.
+            for end in 1..=name_rest.len() {
+                if !name_rest.is_char_boundary(end) {
+                    continue;
+                }
+                if let Some(mut rest) = match_comp(after, &name_rest[end..]) {
+                    rest.insert(0, (field.to_string(), name_rest[..end].to_string()));
+                    return Some(rest);
+                }
+            }
+            None
+        }
+    }
+}
+
+fn walk(
+    dir: &Path,
+    absolute: bool,
+    comps: &[&str],
+    k: usize,
+    prefix: String,
+    kv: Vec<(String, String)>,
+    out: &mut Vec<(String, Vec<(String, String)>)>,
+) {
+    let join = |p: &str, c: &str| {
+        if p.is_empty() {
+            if absolute { format!("/{c}") } else { c.to_string() }
+        } else {
+            format!("{p}/{c}")
+        }
+    };
+    let last = k + 1 == comps.len();
+    let comp = comps[k];
+    if comp.is_empty() && k == 0 {
+        walk(dir, absolute, comps, 1, prefix, kv, out);
+        return;
+    }
+    if !comp.contains('{') {
+        let path = dir.join(comp);
+        let p = join(&prefix, comp);
+        if last {
+            if path.is_file() {
+                out.push((p, kv));
+            }
+        } else if path.is_dir() {
+            walk(&path, absolute, comps, k + 1, p, kv, out);
+        }
+        return;
+    }
+    let Ok(entries) = std::fs::read_dir(dir) else { return };
+    for e in entries.flatten() {
+        let name = e.file_name().to_string_lossy().into_owned();
+        if name.starts_with('.') {
+            continue;
+        }
+        let Some(vals) = match_comp(comp, &name) else { continue };
+        let mut kv2 = kv.clone();
+        kv2.extend(vals);
+        let path = e.path();
+        let p = join(&prefix, &name);
+        if last {
+            if path.is_file() {
+                out.push((p, kv2));
+            }
+        } else if path.is_dir() {
+            walk(&path, absolute, comps, k + 1, p, kv2, out);
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn timestamps_parse_to_days_and_back() {
+        assert_eq!(parse_day("1970-01-01").unwrap(), 0.0);
+        assert_eq!(parse_day("2000-03-01").unwrap(), 11_017.0);
+        assert_eq!(parse_day("20000301").unwrap(), 11_017.0);
+        assert_eq!(parse_day("2000-03-01T12:00").unwrap(), 11_017.5);
+        assert_eq!(parse_day("2000-03-01 06:00:00Z").unwrap(), 11_017.25);
+        assert_eq!(parse_day("12.5").unwrap(), 12.5);
+        assert_eq!(format_day(11_017.9), "2000-03-01");
+        assert_eq!(format_day(parse_day("2024-02-29").unwrap()), "2024-02-29");
+        assert!(parse_day("2023-02-29").unwrap_err().contains("no such date"));
+        assert!(parse_day("yesterday").unwrap_err().contains("expected YYYY-MM-DD"));
+    }
+
+    #[test]
+    fn a_pattern_finds_its_files_and_fields() {
+        let dir = std::env::temp_dir().join(format!("hd-io-fleet-pattern-{}", std::process::id()));
+        for (r, j, d) in
+            [("r1", "j1", "2026-01-01"), ("r1", "j2", "2026-01-02"), ("r2", "j1", "2026-01-01")]
+        {
+            let p = dir.join(r).join(j);
+            std::fs::create_dir_all(&p).unwrap();
+            std::fs::write(p.join(format!("{d}.csv")), "t\n").unwrap();
+        }
+        std::fs::write(dir.join("r1").join("j1").join("notes.txt"), "x").unwrap();
+        let pat = format!("{}/{{robot}}/{{joint}}/{{date}}.csv", dir.display());
+        let t = expand_pattern(&pat).unwrap();
+        assert_eq!(t.height, 3);
+        assert_eq!(t.names, ["file", "robot", "joint", "date"]);
+        let robots = t.text("robot").unwrap();
+        assert_eq!(robots.iter().flatten().filter(|r| *r == "r1").count(), 2);
+        assert_eq!(t.text("date").unwrap()[0].as_deref(), Some("2026-01-01"));
+        let _ = std::fs::remove_dir_all(dir);
+    }
+}
