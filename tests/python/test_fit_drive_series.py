@@ -46,7 +46,7 @@ def test_series_back_the_scores_in_duckdb_and_polars(tmp_path):
         ("estimation", "estimation", "position", 24841),
     ]
     # The benchmark's rule: the first 49 samples are not scored.
-    first = duckdb.sql(f"SELECT min(sample) FROM '{path}' WHERE scored").fetchone()[0]
+    first = duckdb.sql(f"SELECT min(sample) FROM '{path}' WHERE scored").fetchall()[0][0]
     assert first == 49 and fit["score_rule"]["name"] == "emps"
     # Relative error ‖y − ŷ‖/‖y‖ by the rule and over every sample, in SQL and in polars.
     sql = f"""SELECT output,
