@@ -277,10 +277,13 @@ impl Instance {
                 self.phase = Phase::Failed;
                 return Err(over_budget(self.start_time + run.t));
             }
+            // An instant within rounding of the step's end is the end: stopping just short
+            // of it would leave a remainder of a few ulps no solver step can take.
             let stop = match period {
                 Some(p) => {
                     let k = (run.t / p).floor() + 1.0;
-                    if k * p > run.t { k * p } else { (k + 1.0) * p }
+                    let next = if k * p > run.t { k * p } else { (k + 1.0) * p };
+                    if target - next <= 1e-9 * p { target } else { next }
                 }
                 None => target,
             };

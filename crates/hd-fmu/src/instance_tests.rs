@@ -85,3 +85,17 @@ fn a_sampled_controller_steps_as_its_run_does_and_is_bounded_by_its_instants() {
     let e = inst.do_step(0.0, 1.0).unwrap_err();
     assert!(e.contains("more than the 10000 solver steps"), "{e}");
 }
+
+#[test]
+fn communication_points_that_round_onto_an_instant_step_on() {
+    // 1e-4 communication steps over a 1e-3 controller: 0.0109 + 1e-4 and 11·1e-3 differ in
+    // their last bits; every step must still land on its end (was "step size too small"
+    // with a remainder of 1.7e-18 s at t = 0.011 s).
+    let mut inst = stepping(sampled(1e-3));
+    let h = 1e-4;
+    for k in 0..300 {
+        let t = k as f64 * h;
+        inst.do_step(t, h).unwrap_or_else(|e| panic!("step {k} at t = {t}: {e}"));
+    }
+    assert!((inst.time() - 0.03).abs() < 1e-12, "{}", inst.time());
+}
