@@ -45,6 +45,8 @@ enum Command {
     Plot(cmd::plot::PlotArgs),
     /// Export the drive for other tools: `hdw export fmu` writes a co-simulation FMU.
     Export(cmd::export::ExportArgs),
+    /// Fit every log of a fleet (manifest or path pattern) → fits.parquet; drift and alarms.
+    Fleet(cmd::fleet::FleetArgs),
 }
 
 fn main() -> ExitCode {
@@ -70,6 +72,7 @@ fn main() -> ExitCode {
         Command::Explore(args) => cmd::explore::run(args),
         Command::Plot(args) => cmd::plot::run(args),
         Command::Export(args) => cmd::export::run(args),
+        Command::Fleet(args) => cmd::fleet::run(args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

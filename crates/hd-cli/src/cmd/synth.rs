@@ -35,6 +35,8 @@ pub enum SynthWhat {
     Friction(FrictionSynthArgs),
     /// The drive under a voltage test, logged as a rig logs it (t, u, i, theta_m, theta_l).
     Drive(super::synth_drive::DriveSynthArgs),
+    /// A fleet of friction logs (robots × joints × days) with temperature effects and wear.
+    Fleet(super::synth_fleet::FleetSynthArgs),
 }
 
 /// Settings every synthetic data set shares.
@@ -188,6 +190,7 @@ fn write(c: &Common, data: &Synthetic) -> Result<()> {
 pub fn run(args: SynthArgs) -> Result<()> {
     match args.what {
         SynthWhat::Drive(a) => super::synth_drive::run(a),
+        SynthWhat::Fleet(a) => super::synth_fleet::run(a),
         SynthWhat::Hysteresis(a) => synth_hysteresis_cmd(a),
         SynthWhat::Friction(a) => {
             let p = load_params(a.common.params.as_deref(), &a.common.set)?;
