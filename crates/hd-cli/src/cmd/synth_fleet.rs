@@ -198,7 +198,7 @@ pub fn run(a: FleetSynthArgs) -> Result<()> {
         ));
         let p = &l.params;
         truth_csv.push_str(&format!(
-            "{f},r{},j{},{date},{},{},{},{},{},{},{},{},{}\n",
+            "{f},r{},j{},{date},{},{:?},{:?},{:?},{:?},{:?},{:?},{:?},{:?}\n",
             l.robot + 1,
             l.joint + 1,
             l.day,

@@ -42,6 +42,46 @@ pub fn threshold(alpha: f64, n: usize, k: f64) -> f64 {
     hi
 }
 
+/// The threshold h for a series of `n` residuals whose first `m` (the baseline) also
+/// estimated the level they are measured from: that estimate's error is shared by every
+/// later residual, so they are correlated and a threshold for independent residuals
+/// ([`threshold`]) alarms far more often than asked (the classical result on CUSUM
+/// charts with estimated parameters). h is the (1 − α) quantile of the test's largest
+/// sum over `n` residuals `zᵢ = (eᵢ − ē_m)/√(1 + 1/m)`, eᵢ standard normal and ē_m the
+/// mean of the first m, simulated (a fixed seed: the same h every time).
+pub fn threshold_estimated(alpha: f64, m: usize, n: usize, k: f64) -> f64 {
+    use rand::{RngExt, SeedableRng};
+    let alpha = alpha.clamp(1e-6, 0.5);
+    let sims = ((60.0 / alpha) as usize).clamp(20_000, 400_000);
+    let m = m.clamp(1, n.max(1));
+    let mut rng =
+        rand_chacha::ChaCha8Rng::seed_from_u64(0x5eed_c05u64 ^ ((m as u64) << 32) ^ n as u64);
+    let mut gauss = || {
+        let u1 = 1.0 - rng.random::<f64>();
+        let u2: f64 = rng.random();
+        (-2.0 * u1.ln()).sqrt() * (std::f64::consts::TAU * u2).cos()
+    };
+    let scale = 1.0 / (1.0 + 1.0 / m as f64).sqrt();
+    let mut e = vec![0.0; n.max(1)];
+    let mut maxima: Vec<f64> = (0..sims)
+        .map(|_| {
+            e.iter_mut().for_each(|v| *v = gauss());
+            let mean = e[..m].iter().sum::<f64>() / m as f64;
+            let (mut up, mut lo, mut top) = (0.0f64, 0.0f64, 0.0f64);
+            for v in &e {
+                let z = (v - mean) * scale;
+                up = (up + z - k).max(0.0);
+                lo = (lo - z - k).max(0.0);
+                top = top.max(up).max(lo);
+            }
+            top
+        })
+        .collect();
+    let q = ((1.0 - alpha) * sims as f64).floor() as usize;
+    let q = q.min(sims - 1);
+    *maxima.select_nth_unstable_by(q, f64::total_cmp).1
+}
+
 /// The path of the test over one series.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct CusumPath {
@@ -114,6 +154,31 @@ mod tests {
         }
         let rate = alarms as f64 / series as f64;
         assert!((0.025..0.07).contains(&rate), "false alarms {rate} at h = {h}");
+    }
+
+    /// With an estimated baseline level the residuals share its error: the threshold for
+    /// independent residuals alarms well above the nominal rate, the simulated one near it
+    /// (counted on fresh series, other seeds than the threshold's).
+    #[test]
+    fn an_estimated_baseline_needs_and_gets_a_higher_threshold() {
+        let (alpha, m, n, k) = (0.01, 20, 60, 0.5);
+        let h_iid = threshold(alpha, n, k);
+        let h_est = threshold_estimated(alpha, m, n, k);
+        assert!(h_est > h_iid, "{h_est} vs {h_iid}");
+        let mut rng = ChaCha8Rng::seed_from_u64(99);
+        let series = 20_000;
+        let (mut a_iid, mut a_est) = (0, 0);
+        for _ in 0..series {
+            let e: Vec<f64> = (0..n).map(|_| gauss(&mut rng)).collect();
+            let mean = e[..m].iter().sum::<f64>() / m as f64;
+            let z: Vec<f64> =
+                e.iter().map(|v| (v - mean) / (1.0 + 1.0 / m as f64).sqrt()).collect();
+            a_iid += usize::from(cusum(&z, k, h_iid).alarm.is_some());
+            a_est += usize::from(cusum(&z, k, h_est).alarm.is_some());
+        }
+        let (r_iid, r_est) = (a_iid as f64 / series as f64, a_est as f64 / series as f64);
+        assert!(r_iid > 2.0 * alpha, "independent threshold: {r_iid}");
+        assert!((0.5 * alpha..1.6 * alpha).contains(&r_est), "simulated threshold: {r_est}");
     }
 
     /// A step of 2 standard deviations at sample 30: found, upwards, onset at the step.

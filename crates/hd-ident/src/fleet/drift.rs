@@ -4,8 +4,9 @@
 //! weighs by its precision), Page's two-sided CUSUM on them, and the change at the end
 //! of the record with its 95 % interval.
 
-use super::cusum::{cusum, threshold};
+use super::cusum::{cusum, threshold_estimated};
 use super::normalise::{Normalisation, Normalise, Sample, normalise};
+use std::collections::HashMap;
 
 /// Settings of the drift analysis.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -88,6 +89,7 @@ pub fn drift(
     let mut out = Vec::new();
     let alpha = o.false_alarm / series.max(1) as f64;
     let mut lengths = Vec::new();
+    let mut thresholds: HashMap<(usize, usize), f64> = HashMap::new();
     for u in 0..units {
         let mut idx: Vec<usize> = (0..samples.len())
             .filter(|&i| samples[i].unit == u && norm.residual[i].is_finite())
@@ -97,8 +99,12 @@ pub fn drift(
         }
         idx.sort_by(|&a, &b| samples[a].day.total_cmp(&samples[b].day));
         let z: Vec<f64> = idx.iter().map(|&i| norm.residual[i] / norm.variance[i].sqrt()).collect();
-        lengths.push(z.len());
-        let h = threshold(alpha, z.len(), o.k);
+        let first = samples[idx[0]].day;
+        let m = idx.iter().filter(|&&i| samples[i].day < first + o.baseline_days).count();
+        lengths.push((m, z.len()));
+        let h = *thresholds
+            .entry((m, z.len()))
+            .or_insert_with(|| threshold_estimated(alpha, m, z.len(), o.k));
         let path = cusum(&z, o.k, h);
         for (p, &i) in idx.iter().enumerate() {
             rows[i] = DriftRow {
@@ -130,14 +136,10 @@ pub fn drift(
             ci95: [pct(mean - 1.96 * se), pct(mean + 1.96 * se)],
         });
     }
-    lengths.sort_unstable();
-    let median = lengths.get(lengths.len() / 2).copied().unwrap_or(1);
-    ParameterDrift {
-        normalisation: norm,
-        rows,
-        units: out,
-        threshold: threshold(alpha, median, o.k),
-    }
+    lengths.sort_unstable_by_key(|l| l.1);
+    let (m, n) = lengths.get(lengths.len() / 2).copied().unwrap_or((1, 1));
+    let h = thresholds.get(&(m, n)).copied().unwrap_or(f64::NAN);
+    ParameterDrift { normalisation: norm, rows, units: out, threshold: h }
 }
 
 #[cfg(test)]
