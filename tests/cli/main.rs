@@ -17,6 +17,7 @@ mod fit_laws;
 mod fit_nested;
 mod fit_rig_files;
 mod fit_shipped_data;
+mod fleet_cli;
 mod refusals;
 mod report_cli;
 mod sensitivity_cli;

@@ -42,11 +42,12 @@ Outputs (in --out DIR):\n\
   drift.json     settings, each parameter's normalisation (candidates, BIC, coefficients), units\n\
   plots/         per unit and parameter: estimates ±2 SE, normalised series, alarm; overview.svg\n\n\
 Example:\n\
-  hdw synth fleet --robots 2 --joints 2 --days 30 --wear r2/j1@12 --out out/fleet-data\n\
-  hdw fleet --manifest out/fleet-data/manifest.csv --unit robot,joint --time date --covariates temperature --out out/fleet\n\
-  hdw fleet --manifest out/fleet-data/manifest.csv --unit robot,joint --time date --covariates temperature --shard 1/2 --out out/fleet-sh\n\
-  hdw fleet --manifest out/fleet-data/manifest.csv --unit robot,joint --time date --covariates temperature --shard 2/2 --out out/fleet-sh\n\
-  hdw fleet --merge --out out/fleet-sh"
+  hdw synth fleet --robots 2 --joints 2 --days 24 --duration 4 --wear r2/j1@14 --out out/fleet-data\n\
+  hdw fleet --manifest out/fleet-data/manifest.csv --covariates temperature --baseline-days 10 --out out/fleet\n\
+  hdw fleet --pattern 'out/fleet-data/logs/{robot}/{joint}/{date}.csv' --baseline-days 10 --out out/fleet-pattern\n\
+  hdw fleet --manifest out/fleet-data/manifest.csv --covariates temperature --shard 1/2 --out out/fleet-sh\n\
+  hdw fleet --manifest out/fleet-data/manifest.csv --covariates temperature --shard 2/2 --out out/fleet-sh\n\
+  hdw fleet --merge --baseline-days 10 --out out/fleet-sh"
 )]
 pub struct FleetArgs {
     /// Manifest of the logs (CSV or Parquet).
@@ -115,6 +116,10 @@ pub struct FleetArgs {
     /// Only the drift analysis and plots, on --out's fits.parquet (other drift settings).
     #[arg(long)]
     pub drift_only: bool,
+    /// Logs per committed part (0: 48 per thread, at least 64); an interrupt loses at most
+    /// one part's work.
+    #[arg(long, value_name = "N", default_value_t = 0)]
+    pub part_logs: usize,
     /// Worker threads (default: all cores).
     #[arg(long, value_name = "N")]
     pub threads: Option<usize>,
@@ -263,7 +268,8 @@ pub fn run(args: FleetArgs) -> Result<()> {
     let mut stale = None;
     store.committed(&mut |ri, id| {
         let li = (ri / super::fleet_fit::ROW_SLOTS) as usize;
-        let file = id.rsplit_once('#').map_or("", |(f, _)| f);
+        // run_id = log_index#file#parameter
+        let file = id.split_once('#').and_then(|(_, r)| r.rsplit_once('#')).map_or("", |(f, _)| f);
         match plan.logs.get(li) {
             Some(l) if l.file == file => {
                 done.insert(li);
@@ -307,7 +313,7 @@ pub fn run(args: FleetArgs) -> Result<()> {
     ];
     let extra_ref: Vec<(&str, String)> = extra.iter().map(|(k, v)| (*k, v.clone())).collect();
     // Parts of a few seconds' work each: an interrupt loses at most one part.
-    let part = (threads * 48).max(64);
+    let part = if args.part_logs > 0 { args.part_logs } else { (threads * 48).max(64) };
     for chunk in todo.chunks(part) {
         let fits: Vec<LogFit> = pool.install(|| {
             chunk

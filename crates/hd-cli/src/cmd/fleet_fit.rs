@@ -80,6 +80,21 @@ fn diff_noise(y: &[f64]) -> f64 {
     m / (std::f64::consts::SQRT_2 * 0.674_489_75)
 }
 
+/// An error with its sources, on one line: `file: no such file (os error 2)`.
+fn chain(e: &dyn std::error::Error) -> String {
+    let mut s = e.to_string();
+    let mut src = e.source();
+    while let Some(c) = src {
+        let t = c.to_string();
+        if !s.contains(&t) {
+            s.push_str(": ");
+            s.push_str(&t);
+        }
+        src = c.source();
+    }
+    s.replace('\n', " ")
+}
+
 /// Fit one log.
 pub fn fit_log(log: &LogSpec, t: &Template, fixed: &Fixed) -> LogFit {
     let start = Instant::now();
@@ -104,7 +119,7 @@ pub fn fit_log(log: &LogSpec, t: &Template, fixed: &Fixed) -> LogFit {
     }
     let res = (|| -> Result<Vec<(String, Estimate)>, String> {
         let names: Vec<&str> = t.columns.iter().map(String::as_str).collect();
-        let cols = hd_io::read_columns(&log.path, &names).map_err(|e| e.to_string())?;
+        let cols = hd_io::read_columns(&log.path, &names).map_err(|e| chain(&e))?;
         let pick = |own: f64, tpl: f64| if own.is_finite() { own } else { tpl };
         let (ts, ws, qs) = (
             pick(log.scales[0], t.time_scale),
@@ -203,7 +218,12 @@ pub fn rows(plan: &Plan, logs: &[&LogSpec], fits: &[LogFit]) -> Vec<FleetColumn>
         };
         for (slot, (name, est)) in list.into_iter().enumerate() {
             run_index.push(log.index as u64 * ROW_SLOTS + slot as u64);
-            run_id.push(Some(format!("{}#{}", log.file, name.as_deref().unwrap_or("-"))));
+            run_id.push(Some(format!(
+                "{}#{}#{}",
+                log.index,
+                log.file,
+                name.as_deref().unwrap_or("-")
+            )));
             log_index.push(log.index as u64);
             file.push(Some(log.file.clone()));
             unit.push(Some(log.unit.clone()));
@@ -233,7 +253,7 @@ pub fn rows(plan: &Plan, logs: &[&LogSpec], fits: &[LogFit]) -> Vec<FleetColumn>
             "-",
             "row key: log_index × 64 + the parameter's position (the table is sorted by it)",
         ),
-        col("run_id", FleetCells::Text(run_id), "text", "row key: file#parameter"),
+        col("run_id", FleetCells::Text(run_id), "text", "row key: log_index#file#parameter"),
         col("log_index", FleetCells::U64(log_index), "-", "0-based row of the manifest"),
         col("file", FleetCells::Text(file), "text", "the log file, as the manifest names it"),
         col("unit_id", FleetCells::Text(unit), "text", "the unit's identifiers joined by '/'"),

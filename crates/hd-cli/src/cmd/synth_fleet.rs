@@ -23,7 +23,7 @@ units named by --wear rR/jJ@DAY (1-based), by a wear factor rising linearly by -
 the LuGre torque along it plus Gaussian noise (--noise × RMS).\n\n\
 Outputs (in --out DIR): logs/rR/jJ/DATE.csv (t [s], omega [rad/s], torque [N·m]); manifest.csv (file,\n\
 robot, joint, date, temperature); truth.csv (the true parameters of every log); truth.json (the spec).\n\n\
-Example:\n  hdw synth fleet --robots 2 --joints 2 --days 30 --wear r2/j1@12 --out out/fleet-data"
+Example:\n  hdw synth fleet --robots 2 --joints 2 --days 24 --duration 4 --wear r2/j1@14 --out out/fleet-data"
 )]
 pub struct FleetSynthArgs {
     /// Robots.

@@ -1,0 +1,245 @@
+//! `hdw fleet` and `hdw synth fleet` end to end: failed logs as rows, the worn unit found,
+//! resume after an interrupt, shards merged into the one-run table, one-line refusals.
+
+use crate::common::{assert_one_line_error, hdw, hdw_ok, scratch};
+use hd_io::table::{ColumnData, Table};
+use std::path::Path;
+
+/// A small fleet: 2 robots × 2 joints × `days` of 3 s joint tests (5 speed levels), r2/j1
+/// wearing from day 14.
+fn small_fleet(dir: &Path, days: usize) {
+    let d = days.to_string();
+    hdw_ok(&[
+        "synth",
+        "fleet",
+        "--robots",
+        "2",
+        "--joints",
+        "2",
+        "--days",
+        &d,
+        "--duration",
+        "3",
+        "--levels",
+        "5",
+        "--wear",
+        "r2/j1@14",
+        "--out",
+        dir.to_str().unwrap(),
+    ]);
+}
+
+fn read(path: &Path) -> Table {
+    hd_io::read_table(path).unwrap()
+}
+
+/// The table without the wall-time column (which differs between runs).
+fn without_time(t: &Table) -> Vec<(String, ColumnData)> {
+    t.names
+        .iter()
+        .cloned()
+        .zip(t.columns.iter().cloned())
+        .filter(|(n, _)| n != "fit_time_s")
+        .collect()
+}
+
+#[test]
+fn bad_rows_are_failed_rows_and_the_worn_unit_is_flagged() {
+    let dir = scratch("fleet-bad-rows");
+    small_fleet(&dir.join("data"), 30);
+    let manifest = std::fs::read_to_string(dir.join("data/manifest.csv")).unwrap();
+    let mut lines: Vec<String> = manifest.lines().map(str::to_string).collect();
+    // A log with other columns, a missing file, a duplicate, a bad timestamp, a missing
+    // covariate: five rows that must fail (or, the covariate, go unnormalised) alone.
+    std::fs::write(dir.join("data/other.csv"), "time,speed,torque\n0,1,2\n1,2,3\n").unwrap();
+    lines.push("other.csv,r9,j9,2026-01-05,20".into());
+    lines.push("logs/none.csv,r9,j8,2026-01-05,20".into());
+    lines.push(lines[1].clone());
+    lines.push("logs/r1/j1/2026-01-05.csv,r9,j7,5th of January,20".into());
+    let cut = lines[5].rfind(',').unwrap();
+    lines[5].truncate(cut + 1);
+    std::fs::write(dir.join("data/manifest.csv"), lines.join("\n") + "\n").unwrap();
+    let out = dir.join("fleet");
+    hdw_ok(&[
+        "fleet",
+        "--manifest",
+        dir.join("data/manifest.csv").to_str().unwrap(),
+        "--covariates",
+        "temperature",
+        "--baseline-days",
+        "10",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    let t = read(&out.join("fits.parquet"));
+    let status = t.text("status").unwrap();
+    let error = t.text("error").unwrap();
+    let li = t.num("log_index").unwrap();
+    let reason = |row: usize| -> String {
+        (0..t.height)
+            .find(|&r| li[r] as usize == row)
+            .and_then(|r| error[r].clone())
+            .unwrap_or_default()
+    };
+    let n = 120;
+    for r in n..n + 4 {
+        eprintln!("row {r}: {}", reason(r));
+    }
+    assert!(reason(n).contains("other.csv") && reason(n).contains("'t'"), "{}", reason(n));
+    assert!(reason(n + 1).contains("none.csv: no such file"), "{}", reason(n + 1));
+    assert!(reason(n + 2).contains("duplicate of row 1"), "{}", reason(n + 2));
+    assert!(reason(n + 3).contains("not a timestamp"), "{}", reason(n + 3));
+    let failed: Vec<usize> = (0..t.height)
+        .filter(|&r| status[r].as_deref() != Some("ok"))
+        .map(|r| li[r] as usize)
+        .collect();
+    assert_eq!(failed, vec![n, n + 1, n + 2, n + 3]);
+    // Every good log gives Tc, Ts, sigma2, ws.
+    assert_eq!(t.height, 4 * n + 4);
+    let alarms = std::fs::read_to_string(out.join("alarms.csv")).unwrap();
+    let flagged: Vec<&str> = alarms.lines().skip(1).map(|l| l.split(',').next().unwrap()).collect();
+    assert!(flagged.contains(&"r2/j1"), "{alarms}");
+    assert!(flagged.iter().all(|u| *u == "r2/j1"), "a healthy unit alarmed:\n{alarms}");
+    let d = read(&out.join("drift.parquet"));
+    let notes = d.text("note").unwrap();
+    assert!(notes.iter().flatten().any(|s| s.contains("covariate 'temperature' missing")));
+    assert!(out.join("plots/overview.svg").exists() && out.join("plots/r2-j1-Tc.svg").exists());
+    let _ = std::fs::remove_dir_all(dir);
+}
+
+#[test]
+fn shards_merged_give_the_one_run_table_and_an_interrupted_run_resumes() {
+    let dir = scratch("fleet-shards");
+    small_fleet(&dir.join("data"), 16);
+    let m = dir.join("data/manifest.csv");
+    let args = |out: &Path, extra: &[&str]| {
+        let mut a = vec![
+            "fleet",
+            "--manifest",
+            m.to_str().unwrap(),
+            "--covariates",
+            "temperature",
+            "--baseline-days",
+            "8",
+            "--no-plots",
+        ]
+        .into_iter()
+        .map(String::from)
+        .collect::<Vec<_>>();
+        a.extend(extra.iter().map(|s| s.to_string()));
+        a.push("--out".into());
+        a.push(out.to_str().unwrap().into());
+        a
+    };
+    let run = |a: Vec<String>| hdw_ok(&a.iter().map(String::as_str).collect::<Vec<_>>());
+    let one = dir.join("one");
+    run(args(&one, &[]));
+    let sh = dir.join("sh");
+    for k in ["2/3", "1/3"] {
+        run(args(&sh, &["--shard", k]));
+    }
+    // The merge refuses an incomplete set.
+    let early = hdw(&["fleet", "--merge", "--baseline-days", "8", "--out", sh.to_str().unwrap()]);
+    assert_one_line_error(&early, &["shards 3 of 3 have not finished"]);
+    run(args(&sh, &["--shard", "3/3"]));
+    hdw_ok(&[
+        "fleet",
+        "--merge",
+        "--baseline-days",
+        "8",
+        "--no-plots",
+        "--out",
+        sh.to_str().unwrap(),
+    ]);
+    let (a, b) = (read(&one.join("fits.parquet")), read(&sh.join("fits.parquet")));
+    assert_eq!(a.height, 64 * 4);
+    assert_eq!(without_time(&a), without_time(&b));
+    assert_eq!(read(&one.join("drift.parquet")), read(&sh.join("drift.parquet")));
+    assert_eq!(
+        std::fs::read_to_string(one.join("alarms.csv")).unwrap(),
+        std::fs::read_to_string(sh.join("alarms.csv")).unwrap()
+    );
+
+    // Interrupted: kill it once a part is committed; --resume fits only the rest.
+    let int = dir.join("int");
+    let mut a =
+        args(&int, &["--part-logs", "4", "--threads", "1", "--fit", "transient", "--params", "Tc"]);
+    a.retain(|s| s != "--no-plots");
+    let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_hdw"))
+        .args(&a)
+        .stderr(std::process::Stdio::null())
+        .spawn()
+        .unwrap();
+    let parts = int.join("parts");
+    let t0 = std::time::Instant::now();
+    while std::fs::read_dir(&parts).map_or(0, |d| {
+        d.filter(|e| e.as_ref().is_ok_and(|e| !e.file_name().to_string_lossy().starts_with('.')))
+            .count()
+    }) == 0
+        && t0.elapsed().as_secs() < 60
+    {
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
+    let _ = std::process::Command::new("kill").args(["-INT", &child.id().to_string()]).status();
+    let status = child.wait().unwrap();
+    assert!(!status.success(), "the run finished before the interrupt; the test needs slower logs");
+    assert!(!int.join("fits.parquet").exists());
+    let mut resumed = a.clone();
+    resumed.push("--resume".into());
+    let out = run(resumed);
+    let err = String::from_utf8_lossy(&out.stderr);
+    let done: usize = err
+        .split(", ")
+        .find_map(|s| s.strip_suffix(" already fitted"))
+        .and_then(|s| s.parse().ok())
+        .unwrap();
+    assert!(done >= 4 && done < 64, "{err}");
+    let c = read(&int.join("fits.parquet"));
+    let li = c.num("log_index").unwrap();
+    let mut logs: Vec<u64> = li.iter().map(|v| *v as u64).collect();
+    logs.dedup();
+    assert_eq!(logs, (0..64).collect::<Vec<u64>>(), "every log once, in order");
+    let _ = std::fs::remove_dir_all(dir);
+}
+
+#[test]
+fn a_bad_manifest_or_setting_is_one_line() {
+    let dir = scratch("fleet-refusals");
+    let m = dir.join("m.csv");
+    std::fs::write(&m, "file,robot,joint,date\nx.csv,r1,j1,2026-01-01\n").unwrap();
+    let out = dir.join("o");
+    let e = hdw(&[
+        "fleet",
+        "--manifest",
+        m.to_str().unwrap(),
+        "--covariates",
+        "temp",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_one_line_error(&e, &["m.csv", "no column 'temp'", "file, robot, joint, date"]);
+    let e = hdw(&[
+        "fleet",
+        "--manifest",
+        m.to_str().unwrap(),
+        "--false-alarm",
+        "2",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_one_line_error(&e, &["--false-alarm 2", "probability"]);
+    let e = hdw(&[
+        "fleet",
+        "--pattern",
+        &format!("{}/{{robot}}/{{date}}.csv", dir.display()),
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_one_line_error(&e, &["no file matches"]);
+    std::fs::write(&m, "file,robot,joint,date,value\nx.csv,r1,j1,2026-01-01,3\n").unwrap();
+    let e = hdw(&["fleet", "--manifest", m.to_str().unwrap(), "--out", out.to_str().unwrap()]);
+    assert_one_line_error(&e, &["column 'value'", "rename it"]);
+    let e = hdw(&["synth", "fleet", "--wear", "r9/j1@3", "--out", out.to_str().unwrap()]);
+    assert_one_line_error(&e, &["--wear r9/j1@3", "robot 1..4"]);
+    let _ = std::fs::remove_dir_all(dir);
+}
