@@ -34,6 +34,25 @@ pub fn repo_path(rel: &str) -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../..").join(rel)
 }
 
+/// The options after `--transient` that read the shipped tribometer recording
+/// (data/README.md): position in mm, friction in µN with the opposite sign.
+pub fn tribometer_transient_args() -> Vec<String> {
+    let path = repo_path("data/tribometer-reciprocating.txt");
+    [
+        path.to_str().unwrap(),
+        "--transient-columns",
+        "Time [s],Friction [uN]",
+        "--position-column",
+        "Position [mm]",
+        "--position-scale",
+        "1e-3",
+        "--torque-scale",
+        "-1e-6",
+    ]
+    .map(String::from)
+    .to_vec()
+}
+
 /// Parses a JSON file.
 pub fn json(path: &Path) -> serde_json::Value {
     serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap()

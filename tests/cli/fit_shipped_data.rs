@@ -54,19 +54,10 @@ fn friction_files_determine_all_six() {
 fn real_tribometer_recording_fits_without_preprocessing() {
     // A real measurement (data/README.md): position only, in mm; friction in µN with the
     // opposite sign. The independent least-squares LuGre fit reaches 0.26 N RMS.
-    let j = fit(&[
-        "friction",
-        "--transient",
-        &data("tribometer-reciprocating.txt"),
-        "--transient-columns",
-        "Time [s],Friction [uN]",
-        "--position-column",
-        "Position [mm]",
-        "--position-scale",
-        "1e-3",
-        "--torque-scale",
-        "-1e-6",
-    ]);
+    let args = tribometer_transient_args();
+    let mut all = vec!["friction", "--transient"];
+    all.extend(args.iter().map(String::as_str));
+    let j = fit(&all);
     let rms = j["rms"].as_f64().unwrap();
     println!("tribometer: RMS residual {rms:.4} N over {} samples", j["samples"]);
     assert!(rms <= 0.27, "rms {rms}");

@@ -51,7 +51,8 @@ pub use data::{HysteresisData, SteadyData, TransientData};
 pub use error::{DataError, FitError};
 pub use fix::Fixed;
 pub use friction::{
-    FrictionFit, FrictionOptions, JointSettings, fit_friction, fit_friction_with, fit_joint_with,
+    FrictionFit, FrictionOptions, JointSettings, fit_friction, fit_friction_settings,
+    fit_friction_with, fit_joint_with,
 };
 pub use hysteresis::{HYSTERESIS_PARAMS, fit_hysteresis, fit_hysteresis_with};
 pub use report::{DataSource, Estimate, FitReport};

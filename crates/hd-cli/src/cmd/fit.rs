@@ -9,7 +9,8 @@ use super::fit_progress::FitProgress;
 use anyhow::{Context, Result, bail};
 use clap::{Args, Subcommand};
 use hd_ident::{
-    FitReport, Fixed, FrictionOptions, SeparableFit, SteadyData, TransientData, fit_friction_with,
+    FitReport, Fixed, FrictionOptions, JointSettings, SeparableFit, SteadyData, TransientData,
+    fit_friction_settings,
 };
 use hd_io::atomic::Staged;
 use hd_model::laws::friction::{FrictionLaw, LuGre};
@@ -124,6 +125,12 @@ pub struct FrictionArgs {
     /// Fit a constant torque offset of the measurement (offset [N·m]), e.g. a sensor bias.
     #[arg(long)]
     pub offset: bool,
+    /// Take none of the time-series fit's shortcuts: every start runs to its end, the
+    /// asymmetric fit searches σ0 again, and every Coulomb level is also tried on its bound
+    /// 0. Slower; the shortcuts are checked never to change the optimum on a corpus of
+    /// records (docs/model.md §5), and this lets you check them on yours.
+    #[arg(long)]
+    pub exhaustive: bool,
     #[command(flatten)]
     pub units: FrictionUnits,
     /// Hold a parameter at a value instead of fitting it, e.g. `--fix sigma2=0` (repeatable).
@@ -223,7 +230,9 @@ fn run_friction(args: FrictionArgs) -> Result<()> {
     let samples =
         steady.as_ref().map_or(0, |d| d.len()) + transient.as_ref().map_or(0, |d| d.len());
     let progress = FitProgress::start(format!("fitting friction to {samples} samples"));
-    let fit = fit_friction_with(steady.as_ref(), transient.as_ref(), &fixed, opts);
+    let settings =
+        if args.exhaustive { JointSettings::exhaustive() } else { JointSettings::default() };
+    let fit = fit_friction_settings(steady.as_ref(), transient.as_ref(), &fixed, opts, settings);
     progress.finish();
     let fit = fit.context("friction fit")?;
     let dir = ensure_dir(&args.out)?;

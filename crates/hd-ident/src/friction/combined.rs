@@ -1,7 +1,7 @@
 //! The friction fit as a whole: the static stage, the dynamic stage, or both in order,
 //! with one report over every parameter involved.
 
-use super::joint::{FrictionOptions, fit_joint};
+use super::joint::{FrictionOptions, JointSettings, fit_joint_with};
 use super::propagate::{Propagated, propagate};
 use super::steady::{LOAD_PARAMS, STATIC_PARAMS, SteadyOptions, SteadyProblem};
 use super::transient::{DYNAMIC_PARAMS, TransientProblem};
@@ -60,6 +60,18 @@ pub fn fit_friction_with(
     fixed: &Fixed,
     opts: FrictionOptions,
 ) -> Result<FrictionFit, FitError> {
+    fit_friction_settings(steady, transient, fixed, opts, JointSettings::default())
+}
+
+/// [`fit_friction_with`] with explicit settings of the joint fit (a time series alone):
+/// [`JointSettings::exhaustive`] takes none of its shortcuts.
+pub fn fit_friction_settings(
+    steady: Option<&SteadyData>,
+    transient: Option<&TransientData>,
+    fixed: &Fixed,
+    opts: FrictionOptions,
+    settings: JointSettings,
+) -> Result<FrictionFit, FitError> {
     let start = Instant::now();
     let base: &[&str] = if opts.asymmetric { &ASYMMETRIC_PARAMS } else { &FRICTION_PARAMS };
     let mut allowed = base.to_vec();
@@ -86,7 +98,7 @@ pub fn fit_friction_with(
         });
     }
     if let (None, Some(d)) = (steady, transient) {
-        let joint = fit_joint(d, fixed, opts)?;
+        let joint = fit_joint_with(d, fixed, opts, settings)?;
         return Ok(single(joint, fixed, opts, false));
     }
     if let (Some(d), None) = (steady, transient) {

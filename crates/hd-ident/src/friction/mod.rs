@@ -10,7 +10,8 @@ mod steady;
 mod transient;
 
 pub use combined::{
-    ASYMMETRIC_PARAMS, FRICTION_PARAMS, FrictionFit, fit_friction, fit_friction_with,
+    ASYMMETRIC_PARAMS, FRICTION_PARAMS, FrictionFit, fit_friction, fit_friction_settings,
+    fit_friction_with,
 };
 pub use joint::{FrictionOptions, JointSettings, OFFSET, fit_joint, fit_joint_with};
 pub use steady::{STATIC_PARAMS, SteadyOptions, SteadyProblem};

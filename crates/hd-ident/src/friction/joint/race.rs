@@ -48,6 +48,9 @@ pub(super) struct RaceOutcome {
     pub(super) start_failures: Vec<String>,
     /// Starts stopped early by the race.
     pub(super) dropped: usize,
+    /// Where every evaluated start ended (stopped early or not), in the starts' order, with
+    /// its RSS there [N²·m²].
+    pub(super) end_values: Vec<([f64; 6], f64)>,
 }
 
 /// Refine every start of `starts` on `problem`. With `race`, every start first runs
@@ -120,6 +123,7 @@ pub(super) fn refine_starts(
         evaluations: 0,
         failed: 0,
         start_failures: Vec::new(),
+        end_values: Vec::new(),
     };
     for r in refined {
         match r {
@@ -127,6 +131,7 @@ pub(super) fn refine_starts(
                 out.iterations += r.iterations;
                 out.evaluations += r.evaluations;
                 out.failed += r.failed;
+                out.end_values.push((r.values, r.rss));
                 if !r.dropped && out.best.as_ref().is_none_or(|b| r.rss < b.rss) {
                     out.best = Some(r);
                 }
