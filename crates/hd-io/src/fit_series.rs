@@ -145,26 +145,7 @@ impl FitSeries {
 /// Write `s` to `path` as Parquet, atomically, with each column's unit and description.
 pub fn write_fit_series(path: &Path, s: &FitSeries) -> Result<(), IoError> {
     let mut df = s.frame().map_err(IoError::polars(path, "cannot build the series table"))?;
-    let units = s.units();
-    let mut arrow = df.schema().to_arrow(CompatLevel::newest());
-    let mut doc = serde_json::Map::new();
-    for (name, field) in arrow.iter_mut() {
-        let Some((_, unit, description)) = SERIES_COLUMNS.iter().find(|c| c.0 == name.as_str())
-        else {
-            continue;
-        };
-        let unit = if *unit == "by output" { units.as_str() } else { unit };
-        let mut md = field.metadata.as_deref().cloned().unwrap_or_default();
-        md.insert("unit".into(), unit.into());
-        md.insert("description".into(), (*description).into());
-        field.metadata = Some(Arc::new(md));
-        doc.insert(name.to_string(), serde_json::json!({"unit": unit, "description": description}));
-    }
-    let key = polars_parquet::write::schema_to_metadata_key(&arrow);
-    let meta = KeyValueMetadata::from_static(vec![
-        (key.key, key.value.unwrap_or_default()),
-        (COLUMNS_KEY.to_string(), serde_json::Value::Object(doc).to_string()),
-    ]);
+    let meta = series_metadata(&df, &s.units());
     write_atomically(path, |file| {
         ParquetWriter::new(file)
             .with_key_value_metadata(Some(meta))
@@ -172,6 +153,187 @@ pub fn write_fit_series(path: &Path, s: &FitSeries) -> Result<(), IoError> {
             .map(|_| ())
             .map_err(IoError::polars(path, "cannot write Parquet"))
     })
+}
+
+/// Rows of a streamed `series.parquet` per row group (about 8 MB of columns in memory).
+pub const SERIES_CHUNK: usize = 65_536;
+
+/// The record, set, model, output and unit of the rows that follow in a [`SeriesStream`].
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct SeriesKey {
+    /// Record name.
+    pub experiment: String,
+    /// `estimation` or `validation`.
+    pub set: String,
+    /// Model name.
+    pub model: String,
+    /// Output name.
+    pub output: String,
+    /// Output unit.
+    pub unit: String,
+}
+
+/// The file a streamed series goes to (buffered, see [`crate::atomic::Staged::write_with`]).
+type Sink<'a, 'f> = &'a mut std::io::BufWriter<&'f mut std::fs::File>;
+
+/// `series.parquet` written while its rows are produced ([`stream_fit_series`]): every
+/// [`SERIES_CHUNK`] rows become one row group, so memory does not grow with the records.
+pub struct SeriesStream<'a, 'f> {
+    path: &'a Path,
+    units: &'a str,
+    file: Option<Sink<'a, 'f>>,
+    writer: Option<polars::io::parquet::write::BatchedWriter<Sink<'a, 'f>>>,
+    /// Runs of rows sharing a key: (key, rows).
+    keys: Vec<(SeriesKey, usize)>,
+    sample: Vec<u64>,
+    t: Vec<f64>,
+    measured: Vec<f64>,
+    simulated: Vec<f64>,
+    scored: Vec<bool>,
+    failed: Option<IoError>,
+}
+
+impl SeriesStream<'_, '_> {
+    /// Start the rows of `key` (the rows pushed next belong to it).
+    pub fn begin(&mut self, key: &SeriesKey) {
+        self.keys.push((key.clone(), 0));
+    }
+
+    /// One row of the current key: sample index, time [s], measured and simulated values,
+    /// whether the score rule counts it.
+    pub fn push(&mut self, sample: usize, t: f64, measured: f64, simulated: f64, scored: bool) {
+        if self.failed.is_some() {
+            return;
+        }
+        if let Some(k) = self.keys.last_mut() {
+            k.1 += 1;
+        }
+        self.sample.push(sample as u64);
+        self.t.push(t);
+        self.measured.push(measured);
+        self.simulated.push(simulated);
+        self.scored.push(scored);
+        if self.t.len() >= SERIES_CHUNK
+            && let Err(e) = self.flush()
+        {
+            self.failed = Some(e);
+        }
+    }
+
+    /// Write the rows held as one row group (the first creates the writer).
+    fn flush(&mut self) -> Result<(), IoError> {
+        let path = self.path;
+        if self.t.is_empty() {
+            return Ok(());
+        }
+        let text = |f: fn(&SeriesKey) -> &str| -> Vec<&str> {
+            self.keys.iter().flat_map(|(k, n)| std::iter::repeat_n(f(k), *n)).collect()
+        };
+        let residual: Vec<f64> =
+            self.measured.iter().zip(&self.simulated).map(|(m, s)| m - s).collect();
+        let mut df = DataFrame::new_infer_height(vec![
+            Column::new("experiment".into(), text(|k| &k.experiment)),
+            Column::new("set".into(), text(|k| &k.set)),
+            Column::new("model".into(), text(|k| &k.model)),
+            Column::new("sample".into(), &self.sample),
+            Column::new("t".into(), &self.t),
+            Column::new("output".into(), text(|k| &k.output)),
+            Column::new("unit".into(), text(|k| &k.unit)),
+            Column::new("measured".into(), &self.measured),
+            Column::new("simulated".into(), &self.simulated),
+            Column::new("residual".into(), residual),
+            Column::new("scored".into(), &self.scored),
+        ])
+        .map_err(IoError::polars(path, "cannot build the series table"))?;
+        if self.writer.is_none()
+            && let Some(file) = self.file.take()
+        {
+            let meta = series_metadata(&df, self.units);
+            let w = ParquetWriter::new(file)
+                .with_key_value_metadata(Some(meta))
+                .batched(&df.schema().clone())
+                .map_err(IoError::polars(path, "cannot write Parquet"))?;
+            self.writer = Some(w);
+        }
+        // The key of the last run goes on into the next row group.
+        let last = self.keys.pop().map(|(k, _)| (k, 0));
+        self.keys.clear();
+        self.keys.extend(last);
+        self.sample.clear();
+        self.t.clear();
+        self.measured.clear();
+        self.simulated.clear();
+        self.scored.clear();
+        df.rechunk_mut();
+        match self.writer.as_mut() {
+            Some(w) => w.write_batch(&df).map_err(IoError::polars(path, "cannot write Parquet")),
+            None => Ok(()),
+        }
+    }
+}
+
+/// Write `series.parquet` to `path` (atomically, with the rest of a
+/// [`crate::atomic::group`]) while `produce` makes its rows: the same table, column
+/// metadata and file-level document as [`write_fit_series`] of the same rows, in row
+/// groups of [`SERIES_CHUNK`] rows. `units` is the measured columns' unit, `output: unit`
+/// for each output in order of first appearance (e.g. `force: N, position: m`). A write
+/// error stops the writing and is returned once `produce` is done. At least one row must
+/// be produced.
+pub fn stream_fit_series<T>(
+    path: &Path,
+    units: &str,
+    produce: impl FnOnce(&mut SeriesStream) -> T,
+) -> Result<T, IoError> {
+    write_atomically(path, |file| {
+        let mut st = SeriesStream {
+            path,
+            units,
+            file: Some(file),
+            writer: None,
+            keys: Vec::new(),
+            sample: Vec::with_capacity(SERIES_CHUNK),
+            t: Vec::with_capacity(SERIES_CHUNK),
+            measured: Vec::with_capacity(SERIES_CHUNK),
+            simulated: Vec::with_capacity(SERIES_CHUNK),
+            scored: Vec::with_capacity(SERIES_CHUNK),
+            failed: None,
+        };
+        let out = produce(&mut st);
+        if let Some(e) = st.failed.take() {
+            return Err(e);
+        }
+        st.flush()?;
+        match st.writer.take() {
+            Some(w) => w.finish().map_err(IoError::polars(path, "cannot write Parquet"))?,
+            None => return Err(IoError::format(path, "no rows to write (internal error)")),
+        };
+        Ok(out)
+    })
+}
+
+/// The key-value metadata of `series.parquet` for the table `df` (its schema) with the
+/// measured columns in `units`: the Arrow schema with each field's unit and description,
+/// and the `hdw.columns` document.
+fn series_metadata(df: &DataFrame, units: &str) -> KeyValueMetadata {
+    let mut arrow = df.schema().to_arrow(CompatLevel::newest());
+    let mut doc = serde_json::Map::new();
+    for (name, field) in arrow.iter_mut() {
+        let Some((_, unit, description)) = SERIES_COLUMNS.iter().find(|c| c.0 == name.as_str())
+        else {
+            continue;
+        };
+        let unit = if *unit == "by output" { units } else { unit };
+        let mut md = field.metadata.as_deref().cloned().unwrap_or_default();
+        md.insert("unit".into(), unit.into());
+        md.insert("description".into(), (*description).into());
+        field.metadata = Some(Arc::new(md));
+        doc.insert(name.to_string(), serde_json::json!({"unit": unit, "description": description}));
+    }
+    let key = polars_parquet::write::schema_to_metadata_key(&arrow);
+    KeyValueMetadata::from_static(vec![
+        (key.key, key.value.unwrap_or_default()),
+        (COLUMNS_KEY.to_string(), serde_json::Value::Object(doc).to_string()),
+    ])
 }
 
 #[cfg(test)]
@@ -196,6 +358,57 @@ mod tests {
             "docs/columns.md lacks the series table:\n{}",
             markdown()
         );
+    }
+
+    /// The streamed file holds the same table and metadata as the file written whole
+    /// (rows across several row groups, a key that spans two of them).
+    #[test]
+    fn streamed_series_equal_the_whole_table() {
+        let dir = tempfile::tempdir().unwrap();
+        let n = SERIES_CHUNK + 1000;
+        let t: Vec<f64> = (0..n).map(|k| k as f64 * 1e-3).collect();
+        let m: Vec<f64> = t.iter().map(|t| t.sin()).collect();
+        let sim: Vec<f64> = t.iter().map(|t| 0.9 * t.sin()).collect();
+        let outputs = [("force", "N"), ("position", "m")];
+        let mut whole = FitSeries::default();
+        for (output, unit) in outputs {
+            whole.push(SeriesBlock {
+                experiment: "estimation",
+                set: "estimation",
+                model: "coulomb-viscous",
+                output,
+                unit,
+                t: &t,
+                measured: &m,
+                simulated: &sim,
+                scored: 49..n,
+            });
+        }
+        let a = dir.path().join("a.parquet");
+        write_fit_series(&a, &whole).unwrap();
+        let b = dir.path().join("b.parquet");
+        stream_fit_series(&b, "force: N, position: m", |st| {
+            for (output, unit) in outputs {
+                st.begin(&SeriesKey {
+                    experiment: "estimation".into(),
+                    set: "estimation".into(),
+                    model: "coulomb-viscous".into(),
+                    output: output.into(),
+                    unit: unit.into(),
+                });
+                for k in 0..n {
+                    st.push(k, t[k], m[k], sim[k], (49..n).contains(&k));
+                }
+            }
+        })
+        .unwrap();
+        let (fa, fb) = (crate::read_frame(&a).unwrap(), crate::read_frame(&b).unwrap());
+        assert!(fa.equals_missing(&fb));
+        let kv = |p: &Path| {
+            let mut r = ParquetReader::new(std::fs::File::open(p).unwrap());
+            r.get_metadata().unwrap().key_value_metadata().clone().unwrap()
+        };
+        assert_eq!(kv(&a), kv(&b));
     }
 
     #[test]

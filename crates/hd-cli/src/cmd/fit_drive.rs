@@ -13,13 +13,16 @@ use hd_ident::drive::{
     DisturbanceCheck, DriveConfig, DriveFit, Experiment, FitSpec, FrictionLaw, IdimFit, fit_drive,
     score_all, settle_units, setup,
 };
-use indicatif::{ProgressBar, ProgressStyle};
 use rayon::prelude::*;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 #[path = "fit_drive_files.rs"]
 mod files;
+#[path = "fit_drive_progress.rs"]
+pub mod progress;
+#[path = "fit_drive_abort.rs"]
+mod abort;
 
 /// `hdw fit drive`.
 #[derive(Args, Debug)]
@@ -120,16 +123,10 @@ pub fn resolve(v: &NumberOrVariable, key: &str, file: &Path) -> Result<f64> {
     }
 }
 
-/// A spinner with the elapsed time and `message`, ticking on its own.
-pub fn spinner(message: String) -> ProgressBar {
-    let bar = ProgressBar::new_spinner();
-    bar.set_style(
-        ProgressStyle::with_template("{spinner} {elapsed_precise} {msg}")
-            .unwrap_or_else(|_| ProgressStyle::default_spinner()),
-    );
-    bar.enable_steady_tick(std::time::Duration::from_millis(200));
-    bar.set_message(message);
-    bar
+/// A spinner with the elapsed time and `message`, ticking on its own; plain lines on
+/// stderr when it is not a terminal and the run takes more than 2 s ([`progress`]).
+pub fn spinner(message: String) -> progress::Progress {
+    progress::Progress::start(message)
 }
 
 /// Run `hdw fit drive`: every file it reads and every number of the configuration checked
@@ -158,8 +155,12 @@ pub fn run(args: DriveArgs) -> Result<()> {
     if let Some(v) = &args.validate {
         check_data_file(v, "--validate record")?;
     }
+    let created = abort::missing_folders(&args.out);
     let dir = ensure_dir(&args.out)?;
-    let _lock = hd_io::lock::lock_folder(&dir.join(".hdw-fit.lock"), "a fit")?;
+    let lock = dir.join(".hdw-fit.lock");
+    let _lock = hd_io::lock::lock_folder(&lock, "a fit")?;
+    // An abort (a failed allocation, kill -ABRT) leaves neither the lock nor a folder made here.
+    abort::arm(&lock, &created);
     let earlier = EarlierOutputs::scan(&dir, files::is_fit_output);
     match cfg {
         None => super::fit_drive_compliant::run(&args, &text)?,
@@ -307,7 +308,7 @@ fn rigid(args: &DriveArgs, cfg: DriveConfig, file: String) -> Result<()> {
         ];
         keep_nested(&mut stages, fit_all);
     }
-    bar.finish_and_clear();
+    bar.set_message("scoring and writing the outputs".into());
 
     let mut starts = Vec::new();
     let mut fitted = Vec::new();
@@ -342,5 +343,5 @@ fn rigid(args: &DriveArgs, cfg: DriveConfig, file: String) -> Result<()> {
         starts,
         fitted,
     };
-    write_outputs(&dir, &outcome)
+    write_outputs(&dir, &outcome, &bar)
 }

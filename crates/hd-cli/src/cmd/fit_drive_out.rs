@@ -5,19 +5,22 @@
 
 #[path = "fit_drive_resid.rs"]
 pub mod resid;
+#[path = "fit_drive_stream.rs"]
+pub mod stream;
 
 use super::common::{staged_plot, write_json};
+use super::fit_drive::progress::Progress;
 use anyhow::Result;
 use hd_ident::drive::score_rule::{RuledScore, ScoreRule};
 use hd_ident::drive::{
     Axis, Controller, DisturbanceCheck, DriveConfig, DriveFit, Experiment, ExperimentScore,
-    FrictionLaw, IdimFit, OutputKind, Reproduction, simulate,
+    IdimFit, OutputKind, Reproduction,
 };
-use hd_plot::{Series, line_plot};
-use resid::{OutputPair, RecordRun};
+use hd_plot::{Series, ThinnedCurve, line_plot};
 use serde_json::{Map, Value, json};
 use std::fmt::Write as _;
 use std::path::Path;
+use stream::{Feed, OutputTrace};
 
 /// Everything `hdw fit drive` computed.
 pub struct Outcome {
@@ -85,43 +88,6 @@ fn rule_of(config: &str) -> ScoreRule {
         .unwrap_or_default()
 }
 
-/// `law` with `values` simulated on `e`: the record's run (its input is the reference in
-/// closed loop, the command in open loop) and its scores by `rule`.
-fn run_of(
-    o: &Outcome,
-    rule: &ScoreRule,
-    (law, values): (FrictionLaw, &[f64]),
-    e: &Experiment,
-    set: &'static str,
-) -> (RecordRun, Ruled) {
-    let s = simulate(law, values, &o.controller, e);
-    let mut outputs = Vec::new();
-    let mut scores = Vec::new();
-    for &(kind, _) in &o.outputs {
-        let measured = kind.measured(e, o.gain);
-        let simulated: Vec<f64> = match kind {
-            OutputKind::Force => s.command.iter().map(|u| o.gain * u).collect(),
-            OutputKind::Position => s.position.clone(),
-        };
-        scores.push((kind, rule.score(&measured, &simulated)));
-        let (name, unit) = (kind.name().to_string(), unit_of(o.axis, kind).to_string());
-        outputs.push(OutputPair { name, unit, measured, simulated });
-    }
-    let open = o.controller.open_loop.is_some();
-    let run = RecordRun {
-        experiment: e.name.clone(),
-        set,
-        model: law.name().to_string(),
-        t: e.t.clone(),
-        h: e.h,
-        input_name: if open { "command" } else { "reference" }.into(),
-        input_unit: if open { "V".into() } else { o.axis.position_unit().to_string() },
-        input: if open { e.command.clone() } else { e.reference.clone() },
-        outputs,
-    };
-    (run, (e.name.clone(), scores))
-}
-
 fn law_json(
     o: &Outcome,
     fit: &DriveFit,
@@ -182,20 +148,28 @@ fn fmt_score(s: &Ruled, axis: Axis, rule: &ScoreRule) -> String {
         .join("; ")
 }
 
-/// Measured against simulated, and the residuals, of every output of `run`, as SVG files
-/// `prefix*.svg`.
-fn plots(dir: &Path, run: &RecordRun, prefix: &str) -> Result<Vec<String>> {
+/// Measured against simulated, and the residuals, of every output of the best law on one
+/// record (`traces`, in the order of the outcome's outputs), as SVG files `prefix*.svg`.
+fn plots(
+    dir: &Path,
+    o: &Outcome,
+    (record, model): (&str, &str),
+    traces: &[OutputTrace],
+    prefix: &str,
+) -> Result<Vec<String>> {
     let mut files = Vec::new();
-    for p in &run.outputs {
-        let what = (run.experiment.as_str(), p.name.as_str(), p.unit.as_str(), run.model.as_str());
-        files.extend(pair_plots(dir, prefix, what, &run.t, &p.measured, &p.simulated)?);
+    for (&(kind, _), tr) in o.outputs.iter().zip(traces) {
+        let Some(curves) = &tr.curves else { continue };
+        let what = (record, kind.name(), unit_of(o.axis, kind), model);
+        files.extend(thinned_pair_plots(dir, prefix, what, curves)?);
     }
     Ok(files)
 }
 
 /// Measured against simulated (`prefix<output>.svg`) and the residual
 /// (`prefix residuals-<output>.svg`) of one output; `what` is (record, output, unit, model).
-/// Returns the two file names.
+/// Long records are drawn from their min/max envelope ([`hd_plot::ThinnedCurve`] of
+/// [`stream::PLOT_BUCKETS`] buckets). Returns the two file names.
 pub fn pair_plots(
     dir: &Path,
     prefix: &str,
@@ -204,19 +178,35 @@ pub fn pair_plots(
     meas: &[f64],
     sim: &[f64],
 ) -> Result<Vec<String>> {
+    let mut curves = [(); 3].map(|_| ThinnedCurve::new(stream::PLOT_BUCKETS));
+    for ((t, a), b) in t.iter().zip(meas).zip(sim) {
+        curves[0].push(*t, *a);
+        curves[1].push(*t, *b);
+        curves[2].push(*t, a - b);
+    }
+    thinned_pair_plots(dir, prefix, what, &curves)
+}
+
+/// [`pair_plots`] of thinned curves: measured, simulated, residual.
+fn thinned_pair_plots(
+    dir: &Path,
+    prefix: &str,
+    what: (&str, &str, &str, &str),
+    [meas, sim, res]: &[ThinnedCurve; 3],
+) -> Result<Vec<String>> {
     let (record, output, unit, model) = what;
     let name = format!("{prefix}{output}.svg");
     let title = format!("{record}: {output} measured and simulated ({model})");
-    let curves = [
-        Series::new("measured", t.to_vec(), meas.to_vec()),
-        Series::new("simulated", t.to_vec(), sim.to_vec()),
-    ];
+    let series = |name: &str, c: &ThinnedCurve| {
+        let (x, y) = c.points();
+        Series::new(name, x, y)
+    };
+    let curves = [series("measured", meas), series("simulated", sim)];
     let y_label = format!("{output} [{unit}]");
     staged_plot(&dir.join(&name), |p| line_plot(p, &title, "t [s]", &y_label, &curves, false))?;
     let residual_name = format!("{prefix}residuals-{output}.svg");
-    let res: Vec<f64> = meas.iter().zip(sim).map(|(a, b)| a - b).collect();
     let title = format!("{record}: {output} residual, measured − simulated");
-    let curve = [Series::new("residual", t.to_vec(), res)];
+    let curve = [series("residual", res)];
     let y_label = format!("residual [{unit}]");
     staged_plot(&dir.join(&residual_name), |p| {
         line_plot(p, &title, "t [s]", &y_label, &curve, false)
@@ -226,11 +216,11 @@ pub fn pair_plots(
 
 /// Write fit.json, params.toml, report.md and the plots, all renamed into place together
 /// at the end (or none, on an error: an earlier fit's files stay whole); print the summary.
-pub fn write_outputs(dir: &Path, o: &Outcome) -> Result<()> {
-    hd_io::atomic::group(|| write_all(dir, o))
+pub fn write_outputs(dir: &Path, o: &Outcome, progress: &Progress) -> Result<()> {
+    hd_io::atomic::group(|| write_all(dir, o, progress))
 }
 
-fn write_all(dir: &Path, o: &Outcome) -> Result<()> {
+fn write_all(dir: &Path, o: &Outcome, progress: &Progress) -> Result<()> {
     let mut order: Vec<usize> = (0..o.fitted.len()).collect();
     order.sort_by(|&a, &b| o.fitted[a].0.bic.total_cmp(&o.fitted[b].0.bic));
     let best = &o.fitted[order[0]].0;
@@ -239,32 +229,68 @@ fn write_all(dir: &Path, o: &Outcome) -> Result<()> {
         rank[k] = r + 1;
     }
 
-    // Every law on every record and the validation record: the series and the scores by
-    // the configuration's rule; the best law's runs kept for the plots and the analysis.
+    // Every law on every record and the validation record, one pass per output: the
+    // series (streamed into series.parquet) and the scores by the configuration's rule;
+    // the best law's thinned curves and residual sums kept for the plots and the analysis.
     let rule = rule_of(&o.config);
-    let mut series = hd_io::FitSeries::default();
+    let units: Vec<String> =
+        o.outputs.iter().map(|(k, _)| format!("{}: {}", k.name(), unit_of(o.axis, *k))).collect();
     let mut scored: Vec<(Vec<Ruled>, Option<Ruled>)> = Vec::new();
-    let mut best_runs: Vec<RecordRun> = Vec::new();
+    // (index among the records, record, set, traces)
+    let mut best_traces: Vec<(usize, &Experiment, &'static str, Vec<OutputTrace>)> = Vec::new();
+    let series_path = dir.join("series.parquet");
+    hd_io::fit_series::stream_fit_series(&series_path, &units.join(", "), |st| {
+        for (k, (fit, _, _)) in o.fitted.iter().enumerate() {
+            let sets = o.experiments.iter().map(|e| (e, "estimation"));
+            let sets = sets.chain(o.validation.iter().map(|v| (v, "validation")));
+            let (mut scores, mut val) = (Vec::new(), None);
+            for (j, (e, set)) in sets.enumerate() {
+                let best = k == order[0];
+                let plotted = j == 0 || set == "validation";
+                let (mut outs, mut traces) = (Vec::new(), Vec::new());
+                for &(kind, _) in &o.outputs {
+                    progress.set_message(format!(
+                        "series.parquet: {} on {}, {}",
+                        fit.law.name(),
+                        e.name,
+                        kind.name()
+                    ));
+                    let key = hd_io::fit_series::SeriesKey {
+                        experiment: e.name.clone(),
+                        set: set.to_string(),
+                        model: fit.law.name().to_string(),
+                        output: kind.name().to_string(),
+                        unit: unit_of(o.axis, kind).to_string(),
+                    };
+                    let feed = Feed { series: st, key, trace: best.then_some(plotted) };
+                    let (sc, tr) =
+                        stream::output_pass(o, &rule, (fit.law, &fit.values), e, kind, feed);
+                    outs.push((kind, sc));
+                    traces.extend(tr);
+                }
+                let sc = (e.name.clone(), outs);
+                if set == "validation" {
+                    val = Some(sc)
+                } else {
+                    scores.push(sc)
+                }
+                if best {
+                    best_traces.push((j, e, set, traces));
+                }
+            }
+            scored.push((scores, val));
+        }
+    })?;
     let mut start_scores: Vec<Vec<Ruled>> = Vec::new();
     for (k, (fit, _, _)) in o.fitted.iter().enumerate() {
-        let sets = o.experiments.iter().map(|e| (e, "estimation"));
-        let sets = sets.chain(o.validation.iter().map(|v| (v, "validation")));
-        let (mut scores, mut val) = (Vec::new(), None);
-        for (e, set) in sets {
-            let (run, sc) = run_of(o, &rule, (fit.law, &fit.values), e, set);
-            resid::add_series(&mut series, &run, &rule);
-            if set == "validation" {
-                val = Some(sc)
-            } else {
-                scores.push(sc)
-            }
-            if k == order[0] {
-                best_runs.push(run);
-            }
-        }
-        scored.push((scores, val));
+        progress.set_message(format!("scores of the {} start", fit.law.name()));
         let start = (fit.law, o.starts[k].2.as_slice());
-        start_scores.push(o.experiments.iter().map(|e| run_of(o, &rule, start, e, "").1).collect());
+        start_scores.push(
+            o.experiments
+                .iter()
+                .map(|e| (e.name.clone(), stream::scores(o, &rule, start, e)))
+                .collect(),
+        );
     }
 
     // fit.json
@@ -351,21 +377,27 @@ fn write_all(dir: &Path, o: &Outcome) -> Result<()> {
     let mut figs = Vec::new();
     let mut analysis = Map::new();
     let mut verdicts = Vec::new();
-    for (j, run) in best_runs.iter().enumerate() {
-        let prefix = match (run.set, j) {
+    for (j, e, set, traces) in &best_traces {
+        let prefix = match (*set, j) {
             ("validation", _) => "validation-".to_string(),
             (_, 0) => String::new(),
-            _ => format!("{}-", run.experiment),
+            _ => format!("{}-", e.name),
         };
-        if j == 0 || run.set == "validation" {
-            figs.extend(plots(dir, run, &prefix)?);
+        progress.set_message(format!("plots and residual analysis of {}", e.name));
+        if *j == 0 || *set == "validation" {
+            figs.extend(plots(dir, o, (&e.name, best.law.name()), traces, &prefix)?);
         }
-        let a = resid::analyse_record(dir, &prefix, run, &rule)?;
+        let mut a = resid::Analysis {
+            figs: Vec::new(),
+            lines: Vec::new(),
+            json: Value::Object(Map::new()),
+        };
+        let best_law = (best.law, best.values.as_slice());
+        stream::analyse_pass(&mut a, dir, &prefix, o, &rule, best_law, e, traces)?;
         figs.extend(a.figs);
         verdicts.extend(a.lines);
-        analysis.insert(run.experiment.clone(), a.json);
+        analysis.insert(e.name.clone(), a.json);
     }
-    hd_io::write_fit_series(&dir.join("series.parquet"), &series)?;
     doc["residual_analysis"] = json!({"law": best.law.name(), "records": analysis});
     doc["score_rule"] = json!({"name": rule.name, "skip_first": rule.skip_first,
         "skip_last": rule.skip_last, "metric": rule.metric, "description": rule.describe()});
@@ -501,6 +533,7 @@ fn write_all(dir: &Path, o: &Outcome) -> Result<()> {
         let _ = writeln!(r, "![{f}]({f})");
     }
 
+    progress.finish_and_clear();
     finish(dir, &doc, &params, &r)
 }
 

@@ -95,15 +95,21 @@ fn bode_curve(name: &str, f: &Frf, band: &[usize]) -> BodeCurve {
     }
 }
 
+/// What one output's analysis is of: the record, the model, the input and the output.
+pub struct OutputInfo<'a> {
+    /// Record name.
+    pub experiment: &'a str,
+    /// Model name.
+    pub model: &'a str,
+    /// The input's name and unit.
+    pub input: (&'a str, &'a str),
+    /// The output's name and unit.
+    pub output: (&'a str, &'a str),
+}
+
 /// The correlation figure of one output: autocorrelation at lags 1 … L, cross-correlation
 /// with the input at −L … L, and the ±99 % bounds.
-fn correlation_plot(
-    dir: &Path,
-    file: &str,
-    run: &RecordRun,
-    o: &str,
-    r: &ResidualAnalysis,
-) -> Result<()> {
+fn correlation_plot(dir: &Path, file: &str, info: &OutputInfo, r: &ResidualAnalysis) -> Result<()> {
     let a = &r.autocorrelation;
     let c = &r.cross_correlation;
     let lags = |l: &[i64]| l.iter().map(|&v| v as f64).collect::<Vec<f64>>();
@@ -111,15 +117,17 @@ fn correlation_plot(
     let curves = [
         Series::new("autocorrelation", lags(&a.lags[1..]), a.values[1..].to_vec()),
         Series::new(
-            format!("cross-correlation with the {}", run.input_name),
+            format!("cross-correlation with the {}", info.input.0),
             lags(&c.lags),
             c.values.clone(),
         ),
         Series::new("99 % bound", vec![-l, l], vec![a.bound; 2]),
         Series::new("−99 % bound", vec![-l, l], vec![-a.bound; 2]),
     ];
-    let title =
-        format!("{}: {o} residual correlations ({}; {})", run.experiment, run.model, r.verdict);
+    let title = format!(
+        "{}: {} residual correlations ({}; {})",
+        info.experiment, info.output.0, info.model, r.verdict
+    );
     staged_plot(&dir.join(file), |p| {
         line_plot(p, &title, "lag [samples]", "correlation [–]", &curves, false)
     })
@@ -133,60 +141,83 @@ pub fn analyse_record(
     run: &RecordRun,
     rule: &ScoreRule,
 ) -> Result<Analysis> {
-    let mut figs = Vec::new();
-    let mut lines = Vec::new();
-    let mut doc = serde_json::Map::new();
+    let mut a =
+        Analysis { figs: Vec::new(), lines: Vec::new(), json: Value::Object(Default::default()) };
     for o in &run.outputs {
         let n = o.measured.len().min(o.simulated.len()).min(run.input.len());
         let range = rule.range(n);
         let e: Vec<f64> = range.clone().map(|k| o.measured[k] - o.simulated[k]).collect();
         let u = &run.input[range.clone()];
         let r = analyse(u, &e, DEFAULT_LAGS, &run.input_name);
-        let file = format!("{prefix}resid-{}.svg", o.name);
-        if e.len() > DEFAULT_LAGS {
-            correlation_plot(dir, &file, run, &o.name, &r)?;
-            figs.push(file);
-        }
         // Measured and simulated responses from the input, over the input's band.
         let meas = h1(u, &o.measured[range.clone()], run.h, None);
         let model = h1(u, &o.simulated[range.clone()], run.h, None);
-        let band = meas.band();
-        let (gap, at) = largest_gap(&meas, &model, &band);
-        let (lo, hi) = match (band.first(), band.last()) {
-            (Some(&a), Some(&b)) => (meas.freq[a], meas.freq[b]),
-            _ => (f64::NAN, f64::NAN),
+        let info = OutputInfo {
+            experiment: &run.experiment,
+            model: &run.model,
+            input: (&run.input_name, &run.input_unit),
+            output: (&o.name, &o.unit),
         };
-        let bode = format!("{prefix}bode-{}.svg", o.name);
-        if !band.is_empty() {
-            let title = format!(
-                "{}: {} over {} [{}/{}], measured and {}",
-                run.experiment, o.name, run.input_name, o.unit, run.input_unit, run.model
-            );
-            let curves = [bode_curve("measured", &meas, &band), bode_curve("model", &model, &band)];
-            staged_plot(&dir.join(&bode), |p| bode_plot(p, &title, &curves))?;
-            figs.push(bode.clone());
-        }
-        let frf_line = if band.is_empty() {
-            "no frequency response (record shorter than a segment)".to_string()
-        } else {
-            format!(
-                "frequency response from the {} over {lo:.3}–{hi:.1} Hz: model and measurement differ by at most {gap:.2} dB (at {at:.3} Hz)",
-                run.input_name
-            )
-        };
-        lines.push(format!("{} {}: {}; {frf_line}", run.experiment, o.name, r.verdict));
+        add_output(&mut a, dir, prefix, &info, (r, e.len()), (&meas, &model))?;
+    }
+    Ok(a)
+}
+
+/// Add one output's analysis to `a`: its residual analysis `r` over `samples` samples and
+/// the measured and simulated responses `(meas, model)`, with figures
+/// `prefix resid-<output>.svg` and `prefix bode-<output>.svg`.
+pub fn add_output(
+    a: &mut Analysis,
+    dir: &Path,
+    prefix: &str,
+    info: &OutputInfo,
+    (r, samples): (ResidualAnalysis, usize),
+    (meas, model): (&Frf, &Frf),
+) -> Result<()> {
+    let (name, unit) = info.output;
+    let file = format!("{prefix}resid-{name}.svg");
+    if samples > DEFAULT_LAGS {
+        correlation_plot(dir, &file, info, &r)?;
+        a.figs.push(file);
+    }
+    let band = meas.band();
+    let (gap, at) = largest_gap(meas, model, &band);
+    let (lo, hi) = match (band.first(), band.last()) {
+        (Some(&a), Some(&b)) => (meas.freq[a], meas.freq[b]),
+        _ => (f64::NAN, f64::NAN),
+    };
+    let bode = format!("{prefix}bode-{name}.svg");
+    if !band.is_empty() {
+        let title = format!(
+            "{}: {name} over {} [{unit}/{}], measured and {}",
+            info.experiment, info.input.0, info.input.1, info.model
+        );
+        let curves = [bode_curve("measured", meas, &band), bode_curve("model", model, &band)];
+        staged_plot(&dir.join(&bode), |p| bode_plot(p, &title, &curves))?;
+        a.figs.push(bode.clone());
+    }
+    let frf_line = if band.is_empty() {
+        "no frequency response (record shorter than a segment)".to_string()
+    } else {
+        format!(
+            "frequency response from the {} over {lo:.3}–{hi:.1} Hz: model and measurement differ by at most {gap:.2} dB (at {at:.3} Hz)",
+            info.input.0
+        )
+    };
+    a.lines.push(format!("{} {name}: {}; {frf_line}", info.experiment, r.verdict));
+    if let Value::Object(doc) = &mut a.json {
         doc.insert(
-            o.name.clone(),
+            name.to_string(),
             json!({
                 "verdict": r.verdict,
                 "white": r.white,
-                "samples": e.len(),
+                "samples": samples,
                 "bound": r.autocorrelation.bound,
                 "autocorrelation_lags_outside": r.auto_outside,
                 "cross_correlation_lags_outside": r.cross_outside,
                 "autocorrelation": r.autocorrelation.values,
                 "cross_correlation": {"lags": r.cross_correlation.lags, "values": r.cross_correlation.values},
-                "input": run.input_name,
+                "input": info.input.0,
                 "frequency_response": {
                     "band_hz": [lo, hi],
                     "segment": meas.segment,
@@ -196,5 +227,5 @@ pub fn analyse_record(
             }),
         );
     }
-    Ok(Analysis { figs, lines, json: Value::Object(doc) })
+    Ok(())
 }

@@ -72,11 +72,17 @@ fn fft(x: &mut [Complex<f64>]) {
     }
 }
 
+/// Longest segment [`default_segment`] gives [samples]: 2^18, so that the working storage
+/// of [`Welch`] (about 120 bytes per segment sample with two outputs) stays under 32 MB
+/// whatever the record's length. Records shorter than 2^21 samples are not affected (their
+/// quarter is shorter).
+pub const MAX_SEGMENT: usize = 1 << 18;
+
 /// The default segment length for `n` samples: the largest power of two ≤ n/4, at least
-/// 16 (and at most n).
+/// 16 (and at most n), at most [`MAX_SEGMENT`].
 pub fn default_segment(n: usize) -> usize {
     let mut m = 16;
-    while m * 2 <= n / 4 {
+    while m * 2 <= n / 4 && m < MAX_SEGMENT {
         m *= 2;
     }
     let mut cap = 1;
@@ -115,6 +121,13 @@ pub fn h1(u: &[f64], y: &[f64], h: f64, segment: Option<usize>) -> Frf {
         }
         start += half.max(1);
     }
+    response(&puu, &pyy, &pyu, m, h)
+}
+
+/// H1, coherence and input power from the sums over the segments (segment `m`, sample
+/// period `h` [s]).
+fn response(puu: &[f64], pyy: &[f64], pyu: &[Complex<f64>], m: usize, h: f64) -> Frf {
+    let half = m / 2;
     let fs = 1.0 / h;
     let ks = 1..=half;
     let hk: Vec<Complex<f64>> = ks.clone().map(|k| pyu[k] / puu[k]).collect();
@@ -125,6 +138,93 @@ pub fn h1(u: &[f64], y: &[f64], h: f64, segment: Option<usize>) -> Frf {
         coherence: ks.clone().map(|k| pyu[k].norm_sqr() / (puu[k] * pyy[k])).collect(),
         input_power: ks.map(|k| puu[k]).collect(),
         segment: m,
+    }
+}
+
+/// [`h1`] from one input to several outputs, fed one sample at a time: the same numbers
+/// (bit for bit) without the record in memory. Working storage: the last segment of the
+/// input and of each output, the window, the sums over segments, one transform per
+/// signal; about (52 + 20·outputs)·m bytes, whatever the record's length.
+#[derive(Clone, Debug)]
+pub struct Welch {
+    m: usize,
+    h: f64,
+    window: Vec<f64>,
+    u: Vec<f64>,
+    y: Vec<Vec<f64>>,
+    puu: Vec<f64>,
+    pyy: Vec<Vec<f64>>,
+    pyu: Vec<Vec<Complex<f64>>>,
+}
+
+impl Welch {
+    /// The estimate over a record of `n` samples sampled every `h` [s] with `outputs`
+    /// outputs, segments of `segment` samples ([`default_segment`] of `n` when None).
+    pub fn new(n: usize, outputs: usize, h: f64, segment: Option<usize>) -> Self {
+        let m = segment.unwrap_or_else(|| default_segment(n));
+        let half = m / 2;
+        Welch {
+            m,
+            h,
+            window: (0..m)
+                .map(|k| 0.5 - 0.5 * (std::f64::consts::TAU * k as f64 / m as f64).cos())
+                .collect(),
+            u: Vec::with_capacity(m),
+            y: vec![Vec::with_capacity(m); outputs],
+            puu: vec![0.0; half + 1],
+            pyy: vec![vec![0.0; half + 1]; outputs],
+            pyu: vec![vec![Complex::new(0.0, 0.0); half + 1]; outputs],
+        }
+    }
+
+    /// The next sample: input `u`, outputs `y` (one per output).
+    pub fn push(&mut self, u: f64, y: &[f64]) {
+        self.u.push(u);
+        for (b, v) in self.y.iter_mut().zip(y) {
+            b.push(*v);
+        }
+        if self.m >= 2 && self.u.len() == self.m {
+            self.segment();
+        }
+    }
+
+    /// Add the segment held to the sums, then drop its first half (the next segment
+    /// starts half a segment later).
+    fn segment(&mut self) {
+        let (m, half) = (self.m, self.m / 2);
+        let window = &self.window;
+        let transform = |s: &[f64]| {
+            let mean = s.iter().sum::<f64>() / m as f64;
+            let mut c: Vec<Complex<f64>> =
+                s.iter().zip(window).map(|(v, w)| Complex::new((v - mean) * w, 0.0)).collect();
+            fft(&mut c);
+            c
+        };
+        let cu = transform(&self.u);
+        for (p, c) in self.puu.iter_mut().zip(&cu[..=half]) {
+            *p += c.norm_sqr();
+        }
+        for ((y, pyy), pyu) in self.y.iter().zip(&mut self.pyy).zip(&mut self.pyu) {
+            let cy = transform(y);
+            for k in 0..=half {
+                pyy[k] += cy[k].norm_sqr();
+                pyu[k] += cu[k].conj() * cy[k];
+            }
+        }
+        let step = half.max(1);
+        self.u.drain(..step);
+        for y in &mut self.y {
+            y.drain(..step);
+        }
+    }
+
+    /// The response to each output, as [`h1`] gives it.
+    pub fn finish(self) -> Vec<Frf> {
+        self.pyy
+            .iter()
+            .zip(&self.pyu)
+            .map(|(pyy, pyu)| response(&self.puu, pyy, pyu, self.m, self.h))
+            .collect()
     }
 }
 
@@ -206,5 +306,31 @@ mod tests {
         assert_eq!(default_segment(24_841), 4096);
         assert_eq!(default_segment(100), 16);
         assert_eq!(default_segment(10), 8);
+        assert_eq!(default_segment(1_000_000), 1 << 17);
+        assert_eq!(default_segment((1 << 21) - 1), 1 << 18);
+        assert_eq!(default_segment(5_000_000), MAX_SEGMENT);
+    }
+
+    /// Fed sample by sample, two outputs at once, the estimate is `h1`'s bit for bit
+    /// (lengths with and without a partial last segment, the shortest records too).
+    #[test]
+    fn streamed_estimate_is_the_whole_record_one() {
+        for n in [5, 10, 17, 100, 1000, 4099] {
+            let mut u = vec![1.0; n];
+            add_noise(&mut u, &Noise { relative: 1.0, seed: 3 });
+            let y1: Vec<f64> =
+                (0..n).map(|t| 0.5 * u[t] + if t > 0 { 0.2 * u[t - 1] } else { 0.0 }).collect();
+            let y2: Vec<f64> = u.iter().map(|v| v * v).collect();
+            let mut w = Welch::new(n, 2, 1e-3, None);
+            for t in 0..n {
+                w.push(u[t], &[y1[t], y2[t]]);
+            }
+            let got = w.finish();
+            let a = h1(&u, &y1, 1e-3, None);
+            let b = h1(&u, &y2, 1e-3, None);
+            let same =
+                |x: &Frf, y: &Frf| format!("{x:?}") == format!("{y:?}") && x.segment == y.segment;
+            assert!(same(&got[0], &a) && same(&got[1], &b), "n = {n}");
+        }
     }
 }

@@ -167,10 +167,106 @@ pub fn lag_runs(lags: &[i64]) -> String {
     out.join(", ")
 }
 
+/// The sums behind [`autocorrelation`] and [`cross_correlation`], fed one sample at a time
+/// with the means known beforehand (a first pass over the record): the same numbers, bit
+/// for bit, keeping only the last `lags` samples.
+#[derive(Clone, Debug)]
+pub struct CorrelationSums {
+    lags: usize,
+    mean_u: f64,
+    mean_e: f64,
+    /// The last `lags` centred residuals and inputs, oldest first.
+    e_hist: std::collections::VecDeque<f64>,
+    u_hist: std::collections::VecDeque<f64>,
+    see: f64,
+    suu: f64,
+    /// Σ e(t)·e(t+k), k = 0 … L.
+    auto: Vec<f64>,
+    /// Σ e(t+k)·u(t), k = 0 … L (τ = +k).
+    after: Vec<f64>,
+    /// Σ e(t)·u(t+k), k = 0 … L (τ = −k; k = 0 unused).
+    before: Vec<f64>,
+    n: usize,
+}
+
+impl CorrelationSums {
+    /// Sums over `lags` lags for a residual of mean `mean_e` and an input of mean `mean_u`
+    /// (each the plain sum over the samples divided by their count).
+    pub fn new(lags: usize, mean_u: f64, mean_e: f64) -> Self {
+        // -0.0: the neutral element `Iterator::sum` starts from, so sums of zeros keep their sign.
+        CorrelationSums {
+            lags,
+            mean_u,
+            mean_e,
+            e_hist: std::collections::VecDeque::with_capacity(lags + 1),
+            u_hist: std::collections::VecDeque::with_capacity(lags + 1),
+            see: -0.0,
+            suu: -0.0,
+            auto: vec![-0.0; lags + 1],
+            after: vec![-0.0; lags + 1],
+            before: vec![-0.0; lags + 1],
+            n: 0,
+        }
+    }
+
+    /// The next sample: input `u`, residual `e`.
+    pub fn push(&mut self, u: f64, e: f64) {
+        let (e, u) = (e - self.mean_e, u - self.mean_u);
+        self.see += e * e;
+        self.suu += u * u;
+        self.auto[0] += e * e;
+        self.after[0] += e * u;
+        let len = self.e_hist.len();
+        for k in 1..=len {
+            let (ep, up) = (self.e_hist[len - k], self.u_hist[len - k]);
+            self.auto[k] += ep * e;
+            self.after[k] += e * up;
+            self.before[k] += ep * u;
+        }
+        self.e_hist.push_back(e);
+        self.u_hist.push_back(u);
+        if self.e_hist.len() > self.lags {
+            self.e_hist.pop_front();
+            self.u_hist.pop_front();
+        }
+        self.n += 1;
+    }
+
+    /// The autocorrelation and the cross-correlation, as [`autocorrelation`] and
+    /// [`cross_correlation`] give them.
+    pub fn finish(&self) -> (Correlation, Correlation) {
+        let (n, lags) = (self.n, self.lags);
+        let bound = Z99 / (n.max(1) as f64).sqrt();
+        let c0 = self.see;
+        let values = (0..=lags)
+            .map(|k| if k >= n || c0 == 0.0 { f64::NAN } else { self.auto[k] / c0 })
+            .collect();
+        let auto = Correlation { lags: (0..=lags as i64).collect(), values, bound };
+        let norm = (self.suu * self.see).sqrt();
+        let l = lags as i64;
+        let values = (-l..=l)
+            .map(|tau| {
+                let k = tau.unsigned_abs() as usize;
+                if k >= n || norm == 0.0 {
+                    return f64::NAN;
+                }
+                let s = if tau >= 0 { self.after[k] } else { self.before[k] };
+                s / norm
+            })
+            .collect();
+        let cross = Correlation { lags: (-l..=l).collect(), values, bound };
+        (auto, cross)
+    }
+}
+
 /// Analyse residual `e` against input `u` (named `input` in the verdict) over `lags`.
 pub fn analyse(u: &[f64], e: &[f64], lags: usize, input: &str) -> ResidualAnalysis {
-    let auto = autocorrelation(e, lags);
-    let cross = cross_correlation(u, e, lags);
+    judge(autocorrelation(e, lags), cross_correlation(u, e, lags), input)
+}
+
+/// The verdict on an autocorrelation `auto` and a cross-correlation `cross` with the input
+/// (named `input` in the verdict).
+pub fn judge(auto: Correlation, cross: Correlation, input: &str) -> ResidualAnalysis {
     let (ao, co) = (auto.outside(true), cross.outside(false));
     let passes = |c: &Correlation, out: &[i64], skip: bool| {
         out.len() <= allowed_outside(c.tested(skip)) && c.worst(skip) <= STRONG
@@ -271,6 +367,25 @@ mod tests {
         assert!((at3 - 1.0 / (1.01f64).sqrt()).abs() < 0.004, "{at3}");
         assert_eq!(r.cross_outside, vec![3]);
         assert_eq!(r.verdict, "model error left at lags 3 (cross-correlation with the reference)");
+    }
+
+    /// Fed sample by sample after a first pass for the means, the correlations are the
+    /// whole-record ones bit for bit (records shorter than the lags too).
+    #[test]
+    fn streamed_sums_are_the_whole_record_ones() {
+        for n in [1, 3, 10, 26, 500] {
+            let u = white(n, 21);
+            let e: Vec<f64> = white(n, 22).iter().zip(&u).map(|(w, u)| w + 0.3 * u + 2.0).collect();
+            let mean = |x: &[f64]| x.iter().sum::<f64>() / x.len().max(1) as f64;
+            let mut s = CorrelationSums::new(DEFAULT_LAGS, mean(&u), mean(&e));
+            for (a, b) in u.iter().zip(&e) {
+                s.push(*a, *b);
+            }
+            let (auto, cross) = s.finish();
+            let text = |c: &Correlation| format!("{c:?}");
+            assert_eq!(text(&auto), text(&autocorrelation(&e, DEFAULT_LAGS)), "n = {n}");
+            assert_eq!(text(&cross), text(&cross_correlation(&u, &e, DEFAULT_LAGS)), "n = {n}");
+        }
     }
 
     #[test]
