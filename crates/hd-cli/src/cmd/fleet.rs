@@ -293,8 +293,13 @@ pub fn run(args: FleetArgs) -> Result<()> {
         plan.logs.iter().filter(|l| l.index % n == k - 1 && !done.contains(&l.index)).collect();
     let threads =
         args.threads.unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()));
-    let pool =
-        rayon::ThreadPoolBuilder::new().num_threads(threads).build().context("thread pool")?;
+    // Large stacks: the fits run rayon inside (the grid search), and a worker blocked
+    // there may steal further logs onto its own stack.
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .stack_size(64 << 20)
+        .build()
+        .context("thread pool")?;
     eprintln!(
         "fleet: {} logs{}, {} already fitted, {} to fit ({:?}) on {threads} threads → {}",
         plan.logs.len(),

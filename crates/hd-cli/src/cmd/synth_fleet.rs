@@ -167,23 +167,33 @@ pub fn run(a: FleetSynthArgs) -> Result<()> {
         ProgressStyle::with_template("{elapsed_precise} [{bar:40}] {pos}/{len} logs · ETA {eta}")
             .unwrap_or_else(|_| ProgressStyle::default_bar()),
     );
-    let files: Vec<String> = truth
-        .par_iter()
-        .map(|l| -> Result<String> {
-            let date = hd_io::fleet::format_day(start + l.day as f64);
-            let rel = format!("logs/r{}/j{}/{date}.{}", l.robot + 1, l.joint + 1, a.format);
-            let s = synth_plateaus(
-                &l.params,
-                &profile,
-                dt,
-                &Noise { relative: a.noise, seed: l.noise_seed },
-            )
-            .with_context(|| format!("log {rel}"))?;
-            hd_io::write_columns(&dir.join(&rel), &s.names, &s.columns)?;
-            bar.inc(1);
-            Ok(rel)
-        })
-        .collect::<Result<_>>()?;
+    // A pool of its own with large stacks, fed a chunk at a time: the model code runs
+    // rayon inside, and a worker blocked there steals further logs onto its stack.
+    let pool =
+        rayon::ThreadPoolBuilder::new().stack_size(64 << 20).build().context("thread pool")?;
+    let mut files: Vec<String> = Vec::with_capacity(truth.len());
+    for chunk in truth.chunks(64) {
+        let part: Vec<String> = pool.install(|| {
+            chunk
+                .par_iter()
+                .map(|l| -> Result<String> {
+                    let date = hd_io::fleet::format_day(start + l.day as f64);
+                    let rel = format!("logs/r{}/j{}/{date}.{}", l.robot + 1, l.joint + 1, a.format);
+                    let s = synth_plateaus(
+                        &l.params,
+                        &profile,
+                        dt,
+                        &Noise { relative: a.noise, seed: l.noise_seed },
+                    )
+                    .with_context(|| format!("log {rel}"))?;
+                    hd_io::write_columns(&dir.join(&rel), &s.names, &s.columns)?;
+                    bar.inc(1);
+                    Ok(rel)
+                })
+                .collect::<Result<_>>()
+        })?;
+        files.extend(part);
+    }
     bar.finish();
     let mut manifest = String::from("file,robot,joint,date,temperature\n");
     let mut truth_csv =
