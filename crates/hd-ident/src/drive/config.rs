@@ -162,11 +162,23 @@ pub fn transmission_of(text: &str) -> Option<String> {
 pub fn toml_error(file: &str, e: &toml::de::Error) -> DriveError {
     let text = e.to_string();
     let lines: Vec<&str> = text.lines().map(str::trim).filter(|l| !l.is_empty()).collect();
-    // toml's message: "TOML parse error at line L, column C", the quoted line, a caret,
-    // then what is wrong; keep the position and what is wrong.
+    // toml's message: "TOML parse error at line L, column C", the quoted line ("L | text"),
+    // a caret, then what is wrong; keep the position, what is wrong and, where that does
+    // not name the key (e.g. "duplicate key"), the line itself.
+    let quoted = lines.iter().find_map(|l| {
+        let (number, rest) = l.split_once('|')?;
+        let text = rest.trim();
+        (number.trim().parse::<usize>().is_ok() && !text.is_empty()).then_some(text)
+    });
     let message = match (lines.first(), lines.last()) {
         (Some(first), Some(last)) if lines.len() > 1 && first.starts_with("TOML parse error") => {
-            format!("{}: {last}", first.trim_start_matches("TOML parse error at ").trim())
+            let at = first.trim_start_matches("TOML parse error at ").trim();
+            match quoted {
+                Some(q) if !last.contains('`') && !last.contains('\'') => {
+                    format!("{at}: {last} (the line reads `{q}`)")
+                }
+                _ => format!("{at}: {last}"),
+            }
         }
         _ => lines.join(" "),
     };

@@ -232,3 +232,15 @@ fn a_delay_longer_than_the_records_is_refused() {
         "{e}"
     );
 }
+
+#[test]
+fn a_duplicate_key_is_named() {
+    // toml says only "duplicate key" and where; the message quotes the line, so the key is
+    // named.
+    let e = rigid_error(&rigid(&[], "\n[fit]\nnoise = 1.0\n[fit]\nnoise = 2.0\n"));
+    assert!(e.contains("line") && e.contains("[fit]"), "{e}");
+    let text =
+        "transmission = \"compliant\"\nvoltage_between = \"hold\"\nvoltage_between = \"hold\"\n";
+    let e = CompliantConfig::parse(text, "fit.toml").expect_err("refused").to_string();
+    assert!(e.contains("duplicate key") && e.contains("voltage_between"), "{e}");
+}
