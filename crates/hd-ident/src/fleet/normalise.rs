@@ -14,7 +14,9 @@
 //!
 //! (x centred on the baseline mean) are fitted by least squares and the one of least BIC,
 //! `n·ln(RSS/n) + p·ln n`, is kept. It is refitted by weighted least squares with weights
-//! 1/(sᵢ² + τ²), sᵢ the estimate's standard error on the y scale and τ² the scatter the
+//! 1/(sᵢ² + τ²), sᵢ² the unit's median squared standard error on the y scale over its
+//! baseline (a log's own standard error, from a fit with few degrees of freedom, scatters
+//! about it), and τ² the scatter the
 //! standard errors do not explain (day-to-day variation, model error), estimated as the
 //! excess of the baseline's residual variance over the mean sᵢ². Every estimate with its
 //! covariates then gets a residual rᵢ = yᵢ − ŷᵢ with variance sᵢ² + τ² + Var ŷᵢ, and a
@@ -254,7 +256,26 @@ pub fn normalise(
     out.chosen = d.name();
     let p = d.width(nslots, nc);
     let x = build(d, &base);
-    let s2: Vec<f64> = base.iter().map(|&i| s_of(&samples[i]).powi(2)).collect();
+    // Each unit's typical squared standard error (median over its baseline): the same test
+    // on the same unit gives the same precision, and a log's own standard error, from a
+    // fit with few degrees of freedom, scatters about it (Student's t tails in z).
+    let mut unit_s2 = vec![f64::NAN; units];
+    for (u, slot) in unit_s2.iter_mut().enumerate() {
+        let mut v: Vec<f64> = base
+            .iter()
+            .filter(|&&i| samples[i].unit == u)
+            .map(|&i| s_of(&samples[i]).powi(2))
+            .collect();
+        if !v.is_empty() {
+            v.sort_by(f64::total_cmp);
+            *slot = v[v.len() / 2];
+        }
+    }
+    let s2_of = |s: &Sample| {
+        let typical = unit_s2[s.unit];
+        if typical.is_finite() { typical } else { s_of(s).powi(2) }
+    };
+    let s2: Vec<f64> = base.iter().map(|&i| s2_of(&samples[i])).collect();
     let (_, _, rss) = wls(&x, &yb, &DVector::from_element(nb, 1.0)).expect("scored above");
     let dof = (nb - p).max(1) as f64;
     let tau2 = (rss / dof - s2.iter().sum::<f64>() / nb as f64).max(0.0);
@@ -298,7 +319,7 @@ pub fn normalise(
         let y = y_of(s);
         let cov_part = pred - beta[slot];
         out.residual[i] = y - pred;
-        out.variance[i] = s_of(s).powi(2) + tau2 + pvar.max(0.0);
+        out.variance[i] = s2_of(s) + tau2 + pvar.max(0.0);
         if log_scale {
             out.normalised[i] = (y - cov_part).exp();
             out.level[i] = beta[slot].exp();
