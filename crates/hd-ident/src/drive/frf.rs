@@ -3,8 +3,9 @@
 //! band.
 //!
 //! The record is cut into segments of `m` samples (the largest power of two ≤ N/4, at
-//! least 16), overlapping by half; each segment has its mean removed and a Hann window
-//! applied, and its discrete Fourier transforms U and Y are averaged into
+//! least 16, at most [`MAX_SEGMENT`]), overlapping by half; each segment has its mean
+//! removed and a Hann window applied, and its discrete Fourier transforms U and Y are
+//! averaged into
 //!
 //! ```text
 //! Puu(f) = Σ |U|²,   Pyy(f) = Σ |Y|²,   Pyu(f) = Σ conj(U)·Y,
