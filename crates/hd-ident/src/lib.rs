@@ -25,6 +25,7 @@
 pub mod data;
 pub mod datasheet;
 pub mod derivative;
+pub mod design;
 pub mod drive;
 pub mod error;
 pub mod fix;

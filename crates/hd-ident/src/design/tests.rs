@@ -1,0 +1,199 @@
+//! Checks of the design core against closed forms: the criteria of known matrices, the
+//! information against central differences of the simulated outputs, its growth with the
+//! square of a linear drive's amplitude, and the scaled input against its limits.
+
+use super::*;
+use crate::drive::compliant::fit::CompliantSpec;
+use crate::drive::compliant::model::{NAMES, P, ix};
+use crate::drive::compliant::{Between, Signal};
+use crate::drive::lm::LmSettings;
+
+fn seed() -> ([f64; P], f64) {
+    let p = hd_model::Params::default();
+    let mut v = [0.0; P];
+    for (k, n) in NAMES.iter().enumerate() {
+        v[k] = p.get(n).unwrap();
+    }
+    // The other gear laws' constants to zero, as the fit's params reader does.
+    crate::drive::compliant::model::on_law(&mut v, hd_model::HystLaw::Memory);
+    (v, p.n)
+}
+
+fn problem(free: &[usize], limits: Limits) -> Problem {
+    let (values, n) = seed();
+    let mut f = [false; P];
+    for &k in free {
+        f[k] = true;
+    }
+    let spec = CompliantSpec {
+        n,
+        between: Between::Hold,
+        start: values,
+        free: f,
+        lower: values.map(|v| v / 1e3),
+        upper: values.map(|v| v * 1e3),
+        outputs: vec![(Signal::Motor, vec![1.0])],
+        noise_estimated: vec![false],
+        km_is_ke: true,
+        symmetric_friction: true,
+        symmetric_load_friction: true,
+        current_offset: false,
+        friction_velocity: hd_model::FrictionVelocity::Motor,
+        substeps: 20,
+        settings: LmSettings::default(),
+    };
+    let k = free.len();
+    Problem {
+        spec,
+        values,
+        free: free.to_vec(),
+        noise: Noise { motor: 4.43e-4, load: 1.73e-6, current: Some(0.01) },
+        prior: DMatrix::zeros(k, k),
+        limits,
+    }
+}
+
+fn limits(duration: f64) -> Limits {
+    Limits { voltage: 12.0, current: None, speed: None, deflection: None, duration, rate: 1000.0 }
+}
+
+#[test]
+fn criteria_of_a_known_matrix() {
+    let m = DMatrix::from_diagonal(&DVector::from_vec(vec![4.0, 100.0, 0.0]));
+    let r = criterion::RIDGE;
+    let d = Criterion::D.cost(&m);
+    let want = -((4.0 + r).ln() + (100.0 + r).ln() + r.ln());
+    assert!((d - want).abs() < 1e-12, "{d} {want}");
+    let a = Criterion::A(vec![0, 1]).cost(&m);
+    assert!((a - (1.0 / (4.0 + r) + 1.0 / (100.0 + r))).abs() < 1e-12, "{a}");
+    // The weakest direction is the unseen third parameter, and targeting it costs 1/ε.
+    let (dirs, eig) = weakest(&m);
+    assert!((dirs[(2, 0)].abs() - 1.0).abs() < 1e-12 && (eig[0] - r).abs() < 1e-12);
+    let t = Criterion::Targeted(dirs.columns(0, 1).into_owned()).cost(&m);
+    assert!((t - 1.0 / r).abs() < 1e-9, "{t}");
+    // A rotated matrix: the prediction's relative SEs are the inverse's diagonal.
+    let q = DMatrix::from_row_slice(2, 2, &[0.6, -0.8, 0.8, 0.6]);
+    let m2 = &q * DMatrix::from_diagonal(&DVector::from_vec(vec![9.0, 0.25])) * q.transpose();
+    let p = predict(&m2, &[ix::R, ix::KE]);
+    let inv = m2.clone().try_inverse().unwrap();
+    for i in 0..2 {
+        assert!((p.relative[i].unwrap() - inv[(i, i)].sqrt()).abs() < 1e-12);
+    }
+    let rho = inv[(0, 1)] / (inv[(0, 0)] * inv[(1, 1)]).sqrt();
+    assert!((p.correlation[(0, 1)] - rho).abs() < 1e-12);
+}
+
+/// JᵀJ from the fit's exact Jacobian equals the one from central differences of the
+/// simulated outputs (each less its mean, as the encoder zeros are fitted; each divided by
+/// its noise), in log coordinates.
+#[test]
+fn information_matches_central_differences() {
+    let free = [ix::R, ix::KE, ix::JJ, ix::CJ, ix::TC];
+    let pr = problem(&free, limits(0.3));
+    let u: Vec<f64> = Design::single(Segment::Chirp { f0: 2.0, f1: 40.0 })
+        .shape(pr.limits.samples(), 1000.0)
+        .iter()
+        .map(|v| 12.0 * v)
+        .collect();
+    let info = pr.information(&u).unwrap();
+    let outputs = |values: [f64; P]| -> Vec<f64> {
+        let q = Problem { values, ..pr.clone() };
+        let rec = q.record(&u);
+        let centred = |x: &[f64]| {
+            let m = x.iter().sum::<f64>() / x.len() as f64;
+            x.iter().map(|v| v - m).collect::<Vec<f64>>()
+        };
+        let mut out: Vec<f64> = centred(&rec.theta_m).iter().map(|v| v / pr.noise.motor).collect();
+        out.extend(centred(&rec.theta_l).iter().map(|v| v / pr.noise.load));
+        out.extend(rec.current.unwrap().iter().map(|v| v / pr.noise.current.unwrap()));
+        out
+    };
+    let cols: Vec<Vec<f64>> = free
+        .iter()
+        .map(|&k| {
+            let h = 1e-5;
+            let at = |s: f64| {
+                let mut v = pr.values;
+                v[k] *= (s * h).exp();
+                v = pr.spec.tied(v);
+                outputs(v)
+            };
+            let (a, b) = (at(1.0), at(-1.0));
+            a.iter().zip(&b).map(|(x, y)| (x - y) / (2.0 * h)).collect()
+        })
+        .collect();
+    for i in 0..free.len() {
+        for j in 0..free.len() {
+            let fd: f64 = cols[i].iter().zip(&cols[j]).map(|(a, b)| a * b).sum();
+            let scale = (info[(i, i)] * info[(j, j)]).sqrt();
+            assert!(
+                (fd - info[(i, j)]).abs() < 1e-5 * scale,
+                "{} {}: exact {} differences {fd}",
+                NAMES[free[i]],
+                NAMES[free[j]],
+                info[(i, j)]
+            );
+        }
+    }
+}
+
+/// A drive without friction or memory is linear in its voltage: its information grows with
+/// the square of the amplitude (to 1e-6 of the diagonal).
+#[test]
+fn information_of_a_linear_drive_grows_with_the_square_of_the_amplitude() {
+    let free = [ix::R, ix::KE, ix::JZ, ix::C];
+    let mut pr = problem(&free, limits(0.2));
+    for k in [ix::SIGMA0, ix::SIGMA1, ix::MEM_A] {
+        pr.values[k] = 0.0;
+    }
+    pr.values[ix::A] = 0.0;
+    pr.values[ix::B] = 0.0;
+    let shape = Design::single(Segment::Multisine { f0: 5.0, f1: 300.0, lines: 8, tilt: 0.0 })
+        .shape(pr.limits.samples(), 1000.0);
+    let at = |a: f64| pr.information(&shape.iter().map(|v| a * v).collect::<Vec<_>>()).unwrap();
+    let (one, three) = (at(1.0), at(3.0));
+    let k = one.nrows();
+    for i in 0..k {
+        for j in 0..k {
+            let scale = (one[(i, i)] * one[(j, j)]).sqrt();
+            let (x, y) = (one[(i, j)], three[(i, j)]);
+            assert!((y - 9.0 * x).abs() <= 1e-6 * 9.0 * scale, "{i} {j}: {x} {y}");
+        }
+    }
+}
+
+/// The scaled input meets the limit that binds, and no other is exceeded.
+#[test]
+fn scaled_input_meets_its_limits() {
+    let free = [ix::R, ix::KE];
+    let mut l = limits(0.3);
+    let pr0 = problem(&free, l.clone());
+    let shape = Design::single(Segment::Ramp { f: 5.0, dwell: 0.2 }).shape(l.samples(), 1000.0);
+    let free_run = pr0.scaled(&shape);
+    assert_eq!(free_run.binds, "voltage");
+    assert!((free_run.peaks.voltage - 12.0).abs() < 1e-9);
+    // Limit the speed to half of what 12 V reaches: the speed binds, within 1 %.
+    l.speed = Some(0.5 * free_run.peaks.speed);
+    let pr = Problem { limits: l.clone(), ..pr0 };
+    let s = pr.scaled(&shape);
+    assert_eq!(s.binds, "speed");
+    assert!(s.within);
+    let lim = l.speed.unwrap();
+    assert!(s.peaks.speed <= lim * (1.0 + 1e-9) && s.peaks.speed > 0.97 * lim, "{:?}", s.peaks);
+    assert!(s.peaks.voltage < 12.0);
+}
+
+/// On the seed drive with no prior, the targeted search improves on its start and the
+/// outcome's best input respects the limits.
+#[test]
+fn search_improves_on_its_start() {
+    let free = [ix::R, ix::KE, ix::JJ, ix::CJ, ix::JZ, ix::C];
+    let pr = problem(&free, limits(0.2));
+    let crit = Criterion::D;
+    let start: Vec<f64> = Family::Chirp.params(1000.0, 0.2).iter().map(|p| p.3).collect();
+    let first = evaluate(&pr, &Family::Chirp.design(&start), &crit);
+    let o = optimise(&pr, Family::Chirp, &crit, 14, &|_, _| {});
+    assert!(o.best.cost <= first.cost, "{} {}", o.best.cost, first.cost);
+    assert!(o.best.scaled.within && o.evaluations <= 16);
+}
+
