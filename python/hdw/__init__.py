@@ -25,6 +25,7 @@ from typing import Any, List
 from . import _hdw
 from ._fit import FitResult, fit_friction, fit_hysteresis
 from ._fit_drive import DriveFitResult, fit_drive
+from ._fleet import FleetResult, fleet
 from ._fmu import export_fmu
 from ._run import SimResult, simulate, simulate_many
 from ._sensitivity import sobol_indices
@@ -37,12 +38,14 @@ __version__: str = _hdw.__version__
 __all__ = [
     "DriveFitResult",
     "FitResult",
+    "FleetResult",
     "SimResult",
     "SimulationError",
     "export_fmu",
     "fit_drive",
     "fit_friction",
     "fit_hysteresis",
+    "fleet",
     "metrics",
     "parameters",
     "run_study",
