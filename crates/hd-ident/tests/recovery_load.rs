@@ -73,3 +73,21 @@ fn a_load_column_is_refused_with_a_time_series() {
     let e = fit_friction(Some(&data), Some(&transient), &Fixed::none()).unwrap_err();
     assert!(e.to_string().contains("--load-column"), "{e}");
 }
+
+/// The load-dependent law contains the plain one (every μ = 0), and its μ are linear
+/// parameters with the bound 0 solved exactly at every ωs the search tries, so its fit is
+/// never worse than the plain fit of the same table: checked with load factors in the
+/// data, and with none (the nested law is the truth, the μ sit on their bound 0).
+#[test]
+fn the_load_dependent_fit_never_scores_worse_than_the_plain_one() {
+    let with_mu = params(&TRUTH);
+    let without: Vec<&str> = TRUTH.iter().copied().filter(|t| !t.starts_with("mu_")).collect();
+    for (name, p) in [("load factors", with_mu), ("no load factors", params(&without))] {
+        let loaded = loaded_table(&LuGre::from_params(&p), 11);
+        let plain = SteadyData::new(loaded.omega().to_vec(), loaded.torque().to_vec()).unwrap();
+        let a = fit_friction(Some(&loaded), None, &Fixed::none()).unwrap().report.rms;
+        let b = fit_friction(Some(&plain), None, &Fixed::none()).unwrap().report.rms;
+        println!("{name}: RMS load-dependent {a:.9e}, plain {b:.9e}");
+        assert!(a <= b * (1.0 + 1e-9), "{name}: load-dependent {a:e} above plain {b:e}");
+    }
+}
