@@ -335,15 +335,16 @@ mod tests {
     }
 
     /// The output stage's working storage does not grow with the record: the series,
-    /// scores and thinned curves of 200 000 samples peak within 256 kB of those of
-    /// 50 000 (the columns held whole took 150 000 × 2 outputs × about 100 B = 30 MB more),
-    /// and the residual analysis holds about one Welch segment, not the record.
+    /// scores and thinned curves of 280 000 samples peak within 256 kB of those of 70 000
+    /// (both fill a row group of the series; the columns held whole took 210 000 × 2
+    /// outputs × about 100 B = 42 MB more), and the residual analysis holds about one
+    /// Welch segment, not the record.
     #[test]
     fn output_stage_storage_does_not_grow_with_the_record() {
         let dir = tempfile::tempdir().unwrap();
         let rule = ScoreRule::default();
         let mut peaks = Vec::new();
-        for n in [50_000, 200_000] {
+        for n in [70_000, 280_000] {
             let o = outcome(n);
             let path = dir.path().join(format!("series-{n}.parquet"));
             let (traces, first) = peak_bytes(|| first_passes(&o, &path));
