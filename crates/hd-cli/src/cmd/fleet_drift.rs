@@ -79,7 +79,21 @@ fn num_at(t: &Table, name: &str, row: usize) -> f64 {
 pub fn run(dir: &Path, src: &Source, a: &DriftArgs) -> Result<()> {
     check(a)?;
     let fits_path = dir.join("fits.parquet");
-    let t = hd_io::read_table(&fits_path)?;
+    // Only the columns the analysis reads: memory per log stays a few hundred bytes.
+    let mut wanted: Vec<&str> = vec![
+        "log_index",
+        "file",
+        "status",
+        "parameter",
+        "unit_id",
+        "param_unit",
+        "day",
+        "value",
+        "std_error",
+        "determined",
+    ];
+    wanted.extend(src.covariates.iter().map(String::as_str));
+    let t = hd_io::table::read_table_columns(&fits_path, &wanted)?;
     for c in &src.covariates {
         if !t.names.contains(c) {
             bail!("{}: no covariate column '{c}'", fits_path.display());

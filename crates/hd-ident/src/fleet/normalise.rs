@@ -128,26 +128,47 @@ impl Design {
     }
 }
 
-/// Least squares with weights `w`: coefficients, their covariance (unscaled), RSS
-/// (weighted). `None` when the design is rank deficient.
+/// Most coefficients of a candidate model: its normal equations hold p² numbers (a
+/// per-unit model of a fleet of more units is not tried).
+pub const MAX_COEFFICIENTS: usize = 1500;
+
+/// Least squares with weights `w` over `n` rows whose design row `fill(r, row)` writes:
+/// coefficients, their covariance (unscaled), weighted RSS. The normal equations are
+/// accumulated a row at a time (memory p², not n·p). `None` when rank deficient.
 fn wls(
-    x: &DMatrix<f64>,
+    n: usize,
+    p: usize,
+    fill: &dyn Fn(usize, &mut [f64]),
     y: &DVector<f64>,
     w: &DVector<f64>,
 ) -> Option<(DVector<f64>, DMatrix<f64>, f64)> {
-    let sw = w.map(f64::sqrt);
-    let xw = DMatrix::from_fn(x.nrows(), x.ncols(), |i, j| x[(i, j)] * sw[i]);
-    let yw = y.component_mul(&sw);
-    let a = xw.transpose() * &xw;
+    let mut a = DMatrix::<f64>::zeros(p, p);
+    let mut b = DVector::<f64>::zeros(p);
+    let mut row = vec![0.0; p];
+    for r in 0..n {
+        fill(r, &mut row);
+        let nz: Vec<usize> = (0..p).filter(|&j| row[j] != 0.0).collect();
+        for &i in &nz {
+            b[i] += w[r] * row[i] * y[r];
+            for &j in &nz {
+                a[(i, j)] += w[r] * row[i] * row[j];
+            }
+        }
+    }
     let chol = a.clone().cholesky()?;
-    let beta = chol.solve(&(xw.transpose() * &yw));
+    let beta = chol.solve(&b);
     let cov = chol.inverse();
-    let r = &yw - &xw * &beta;
     let scale = a.diagonal().max().max(1e-300);
     if cov.iter().any(|v| !v.is_finite()) || cov.diagonal().iter().any(|&d| d * scale > 1e12) {
         return None;
     }
-    Some((beta, cov, r.norm_squared()))
+    let mut rss = 0.0;
+    for r in 0..n {
+        fill(r, &mut row);
+        let fit: f64 = row.iter().zip(beta.iter()).map(|(x, b)| x * b).sum();
+        rss += w[r] * (y[r] - fit).powi(2);
+    }
+    Some((beta, cov, rss))
 }
 
 /// Normalise `samples` (one parameter, all units); `baseline_days` from each unit's first
@@ -207,27 +228,21 @@ pub fn normalise(
     }
     let nb = base.len();
     let yb = DVector::from_iterator(nb, base.iter().map(|&i| y_of(&samples[i])));
-    let build = |d: &Design, rows: &[usize]| {
-        let p = d.width(nslots, nc);
-        let mut x = DMatrix::zeros(rows.len(), p);
-        let mut row = vec![0.0; p];
-        for (r, &i) in rows.iter().enumerate() {
-            d.row(slot_of[samples[i].unit], nslots, &xs(&samples[i]), &mut row);
-            for (j, v) in row.iter().enumerate() {
-                x[(r, j)] = *v;
-            }
-        }
-        x
+    let fill_row = |d: &Design, r: usize, row: &mut [f64]| {
+        let i = base[r];
+        d.row(slot_of[samples[i].unit], nslots, &xs(&samples[i]), row);
     };
     let mut candidates = Vec::new();
     let mut best: Option<(usize, f64)> = None;
     for (k, d) in designs.iter().enumerate() {
         let p = d.width(nslots, nc);
-        if nb < p + 2 {
+        if nb < p + 2 || p > MAX_COEFFICIENTS {
             continue;
         }
-        let x = build(d, &base);
-        let Some((_, _, rss)) = wls(&x, &yb, &DVector::from_element(nb, 1.0)) else { continue };
+        let ones = DVector::from_element(nb, 1.0);
+        let Some((_, _, rss)) = wls(nb, p, &|r, row| fill_row(d, r, row), &yb, &ones) else {
+            continue;
+        };
         let bic = nb as f64 * (rss.max(1e-300) / nb as f64).ln() + p as f64 * (nb as f64).ln();
         candidates.push(Candidate { name: d.name(), params: p, rss, bic });
         if best.is_none_or(|(_, b)| bic < b) {
@@ -255,7 +270,7 @@ pub fn normalise(
     let d = &designs[k];
     out.chosen = d.name();
     let p = d.width(nslots, nc);
-    let x = build(d, &base);
+    let fill = |r: usize, row: &mut [f64]| fill_row(d, r, row);
     // Each unit's typical squared standard error (median over its baseline): the same test
     // on the same unit gives the same precision, and a log's own standard error, from a
     // fit with few degrees of freedom, scatters about it (Student's t tails in z).
@@ -276,13 +291,14 @@ pub fn normalise(
         if typical.is_finite() { typical } else { s_of(s).powi(2) }
     };
     let s2: Vec<f64> = base.iter().map(|&i| s2_of(&samples[i])).collect();
-    let (_, _, rss) = wls(&x, &yb, &DVector::from_element(nb, 1.0)).expect("scored above");
+    let ones = DVector::from_element(nb, 1.0);
+    let (_, _, rss) = wls(nb, p, &fill, &yb, &ones).expect("scored above");
     let dof = (nb - p).max(1) as f64;
     let tau2 = (rss / dof - s2.iter().sum::<f64>() / nb as f64).max(0.0);
     // A floor: at least a hundredth of the mean squared standard error, so weights stay finite.
     let tau2 = tau2.max(1e-2 * s2.iter().sum::<f64>() / nb as f64).max(1e-300);
     let w = DVector::from_iterator(nb, s2.iter().map(|v| 1.0 / (v + tau2)));
-    let (beta, cov, _) = wls(&x, &yb, &w).expect("scored above");
+    let (beta, cov, _) = wls(nb, p, &fill, &yb, &w).expect("scored above");
     out.tau = tau2.sqrt();
     for c in 0..nc {
         let mut val = 0.0;
