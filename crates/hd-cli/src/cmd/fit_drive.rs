@@ -17,12 +17,12 @@ use rayon::prelude::*;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
+#[path = "fit_drive_abort.rs"]
+mod abort;
 #[path = "fit_drive_files.rs"]
 mod files;
 #[path = "fit_drive_progress.rs"]
 pub mod progress;
-#[path = "fit_drive_abort.rs"]
-mod abort;
 
 /// `hdw fit drive`.
 #[derive(Args, Debug)]
