@@ -193,7 +193,7 @@ fn shards_merged_give_the_one_run_table_and_an_interrupted_run_resumes() {
         .find_map(|s| s.strip_suffix(" already fitted"))
         .and_then(|s| s.parse().ok())
         .unwrap();
-    assert!(done >= 4 && done < 64, "{err}");
+    assert!((4..64).contains(&done), "{err}");
     let c = read(&int.join("fits.parquet"));
     let li = c.num("log_index").unwrap();
     let mut logs: Vec<u64> = li.iter().map(|v| *v as u64).collect();

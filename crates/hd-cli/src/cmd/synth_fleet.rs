@@ -111,7 +111,7 @@ fn parse_wear(s: &str, robots: usize, joints: usize) -> Result<Wear> {
     let r: usize = r.trim_start_matches('r').parse().map_err(|_| bad())?;
     let j: usize = j.trim_start_matches('j').parse().map_err(|_| bad())?;
     let onset: f64 = day.parse().map_err(|_| bad())?;
-    if !(1..=robots).contains(&r) || !(1..=joints).contains(&j) || !(onset >= 0.0) {
+    if !(1..=robots).contains(&r) || !(1..=joints).contains(&j) || onset.is_nan() || onset < 0.0 {
         return Err(bad());
     }
     Ok(Wear { robot: r - 1, joint: j - 1, onset })
@@ -144,7 +144,7 @@ pub fn run(a: FleetSynthArgs) -> Result<()> {
     };
     let plateaus = 2 * a.levels.max(1);
     let dwell = (a.duration - a.transition) / plateaus as f64 - a.transition;
-    if !(dwell > 2.0 * a.transition) {
+    if dwell.is_nan() || dwell <= 2.0 * a.transition {
         bail!(
             "--duration {} s is too short for {} plateaus with --transition {} s",
             a.duration,

@@ -55,7 +55,7 @@ pub fn threshold_estimated(alpha: f64, m: usize, n: usize, k: f64) -> f64 {
     let sims = ((60.0 / alpha) as usize).clamp(20_000, 400_000);
     let m = m.clamp(1, n.max(1));
     let mut rng =
-        rand_chacha::ChaCha8Rng::seed_from_u64(0x5eed_c05u64 ^ ((m as u64) << 32) ^ n as u64);
+        rand_chacha::ChaCha8Rng::seed_from_u64(0x05ee_dc05_u64 ^ ((m as u64) << 32) ^ n as u64);
     let mut gauss = || {
         let u1 = 1.0 - rng.random::<f64>();
         let u2: f64 = rng.random();
