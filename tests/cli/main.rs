@@ -2,6 +2,7 @@
 
 mod common;
 mod datasheet_cli;
+mod design_cli;
 mod docs;
 mod explore_cli;
 mod export_cli;

@@ -47,6 +47,8 @@ enum Command {
     Export(cmd::export::ExportArgs),
     /// Fit every log of a fleet (manifest or path pattern) → fits.parquet; drift and alarms.
     Fleet(cmd::fleet::FleetArgs),
+    /// Design the next voltage test of a compliant drive: input.csv, design.json, report.md.
+    Design(cmd::design::DesignArgs),
 }
 
 fn main() -> ExitCode {
@@ -73,6 +75,7 @@ fn main() -> ExitCode {
         Command::Plot(args) => cmd::plot::run(args),
         Command::Export(args) => cmd::export::run(args),
         Command::Fleet(args) => cmd::fleet::run(args),
+        Command::Design(args) => cmd::design::run(args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -272,3 +272,23 @@ pub struct Scaled {
     /// The shape's amplitude [V].
     pub amplitude: f64,
 }
+
+/// Information of `records` (log coordinates) over `free` at `values`, each output divided
+/// by `spec`'s noise levels: the prior of a design (zeros without records).
+pub fn prior_information(
+    spec: &CompliantSpec,
+    values: &[f64; P],
+    free: &[usize],
+    records: &[VoltageRecord],
+) -> DMatrix<f64> {
+    let k = free.len();
+    if records.is_empty() {
+        return DMatrix::zeros(k, k);
+    }
+    let (_, mut j) = residuals_and_jacobian(spec, values, free, records);
+    for (c, &p) in free.iter().enumerate() {
+        let s = if values[p] != 0.0 { values[p].abs() } else { 1.0 };
+        j.column_mut(c).scale_mut(s);
+    }
+    j.transpose() * j
+}

@@ -199,13 +199,13 @@ impl Family {
             Family::Chirp => band(2f64.ln(), top).to_vec(),
             Family::Multisine => {
                 let mut v = band(2f64.ln(), top).to_vec();
-                v.push(("tilt", -2.0, 2.0, 0.0));
+                v.push(("tilt", -2.0, 3.0, 0.0));
                 v
             }
             Family::Ramp => ramp.to_vec(),
             Family::Mix => {
                 let mut v = band(2f64.ln(), top).to_vec();
-                v.push(("tilt", -2.0, 2.0, 0.0));
+                v.push(("tilt", -2.0, 3.0, 0.0));
                 v.extend(ramp);
                 v.push(("ramp_share", 0.05, 0.7, 0.25));
                 v.push(("ramp_weight", 0.05, 1.0, 0.3));

@@ -21,7 +21,7 @@ pub mod search;
 mod tests;
 
 pub use criterion::{Criterion, Prediction, direction_variance, predict, weakest};
-pub use info::{Limits, Noise, Peaks, Problem, Response, Scaled};
+pub use info::{Limits, Noise, Peaks, Problem, Response, Scaled, prior_information};
 pub use input::{Design, Family, Piece, Segment};
 pub use search::{Evaluated, Optimised, evaluate, optimise};
 

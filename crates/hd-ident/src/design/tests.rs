@@ -66,11 +66,11 @@ fn criteria_of_a_known_matrix() {
     assert!((d - want).abs() < 1e-12, "{d} {want}");
     let a = Criterion::A(vec![0, 1]).cost(&m);
     assert!((a - (1.0 / (4.0 + r) + 1.0 / (100.0 + r))).abs() < 1e-12, "{a}");
-    // The weakest direction is the unseen third parameter, and targeting it costs 1/ε.
+    // The weakest direction is the unseen third parameter, and targeting it costs ln(1/ε).
     let (dirs, eig) = weakest(&m);
     assert!((dirs[(2, 0)].abs() - 1.0).abs() < 1e-12 && (eig[0] - r).abs() < 1e-12);
     let t = Criterion::Targeted(dirs.columns(0, 1).into_owned()).cost(&m);
-    assert!((t - 1.0 / r).abs() < 1e-9, "{t}");
+    assert!((t - (1.0 / r).ln()).abs() < 1e-9, "{t}");
     // A rotated matrix: the prediction's relative SEs are the inverse's diagonal.
     let q = DMatrix::from_row_slice(2, 2, &[0.6, -0.8, 0.8, 0.6]);
     let m2 = &q * DMatrix::from_diagonal(&DVector::from_vec(vec![9.0, 0.25])) * q.transpose();
@@ -196,4 +196,3 @@ fn search_improves_on_its_start() {
     assert!(o.best.cost <= first.cost, "{} {}", o.best.cost, first.cost);
     assert!(o.best.scaled.within && o.evaluations <= 16);
 }
-

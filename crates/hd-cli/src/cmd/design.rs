@@ -1,0 +1,214 @@
+//! `hdw design`: the voltage test that determines what a fit could not (issue #54). From a
+//! compliant fit's folder (or a params file with named unknowns) and the rig's limits, an
+//! input that maximises the information on the weakest directions (or D- or A-optimal),
+//! scaled to the limits in simulation, compared with the default chirp and multisine, and
+//! optionally checked by refits of synthesised records.
+
+use super::design_load::{Loaded, NoiseArgs, from_fit, from_params};
+use anyhow::{Result, bail};
+use clap::Args;
+use hd_ident::design::{Criterion, Family, Limits, design, targeted};
+use hd_ident::drive::compliant::NAMES;
+use hd_model::error::num;
+use indicatif::{ProgressBar, ProgressStyle};
+use std::path::PathBuf;
+use std::time::Instant;
+
+/// Design the next voltage test of a compliant drive.
+#[derive(Args, Debug)]
+#[command(
+    allow_negative_numbers = true,
+    after_help = "The information of a candidate input is the compliant fit's own exact Jacobian on a noise-free\n\
+record of it (each output divided by its noise level), in relative (log) coordinates; the fitted\n\
+records' information is the prior. Criteria: targeted (default with --fit: the variance along the\n\
+prior's weakest directions), d (log det over every free parameter), a (relative variances of\n\
+--a-params). Families: chirp, multisine (16 log-spaced lines, amplitude ∝ f^tilt, Schroeder phases),\n\
+ramp (triangles with dwell at zero), mix (a multisine then ramps); each candidate is scaled to the\n\
+largest amplitude whose simulated peak voltage, current, motor speed and gear deflection stay within\n\
+the limits, and a few family parameters are searched by Nelder–Mead.\n\n\
+Writes input.csv and input.parquet (t [s], u [V]), design.json, report.md and plots. --check N\n\
+synthesises N records of the design (and of the fitted records) with fresh noise as hdw synth drive\n\
+does, refits each from perturbed starts, and compares the spread with the predicted standard errors.\n\n\
+Example:\n  hdw design --params data/compliant/start.toml --free R,Ke,Jj,Cj --duration 0.1 --evaluations 6 --family chirp --out out/design-demo"
+)]
+pub struct DesignArgs {
+    /// A compliant fit's output folder (fit.json, params.toml; its records are re-read).
+    #[arg(long, value_name = "DIR", conflicts_with = "params")]
+    pub fit: Option<PathBuf>,
+    /// A params file (hdw simulate's) of the drive, with --free.
+    #[arg(long, value_name = "FILE.toml")]
+    pub params: Option<PathBuf>,
+    /// The unknown parameters (registry names, comma-separated): required with --params;
+    /// with --fit, a subset of the fit's free ones (the others held at their fitted values).
+    #[arg(long, value_delimiter = ',')]
+    pub free: Vec<String>,
+    /// Criterion: targeted, d or a [default: targeted with --fit, d with --params].
+    #[arg(long)]
+    pub criterion: Option<String>,
+    /// Parameters of the A-optimal criterion (comma-separated).
+    #[arg(long, value_delimiter = ',')]
+    pub a_params: Vec<String>,
+    /// Families searched: chirp, multisine, ramp, mix, or all (comma-separated).
+    #[arg(long, value_delimiter = ',', default_value = "all")]
+    pub family: Vec<String>,
+    /// Candidates evaluated per family.
+    #[arg(long, default_value_t = 40)]
+    pub evaluations: usize,
+    /// Peak voltage [V] [default: the fitted records' peak, else 12].
+    #[arg(long)]
+    pub voltage: Option<f64>,
+    /// Peak current [A].
+    #[arg(long)]
+    pub current: Option<f64>,
+    /// Peak motor speed [rad/s].
+    #[arg(long)]
+    pub speed: Option<f64>,
+    /// Peak gear deflection [rad].
+    #[arg(long)]
+    pub deflection: Option<f64>,
+    /// Record length [s].
+    #[arg(long, default_value_t = 2.0)]
+    pub duration: f64,
+    /// Sample rate [Hz] [default: the fitted records', else 1000].
+    #[arg(long)]
+    pub rate: Option<f64>,
+    /// Motor encoder counts per revolution [default: the fit's noise level, else 4096].
+    #[arg(long)]
+    pub motor_counts: Option<u64>,
+    /// Load encoder counts per revolution [default: the fit's noise level, else 2^20].
+    #[arg(long)]
+    pub load_counts: Option<u64>,
+    /// Current noise, standard deviation [A] [default: the fit's level, else 0.01].
+    #[arg(long)]
+    pub current_noise: Option<f64>,
+    /// Refit check: synthesise and fit this many records.
+    #[arg(long, default_value_t = 0)]
+    pub check: usize,
+    /// The drive the check synthesises from (params file) [default: the designed-for drive].
+    #[arg(long, value_name = "FILE.toml")]
+    pub truth: Option<PathBuf>,
+    /// Seed of the check's noise and starts.
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    /// Output folder.
+    #[arg(long)]
+    pub out: PathBuf,
+}
+
+/// The limits of `a`, with the defaults of the fitted records.
+fn limits(a: &DesignArgs) -> Result<Limits> {
+    // With --fit, the fitted records' rate and peak voltage replace these defaults later.
+    let (v, rate) = (a.voltage.unwrap_or(12.0), a.rate.unwrap_or(1000.0));
+    for (flag, x) in [
+        ("--voltage", Some(v)),
+        ("--rate", Some(rate)),
+        ("--duration", Some(a.duration)),
+        ("--current", a.current),
+        ("--speed", a.speed),
+        ("--deflection", a.deflection),
+    ] {
+        if let Some(x) = x.filter(|x| !(x.is_finite() && *x > 0.0)) {
+            bail!("{flag} {}: expected a finite value > 0", num(x));
+        }
+    }
+    let n = a.duration * rate;
+    if !(20.0..=2e6).contains(&n) {
+        bail!(
+            "--duration {} s at --rate {} Hz gives {n:.0} samples: expected 20 to 2e6",
+            num(a.duration),
+            num(rate)
+        );
+    }
+    Ok(Limits {
+        voltage: v,
+        current: a.current,
+        speed: a.speed,
+        deflection: a.deflection,
+        duration: a.duration,
+        rate,
+    })
+}
+
+/// Run `hdw design`.
+pub fn run(a: DesignArgs) -> Result<()> {
+    let families: Vec<Family> = if a.family.iter().any(|f| f == "all") {
+        Family::ALL.to_vec()
+    } else {
+        a.family
+            .iter()
+            .map(|f| {
+                Family::parse(f).ok_or_else(|| {
+                    anyhow::anyhow!("--family {f}: expected chirp, multisine, ramp, mix or all")
+                })
+            })
+            .collect::<Result<_>>()?
+    };
+    if a.evaluations < 2 {
+        bail!("--evaluations {}: expected at least 2", a.evaluations);
+    }
+    let lim = limits(&a)?;
+    let noise = NoiseArgs {
+        motor_counts: a.motor_counts,
+        load_counts: a.load_counts,
+        current_noise: a.current_noise,
+    };
+    let t0 = Instant::now();
+    let mut loaded: Loaded = match (&a.fit, &a.params) {
+        (Some(dir), _) => from_fit(dir, &a.free, lim, &noise)?,
+        (None, Some(p)) => from_params(p, &a.free, lim, &noise)?,
+        (None, None) => {
+            bail!("give --fit DIR (a compliant fit's output folder) or --params FILE with --free")
+        }
+    };
+    // Defaults from the fitted records: their rate and peak voltage.
+    if let Some(r) = loaded.records.first() {
+        let p = &mut loaded.problem;
+        if a.rate.is_none() {
+            p.limits.rate = 1.0 / r.h;
+        } else if (p.limits.rate * r.h - 1.0).abs() > 1e-9 {
+            p.spec.substeps =
+                hd_ident::drive::compliant::substeps_for(&p.values, p.spec.n, 1.0 / p.limits.rate);
+        }
+        if a.voltage.is_none() {
+            p.limits.voltage =
+                loaded.records.iter().flat_map(|r| r.u.iter()).fold(0.0f64, |m, v| m.max(v.abs()));
+        }
+    }
+    let problem = &loaded.problem;
+    let slot = |name: &str| -> Result<usize> {
+        let k = NAMES
+            .iter()
+            .position(|n| n.eq_ignore_ascii_case(name))
+            .ok_or_else(|| anyhow::anyhow!("--a-params {name}: not a parameter"))?;
+        problem.free.iter().position(|&f| f == k).ok_or_else(|| {
+            anyhow::anyhow!("--a-params {name}: not a free parameter of this design")
+        })
+    };
+    let criterion =
+        match a.criterion.as_deref().unwrap_or(if a.fit.is_some() { "targeted" } else { "d" }) {
+            "targeted" => targeted(problem),
+            "d" | "D" => Criterion::D,
+            "a" | "A" => {
+                if a.a_params.is_empty() {
+                    bail!("--criterion a: name the parameters with --a-params");
+                }
+                Criterion::A(a.a_params.iter().map(|n| slot(n)).collect::<Result<_>>()?)
+            }
+            other => bail!("--criterion {other}: expected targeted, d or a"),
+        };
+    let bar = ProgressBar::new((families.len() * a.evaluations) as u64);
+    bar.set_style(
+        ProgressStyle::with_template("{spinner} design {pos}/{len} candidates {msg}")
+            .unwrap_or_else(|_| ProgressStyle::default_bar()),
+    );
+    let done = std::sync::atomic::AtomicU64::new(0);
+    let outcome = design(problem, criterion, &families, a.evaluations, &|f, _, c| {
+        bar.set_position(done.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1);
+        bar.set_message(format!("({}; criterion {c:.4e})", f.name()));
+    });
+    bar.finish_and_clear();
+    let secs = t0.elapsed().as_secs_f64();
+    let check =
+        if a.check > 0 { Some(super::design_check::check(&a, &loaded, &outcome)?) } else { None };
+    super::design_out::write(&a.out, &loaded, &outcome, secs, check.as_ref())
+}

@@ -1,0 +1,211 @@
+//! `hdw design --check N`: the design's predicted standard errors against refits. Each of N
+//! replicates synthesises the designed record and the fitted records' voltages with the
+//! drive (hd-model's solver under the held voltage, encoders rounded to their counts,
+//! Gaussian current noise: what `hdw synth drive` does) and fresh noise, and fits them
+//! together with the compliant fit from starts 25 % off the truth (random signs).
+
+use super::design::DesignArgs;
+use super::design_load::{Loaded, read_params};
+use super::model_args::{MethodArg, ModelArgs, VariantArg};
+use super::simulate::SimulateArgs;
+use super::synth_drive::encoder;
+use anyhow::{Context, Result};
+use hd_ident::design::Outcome;
+use hd_ident::drive::compliant::fit::CompliantSpec;
+use hd_ident::drive::compliant::model::P;
+use hd_ident::drive::compliant::{Signal, VoltageRecord, fit_compliant};
+use hd_ident::synth::{Noise, add_noise};
+use hd_model::signals::Sample;
+use hd_model::{Input, Profile, simulate_streaming};
+use indicatif::{ProgressBar, ProgressStyle};
+use std::path::Path;
+use std::time::Instant;
+
+/// Relative offset of the refits' starts from the truth [–].
+pub const START_OFFSET: f64 = 0.25;
+
+/// One refit: values, standard errors, determined flags ([`NAMES`](hd_ident::drive::compliant::NAMES) order).
+pub type Refit = ([f64; P], [Option<f64>; P], [bool; P]);
+
+/// The refits' results.
+#[derive(Clone, Debug)]
+pub struct Check {
+    /// The truth ([`NAMES`](hd_ident::drive::compliant::NAMES) order).
+    pub truth: [f64; P],
+    /// Each refit's values, standard errors and determined flags.
+    pub fits: Vec<Refit>,
+    /// Refits that failed, with why.
+    pub failed: Vec<String>,
+    /// Wall time [s].
+    pub secs: f64,
+}
+
+/// SplitMix64: the next of a seeded sequence.
+fn splitmix(state: &mut u64) -> u64 {
+    *state = state.wrapping_add(0x9E37_79B9_7F4A_7C15);
+    let mut z = *state;
+    z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+    z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+    z ^ (z >> 31)
+}
+
+/// Encoder counts per revolution whose count/√12 is `sigma` [rad].
+fn counts_of(sigma: f64) -> u64 {
+    (std::f64::consts::TAU / (sigma * 12f64.sqrt())).round().max(1.0) as u64
+}
+
+/// Synthesise one record of voltage `u` sampled every `h` [s] by the drive of `params`.
+fn synth(
+    params: &Path,
+    u: &[f64],
+    h: f64,
+    noise: (f64, f64, Option<f64>),
+    seed: u64,
+    name: &str,
+) -> Result<VoltageRecord> {
+    let t_end = (u.len() - 1) as f64 * h;
+    let sim = SimulateArgs {
+        model: ModelArgs {
+            params: Some(params.to_path_buf()),
+            set: Vec::new(),
+            variant: VariantArg::Full,
+            stiffness: None,
+            friction_velocity: None,
+            rtol: 1e-6,
+            atol: 1e-9,
+            method: MethodArg::Auto,
+        },
+        input: "constant".into(),
+        voltage: 0.0,
+        freq: 1.0,
+        t_end,
+        dt_out: h,
+        cycles: 5,
+        no_trace: true,
+        max_output_values: 0,
+        control: Default::default(),
+        out: Default::default(),
+    };
+    let mut cfg = super::simulate::config(&sim)?;
+    // Held voltage: each sample's value until just before the next (as synth drive holds it).
+    let rise = 1e-6 * h;
+    let mut pt = Vec::with_capacity(2 * u.len());
+    let mut pu = Vec::with_capacity(2 * u.len());
+    for (k, &v) in u.iter().enumerate() {
+        pt.push(k as f64 * h);
+        pu.push(v);
+        pt.push(k as f64 * h + h - rise);
+        pu.push(v);
+    }
+    cfg.input = Input::Recorded(Profile::new(pt, pu, "designed voltage")?);
+    cfg.validate()?;
+    let mut cols: [Vec<f64>; 5] = std::array::from_fn(|_| Vec::with_capacity(u.len()));
+    simulate_streaming(
+        &cfg,
+        Some(&mut |s: &Sample| {
+            for (c, v) in cols.iter_mut().zip([s.t, s.u, s.i, s.theta_j, s.theta_z]) {
+                c.push(v);
+            }
+        }),
+    )
+    .context("the check's record cannot be simulated")?;
+    let [t, uu, mut i, tj, tz] = cols;
+    let current = match noise.2 {
+        Some(sd) => {
+            let rms = (i.iter().map(|v| v * v).sum::<f64>() / i.len().max(1) as f64).sqrt();
+            add_noise(&mut i, &Noise { relative: sd / rms.max(f64::MIN_POSITIVE), seed });
+            Some(i)
+        }
+        None => None,
+    };
+    Ok(VoltageRecord::new(
+        name,
+        "check",
+        t,
+        uu,
+        encoder(&tj, counts_of(noise.0)),
+        encoder(&tz, counts_of(noise.1)),
+        current,
+    )?)
+}
+
+/// Run the check of `a.check` refits.
+pub fn check(a: &DesignArgs, loaded: &Loaded, outcome: &Outcome) -> Result<Check> {
+    let t0 = Instant::now();
+    let p = &loaded.problem;
+    let truth_file = a.truth.clone().unwrap_or_else(|| loaded.params_file.clone());
+    let (truth, _, _) = read_params(&truth_file)?;
+    let truth = p.spec.tied(truth);
+    let h = 1.0 / p.limits.rate;
+    let design_u = &outcome.best().scaled.u;
+    let level = |o: Signal, k: usize| p.spec.outputs.iter().find(|x| x.0 == o).map(|x| x.1[k]);
+    let bar = ProgressBar::new(a.check as u64);
+    bar.set_style(
+        ProgressStyle::with_template("{spinner} check: refit {pos}/{len} {msg}")
+            .unwrap_or_else(|_| ProgressStyle::default_bar()),
+    );
+    let mut fits = Vec::new();
+    let mut failed = Vec::new();
+    for r in 0..a.check {
+        let seed = a.seed.wrapping_mul(1000).wrapping_add(r as u64);
+        let mut records = Vec::new();
+        let mut outputs: Vec<(Signal, Vec<f64>)> = Vec::new();
+        let mut push_noise = |o: Signal, v: Option<f64>| {
+            if let Some(v) = v {
+                match outputs.iter_mut().find(|x| x.0 == o) {
+                    Some(x) => x.1.push(v),
+                    None => outputs.push((o, vec![v])),
+                }
+            }
+        };
+        for (k, rec) in loaded.records.iter().enumerate() {
+            let nz = (
+                level(Signal::Motor, k).unwrap_or(p.noise.motor),
+                level(Signal::Load, k).unwrap_or(p.noise.load),
+                level(Signal::Current, k),
+            );
+            records.push(synth(&truth_file, &rec.u, rec.h, nz, seed * 7 + k as u64, &rec.name)?);
+            push_noise(Signal::Motor, Some(nz.0));
+            push_noise(Signal::Load, Some(nz.1));
+            push_noise(Signal::Current, nz.2);
+        }
+        records.push(synth(
+            &truth_file,
+            design_u,
+            h,
+            (p.noise.motor, p.noise.load, p.noise.current),
+            seed * 7 + 5,
+            "design",
+        )?);
+        push_noise(Signal::Motor, Some(p.noise.motor));
+        push_noise(Signal::Load, Some(p.noise.load));
+        push_noise(Signal::Current, p.noise.current);
+        let mut state = seed ^ 0x9E37_79B9_7F4A_7C15;
+        let mut start = truth;
+        for &k in &p.free {
+            let s = if splitmix(&mut state) >> 63 == 1 {
+                1.0 + START_OFFSET
+            } else {
+                1.0 - START_OFFSET
+            };
+            start[k] = truth[k] * s;
+        }
+        let start = p.spec.tied(start);
+        let spec = CompliantSpec {
+            start,
+            lower: start.map(|v| if v > 0.0 { v / 1e3 } else { v * 1e3 }),
+            upper: start.map(|v| if v > 0.0 { v * 1e3 } else { v / 1e3 }),
+            noise_estimated: vec![false; outputs.len()],
+            outputs,
+            ..p.spec.clone()
+        };
+        bar.set_message(format!("({} failed)", failed.len()));
+        match fit_compliant(&spec, &records, &|_, _| {}) {
+            Ok(f) => fits.push((f.values, f.std_errors, f.determined)),
+            Err(e) => failed.push(e),
+        }
+        bar.inc(1);
+    }
+    bar.finish_and_clear();
+    Ok(Check { truth, fits, failed, secs: t0.elapsed().as_secs_f64() })
+}

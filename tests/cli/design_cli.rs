@@ -1,0 +1,101 @@
+//! `hdw design`: a small design from a params file respects its limits and writes its
+//! outputs; the refit check runs; a missing drive is refused in one line.
+
+use crate::common::{hdw, hdw_ok, repo_path, scratch};
+
+fn json(path: &std::path::Path) -> serde_json::Value {
+    serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap()
+}
+
+#[test]
+fn design_from_params_meets_its_limits_and_writes_outputs() {
+    let out = scratch("design-params");
+    let params = repo_path("data/compliant/start.toml");
+    hdw_ok(&[
+        "design",
+        "--params",
+        params.to_str().unwrap(),
+        "--free",
+        "R,Ke,Jj,Cj",
+        "--duration",
+        "0.2",
+        "--evaluations",
+        "8",
+        "--family",
+        "chirp,ramp",
+        "--voltage",
+        "6",
+        "--speed",
+        "3",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    for f in [
+        "input.csv",
+        "input.parquet",
+        "design.json",
+        "report.md",
+        "input.svg",
+        "spectrum.svg",
+        "response.svg",
+        "se.svg",
+    ] {
+        assert!(out.join(f).is_file(), "{f} missing");
+    }
+    let d = json(&out.join("design.json"));
+    assert_eq!(d["criterion"], "D-optimal");
+    let peaks = d["design"]["peaks"].as_array().unwrap();
+    for p in peaks {
+        let (pk, lim) = (p["peak"].as_f64().unwrap(), p["limit"].as_f64().unwrap());
+        assert!(pk <= lim * (1.0 + 1e-9), "{p}");
+    }
+    // The speed limit is the one that binds at 6 V (the motor reaches ~11 rad/s at 6 V).
+    assert_eq!(d["design"]["binds"], "speed", "{}", d["design"]);
+    let text = std::fs::read_to_string(out.join("input.csv")).unwrap();
+    let umax = text
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').nth(1).unwrap().parse::<f64>().unwrap().abs())
+        .fold(0.0, f64::max);
+    assert!(umax <= 6.0 + 1e-9 && umax > 0.0);
+    for k in ["R", "Ke", "Jj", "Cj"] {
+        assert!(d["parameters"][k]["design_alone_std_error"].as_f64().unwrap() > 0.0, "{k}");
+    }
+}
+
+#[test]
+fn design_check_refits() {
+    let out = scratch("design-check");
+    let params = repo_path("data/compliant/start.toml");
+    hdw_ok(&[
+        "design",
+        "--params",
+        params.to_str().unwrap(),
+        "--free",
+        "R,Ke,Cj",
+        "--duration",
+        "0.2",
+        "--evaluations",
+        "4",
+        "--family",
+        "chirp",
+        "--check",
+        "3",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    let d = json(&out.join("design.json"));
+    assert_eq!(d["check"]["refits"], 3, "{}", d["check"]);
+    let r = &d["check"]["parameters"]["R"];
+    // Three refits of R (truth 7.5 in the start file) land near the truth.
+    assert!((r["mean"].as_f64().unwrap() / 7.5 - 1.0).abs() < 0.01, "{r}");
+}
+
+#[test]
+fn design_without_a_drive_is_refused() {
+    let out = scratch("design-none");
+    let o = hdw(&["design", "--out", out.to_str().unwrap()]);
+    assert!(!o.status.success());
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(err.contains("--fit DIR") && err.contains("--params"), "{err}");
+}
