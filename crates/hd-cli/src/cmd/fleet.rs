@@ -27,27 +27,27 @@ log), transient (all six LuGre parameters from the series, as hdw fit friction -
 A log that cannot be fitted (missing file or column, a fit that fails, a duplicate row, a timestamp\n\
 that does not parse) is a failed row with its reason; the rest go on. Finished logs are committed in\n\
 parts: after Ctrl-C, --resume fits only the rest. --shard K/N fits every N-th log (array jobs,\n\
-deploy/slurm/fleet.sbatch); then --merge stacks the shards into fits.parquet and runs the drift.\n\n\
+deploy/slurm/hdw-fleet-shard.sbatch); then --merge stacks the shards into fits.parquet and runs the drift.\n\n\
 Drift (docs/fleet.md): each parameter (log scale) regressed on --covariates over each unit's first\n\
 --baseline-days, the model (none, fleet-wide or per-unit, linear or quadratic) chosen by BIC; then per\n\
 unit Page's two-sided CUSUM on the residuals standardised by their standard errors plus the scatter\n\
 they do not explain, its threshold set so that the whole fleet alarms falsely with probability\n\
 --false-alarm. --normalise none skips the covariates (to see what they buy).\n\n\
-Outputs (in --out DIR):\n\
-  fits.parquet   a row per log × parameter: manifest columns, unit_id, day, status, error, parameter,\n\
-                 value, std_error, ci95, determined, param_unit, resid_over_noise, fit_time_s; sorted\n\
-                 by log (run_index); units in the metadata\n\
-  drift.parquet  a row per log × parameter: normalised value, residual change %, z, CUSUM sums, flagged\n\
-  alarms.csv     unit, parameter, first day flagged, onset, change at the end in % with its 95 % interval\n\
-  drift.json     settings, each parameter's normalisation (candidates, BIC, coefficients), units\n\
-  plots/         per unit and parameter: estimates ±2 SE, normalised series, alarm; overview.svg\n\n\
-Example:\n\
-  hdw synth fleet --robots 2 --joints 2 --days 24 --duration 4 --wear r2/j1@14 --out out/fleet-data\n\
-  hdw fleet --manifest out/fleet-data/manifest.csv --covariates temperature --baseline-days 10 --out out/fleet\n\
-  hdw fleet --pattern 'out/fleet-data/logs/{robot}/{joint}/{date}.csv' --baseline-days 10 --out out/fleet-pattern\n\
-  hdw fleet --manifest out/fleet-data/manifest.csv --covariates temperature --shard 1/2 --out out/fleet-sh\n\
-  hdw fleet --manifest out/fleet-data/manifest.csv --covariates temperature --shard 2/2 --out out/fleet-sh\n\
-  hdw fleet --merge --baseline-days 10 --out out/fleet-sh"
+Outputs (in --out DIR):\n  \
+fits.parquet   a row per log × parameter: manifest columns, unit_id, day, status, error, parameter,\n                 \
+value, std_error, ci95, determined, param_unit, resid_over_noise, fit_time_s; sorted\n                 \
+by log (run_index); units in the metadata\n  \
+drift.parquet  a row per log × parameter: normalised value, residual change %, z, CUSUM sums, flagged\n  \
+alarms.csv     unit, parameter, first day flagged, onset, change at the end in % with its 95 % interval\n  \
+drift.json     settings, each parameter's normalisation (candidates, BIC, coefficients), units\n  \
+plots/         per unit and parameter: estimates ±2 SE, normalised series, alarm; overview.svg\n\n\
+Example:\n  \
+hdw synth fleet --robots 2 --joints 2 --days 24 --duration 4 --wear r2/j1@14 --out out/fleet-data\n  \
+hdw fleet --manifest out/fleet-data/manifest.csv --covariates temperature --baseline-days 10 --out out/fleet\n  \
+hdw fleet --pattern 'out/fleet-data/logs/{robot}/{joint}/{date}.csv' --baseline-days 10 --out out/fleet-pattern\n  \
+hdw fleet --manifest out/fleet-data/manifest.csv --covariates temperature --shard 1/2 --out out/fleet-sh\n  \
+hdw fleet --manifest out/fleet-data/manifest.csv --covariates temperature --shard 2/2 --out out/fleet-sh\n  \
+hdw fleet --merge --baseline-days 10 --out out/fleet-sh"
 )]
 pub struct FleetArgs {
     /// Manifest of the logs (CSV or Parquet).
