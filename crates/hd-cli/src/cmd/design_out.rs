@@ -170,6 +170,31 @@ pub fn write(
         .collect::<serde_json::Map<_, _>>()
         .into();
     let w = &o.weakest.0;
+    // Every weak direction of the prior: its variance with each input and the ratios.
+    let (dirs, eigs) = hd_ident::design::weakest(&p.prior);
+    let mut weak_md = String::new();
+    let weak_json: Vec<Value> = (0..dirs.ncols())
+        .filter(|_| has_prior)
+        .map(|c| {
+            let v = dirs.column(c).into_owned();
+            let var: Vec<(String, f64)> = std::iter::once(("design", best))
+                .chain(o.defaults.iter().map(|(n, e)| (*n, e)))
+                .map(|(n, e)| (n.to_string(), hd_ident::design::direction_variance(&(&p.prior + &e.info), &v)))
+                .collect();
+            let combo = describe_direction(&v, &p.free);
+            let _ = write!(weak_md, "| {combo} | {:.3e} |", eigs[c]);
+            for (_, x) in &var {
+                let _ = write!(weak_md, " {x:.3e} |");
+            }
+            for (_, x) in &var[1..] {
+                let _ = write!(weak_md, " {:.2} |", x / var[0].1);
+            }
+            weak_md.push('\n');
+            json!({"combination": combo, "prior_eigenvalue": eigs[c],
+                   "variance": var.iter().map(|(n, x)| (n.clone(), json!(x))).collect::<serde_json::Map<_, _>>(),
+                   "variance_ratio": var[1..].iter().map(|(n, x)| (n.clone(), json!(x / var[0].1))).collect::<serde_json::Map<_, _>>()})
+        })
+        .collect();
     let searched: Vec<Value> = o
         .searched
         .iter()
@@ -196,6 +221,7 @@ pub fn write(
             "variance": judged.iter().map(|j| (j.name.clone(), json!(j.weakest_variance))).collect::<serde_json::Map<_,_>>(),
             "variance_ratio": ratios.iter().map(|(n, r)| (n.clone(), json!(r))).collect::<serde_json::Map<_,_>>(),
         },
+        "weak_directions": weak_json,
         "verdicts": verdicts,
         "wall_time_s": secs,
     });
@@ -391,6 +417,16 @@ pub fn write(
     );
     for j in &judged {
         let _ = writeln!(md, "- variance along it with the {}: {:.4e}", j.name, j.weakest_variance);
+    }
+    if has_prior {
+        let _ = writeln!(
+            md,
+            "\nEvery weak direction of the prior (eigenvalue below 100, at most 6): variance with the design, with each default, and default / design.\n\n| direction | prior eigenvalue | design |{} {} |\n|{}",
+            o.defaults.iter().map(|(n, _)| format!(" {n} |")).collect::<String>(),
+            o.defaults.iter().map(|(n, _)| format!("{n} / design")).collect::<Vec<_>>().join(" | "),
+            "---|".repeat(3 + 2 * o.defaults.len())
+        );
+        md.push_str(&weak_md);
     }
     let _ = writeln!(md, "\n## Verdicts\n");
     for v in &verdicts {
