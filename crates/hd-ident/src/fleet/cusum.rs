@@ -48,7 +48,10 @@ pub fn threshold(alpha: f64, n: usize, k: f64) -> f64 {
 /// ([`threshold`]) alarms far more often than asked (the classical result on CUSUM
 /// charts with estimated parameters). h is the (1 − α) quantile of the test's largest
 /// sum over `n` residuals `zᵢ = (eᵢ − ē_m)/√(1 + 1/m)`, eᵢ standard normal and ē_m the
-/// mean of the first m, simulated (a fixed seed: the same h every time).
+/// mean of the first m, each series rescaled by its own baseline spread as the
+/// normalisation does (shrunk towards 1 with the weight of
+/// [`super::normalise::UNIT_PRIOR`] estimates), simulated (a fixed seed: the same h every
+/// time).
 pub fn threshold_estimated(alpha: f64, m: usize, n: usize, k: f64) -> f64 {
     use rand::{RngExt, SeedableRng};
     let alpha = alpha.clamp(1e-6, 0.5);
@@ -67,6 +70,15 @@ pub fn threshold_estimated(alpha: f64, m: usize, n: usize, k: f64) -> f64 {
         .map(|_| {
             e.iter_mut().for_each(|v| *v = gauss());
             let mean = e[..m].iter().sum::<f64>() / m as f64;
+            // The unit's own scale from its baseline, shrunk as in the normalisation.
+            let q = if m > 1 {
+                e[..m].iter().map(|v| ((v - mean) * scale).powi(2)).sum::<f64>() / (m - 1) as f64
+            } else {
+                1.0
+            };
+            let prior = super::normalise::UNIT_PRIOR;
+            let phi = (prior + m as f64 * q) / (prior + m as f64);
+            let scale = scale / phi.sqrt();
             let (mut up, mut lo, mut top) = (0.0f64, 0.0f64, 0.0f64);
             for v in &e {
                 let z = (v - mean) * scale;
@@ -174,7 +186,12 @@ mod tests {
             let z: Vec<f64> =
                 e.iter().map(|v| (v - mean) / (1.0 + 1.0 / m as f64).sqrt()).collect();
             a_iid += usize::from(cusum(&z, k, h_iid).alarm.is_some());
-            a_est += usize::from(cusum(&z, k, h_est).alarm.is_some());
+            // The unit's own scale, as the normalisation rescales a unit's residuals.
+            let q = z[..m].iter().map(|v| v * v).sum::<f64>() / (m - 1) as f64;
+            let prior = crate::fleet::normalise::UNIT_PRIOR;
+            let phi = (prior + m as f64 * q) / (prior + m as f64);
+            let zs: Vec<f64> = z.iter().map(|v| v / phi.sqrt()).collect();
+            a_est += usize::from(cusum(&zs, k, h_est).alarm.is_some());
         }
         let (r_iid, r_est) = (a_iid as f64 / series as f64, a_est as f64 / series as f64);
         assert!(r_iid > 2.0 * alpha, "independent threshold: {r_iid}");

@@ -344,8 +344,35 @@ pub fn normalise(
             out.level[i] = beta[slot];
         }
     }
+    // Each unit's own scale: units differ in how well one log determines a parameter, so
+    // the pooled variance is rescaled by the unit's baseline ratio r²/Var, shrunk towards 1
+    // with the weight of UNIT_PRIOR estimates (the CUSUM threshold is simulated with the
+    // same estimator, [`super::cusum::threshold_estimated`]).
+    let own = if d.per_unit { 1 + nc * d.degree } else { 1 };
+    for u in 0..units {
+        let idx: Vec<usize> = base
+            .iter()
+            .copied()
+            .filter(|&i| samples[i].unit == u && out.residual[i].is_finite())
+            .collect();
+        let m = idx.len();
+        if m <= own {
+            continue;
+        }
+        let q = idx.iter().map(|&i| out.residual[i].powi(2) / out.variance[i]).sum::<f64>()
+            / (m - own) as f64;
+        let phi = (UNIT_PRIOR + m as f64 * q) / (UNIT_PRIOR + m as f64);
+        for (i, s) in samples.iter().enumerate() {
+            if s.unit == u && out.variance[i].is_finite() {
+                out.variance[i] *= phi;
+            }
+        }
+    }
     out
 }
+
+/// Weight of the pooled variance in each unit's own scale, in baseline estimates.
+pub const UNIT_PRIOR: f64 = 10.0;
 
 #[cfg(test)]
 mod tests {
