@@ -81,6 +81,14 @@ pub struct DesignArgs {
     /// Current noise, standard deviation [A] [default: the fit's level, else 0.01].
     #[arg(long)]
     pub current_noise: Option<f64>,
+    /// Evaluate this input (CSV or Parquet, columns t [s] and u [V], at the design's rate)
+    /// instead of searching: its predicted SEs and peaks, as given (not rescaled).
+    #[arg(long, value_name = "FILE")]
+    pub input: Option<PathBuf>,
+    /// With --fit: predict at this params file's values instead of the fitted ones (e.g.
+    /// the truth of a synthetic test).
+    #[arg(long, value_name = "FILE.toml")]
+    pub at: Option<PathBuf>,
     /// Refit check: synthesise and fit this many records.
     #[arg(long, default_value_t = 0)]
     pub check: usize,
@@ -154,7 +162,7 @@ pub fn run(a: DesignArgs) -> Result<()> {
     };
     let t0 = Instant::now();
     let mut loaded: Loaded = match (&a.fit, &a.params) {
-        (Some(dir), _) => from_fit(dir, &a.free, lim, &noise)?,
+        (Some(dir), _) => from_fit(dir, &a.free, a.at.as_deref(), lim, &noise)?,
         (None, Some(p)) => from_params(p, &a.free, lim, &noise)?,
         (None, None) => {
             bail!("give --fit DIR (a compliant fit's output folder) or --params FILE with --free")
@@ -202,10 +210,16 @@ pub fn run(a: DesignArgs) -> Result<()> {
             .unwrap_or_else(|_| ProgressStyle::default_bar()),
     );
     let done = std::sync::atomic::AtomicU64::new(0);
-    let outcome = design(problem, criterion, &families, a.evaluations, &|f, _, c| {
-        bar.set_position(done.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1);
-        bar.set_message(format!("({}; criterion {c:.4e})", f.name()));
-    });
+    let outcome = match &a.input {
+        Some(path) => {
+            let cols = hd_io::read_columns(path, &["u"])?;
+            hd_ident::design::given(problem, criterion, &cols[0])
+        }
+        None => design(problem, criterion, &families, a.evaluations, &|f, _, c| {
+            bar.set_position(done.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1);
+            bar.set_message(format!("({}; criterion {c:.4e})", f.name()));
+        }),
+    };
     bar.finish_and_clear();
     let secs = t0.elapsed().as_secs_f64();
     let check =

@@ -2,7 +2,9 @@
 //! replicates synthesises the designed record and the fitted records' voltages with the
 //! drive (hd-model's solver under the held voltage, encoders rounded to their counts,
 //! Gaussian current noise: what `hdw synth drive` does) and fresh noise, and fits them
-//! together with the compliant fit from starts 25 % off the truth (random signs).
+//! together with the compliant fit from starts 25 % off the truth (random signs). Each
+//! replicate's encoders round at a fresh random phase: with one phase, the rounding error
+//! would be the same in every replicate and the spread would miss it.
 
 use super::design::DesignArgs;
 use super::design_load::{Loaded, read_params};
@@ -52,6 +54,17 @@ fn splitmix(state: &mut u64) -> u64 {
 /// Encoder counts per revolution whose count/√12 is `sigma` [rad].
 fn counts_of(sigma: f64) -> u64 {
     (std::f64::consts::TAU / (sigma * 12f64.sqrt())).round().max(1.0) as u64
+}
+
+/// Angles `x` [rad] read by an encoder of `counts` whose zero lies at a random phase
+/// within a count (seeded by `seed`): the rounding is redrawn with each replicate, as a
+/// rig's encoder zero falls anywhere; the fit's encoder zero absorbs the phase.
+fn rounded(x: &[f64], counts: u64, seed: u64) -> Vec<f64> {
+    let mut state = seed;
+    let q = std::f64::consts::TAU / counts as f64;
+    let phase = (splitmix(&mut state) >> 11) as f64 / (1u64 << 53) as f64 * q;
+    let shifted: Vec<f64> = x.iter().map(|v| v + phase).collect();
+    encoder(&shifted, counts)
 }
 
 /// Synthesise one record of voltage `u` sampled every `h` [s] by the drive of `params`.
@@ -123,8 +136,8 @@ fn synth(
         "check",
         t,
         uu,
-        encoder(&tj, counts_of(noise.0)),
-        encoder(&tz, counts_of(noise.1)),
+        rounded(&tj, counts_of(noise.0), seed ^ 0x5151),
+        rounded(&tz, counts_of(noise.1), seed ^ 0xA3A3),
         current,
     )?)
 }

@@ -131,8 +131,15 @@ fn count_noise(counts: u64) -> f64 {
     std::f64::consts::TAU / counts as f64 / 12f64.sqrt()
 }
 
-/// Load from a fit's output folder `dir`.
-pub fn from_fit(dir: &Path, only: &[String], limits: Limits, noise: &NoiseArgs) -> Result<Loaded> {
+/// Load from a fit's output folder `dir` (only the free parameters `only` if any; at the
+/// values of params file `at` if given).
+pub fn from_fit(
+    dir: &Path,
+    only: &[String],
+    at: Option<&Path>,
+    limits: Limits,
+    noise: &NoiseArgs,
+) -> Result<Loaded> {
     let json_path = dir.join("fit.json");
     let text = std::fs::read_to_string(&json_path)
         .with_context(|| format!("cannot read {}", json_path.display()))?;
@@ -151,7 +158,10 @@ pub fn from_fit(dir: &Path, only: &[String], limits: Limits, noise: &NoiseArgs) 
         );
     }
     let params_file = dir.join("params.toml");
-    let (values, n, _) = read_params(&params_file)?;
+    let (mut values, n, _) = read_params(&params_file)?;
+    if let Some(at) = at {
+        values = read_params(at)?.0;
+    }
     let pars = &doc["parameters"];
     let mut free = [false; P];
     let mut fitted_se = [None; P];

@@ -130,6 +130,9 @@ impl Design {
 
     /// A short description.
     pub fn describe(&self) -> String {
+        if self.pieces.is_empty() {
+            return "the given input".into();
+        }
         if self.pieces.len() == 1 {
             return self.pieces[0].segment.describe();
         }

@@ -98,3 +98,34 @@ pub fn design(
 pub fn targeted(problem: &Problem) -> Criterion {
     Criterion::Targeted(weakest(&problem.prior).0)
 }
+
+/// A given input `u` [V] judged for `problem` as it is (not rescaled): its peaks against
+/// the limits, its information, and the defaults beside it.
+pub fn given(problem: &Problem, criterion: Criterion, u: &[f64]) -> Outcome {
+    let (dirs, eig) = weakest(&problem.prior);
+    let weakest = (dirs.column(0).into_owned(), eig[0]);
+    let (peaks, response) = problem.response(u);
+    let (worst, ratio) = peaks.worst(&problem.limits);
+    let scaled = Scaled {
+        u: u.to_vec(),
+        peaks,
+        response,
+        binds: worst,
+        within: ratio <= 1.0 + 1e-9,
+        amplitude: peaks.voltage,
+    };
+    let k = problem.free.len();
+    let info = problem.information(u).unwrap_or_else(|| DMatrix::zeros(k, k));
+    let cost = criterion.cost(&(&problem.prior + &info));
+    let best = Evaluated { design: Design { pieces: Vec::new() }, scaled, info, cost };
+    let defaults = defaults(problem.limits.rate)
+        .into_iter()
+        .map(|(name, d)| (name, evaluate(problem, &d, &criterion)))
+        .collect();
+    Outcome {
+        criterion,
+        searched: vec![Optimised { family: Family::Mix, x: Vec::new(), best, evaluations: 0 }],
+        defaults,
+        weakest,
+    }
+}
