@@ -7,7 +7,6 @@ use anyhow::{Context, Result, bail};
 use clap::Args;
 use hd_ident::Fixed;
 use hd_io::fleet::{FitStore, merge_with_docs, shard_tables};
-use indicatif::{ProgressBar, ProgressStyle};
 use rayon::prelude::*;
 use std::collections::HashSet;
 use std::path::{Path, PathBuf};
@@ -309,7 +308,7 @@ pub fn run(args: FleetArgs) -> Result<()> {
         template.kind,
         dir.display()
     );
-    let bar = progress_bar(todo.len() as u64);
+    let bar = super::study::progress_bar(todo.len() as u64, "logs");
     let start = Instant::now();
     let mut failed = 0usize;
     let extra = [
@@ -389,16 +388,4 @@ fn check_shards(files: &[PathBuf]) -> Result<()> {
         );
     }
     Ok(())
-}
-
-fn progress_bar(len: u64) -> ProgressBar {
-    let bar = ProgressBar::new(len);
-    let style = ProgressStyle::with_template(
-        "{elapsed_precise} [{bar:40}] {pos}/{len} logs · {per_sec} · ETA {eta} · {msg}",
-    )
-    .unwrap_or_else(|_| ProgressStyle::default_bar())
-    .progress_chars("=> ");
-    bar.set_style(style);
-    bar.set_message("0 failed");
-    bar
 }

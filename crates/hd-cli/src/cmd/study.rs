@@ -144,7 +144,7 @@ pub fn run(args: StudyArgs) -> Result<()> {
         threads,
         dir.display()
     );
-    let bar = progress_bar(todo);
+    let bar = progress_bar(todo, "runs");
     let failures = AtomicUsize::new(0);
     let progress = |row: &RunRow| {
         if row.status != hd_sweep::RunStatus::Ok {
@@ -237,11 +237,13 @@ fn committed(store: &mut RunStore, plan: &RunPlan, k: u64, n: u64, dir: &Path) -
     Ok(done)
 }
 
-fn progress_bar(len: u64) -> ProgressBar {
+/// The bar of a batch of `len` items called `items` (runs, logs), with the failures so far
+/// as its message; shared by `hdw study` and `hdw fleet`.
+pub(crate) fn progress_bar(len: u64, items: &str) -> ProgressBar {
     let bar = ProgressBar::new(len);
-    let style = ProgressStyle::with_template(
-        "{elapsed_precise} [{bar:40}] {pos}/{len} runs · {per_sec} · ETA {eta} · {msg}",
-    )
+    let style = ProgressStyle::with_template(&format!(
+        "{{elapsed_precise}} [{{bar:40}}] {{pos}}/{{len}} {items} · {{per_sec}} · ETA {{eta}} · {{msg}}"
+    ))
     .unwrap_or_else(|_| ProgressStyle::default_bar())
     .progress_chars("=> ");
     bar.set_style(style);
