@@ -12,8 +12,9 @@ DataFrames when polars is installed (dicts of numpy arrays otherwise).
 
 Functions: :func:`parameters`, :func:`metrics`, :func:`simulate`, :func:`simulate_many`,
 :func:`run_study`, :func:`fit_hysteresis`, :func:`fit_friction`, :func:`sobol_indices`,
-:func:`export_fmu` (an FMU of the drive) and :func:`fit_drive` (a whole drive from its
-logged loop), the last two through the hdw command line.
+:func:`export_fmu` (an FMU of the drive), :func:`fit_drive` (a whole drive from its
+logged loop), :func:`fleet` (a fleet's logs tested for drift) and :func:`design` (the next
+test of a compliant drive), the last four through the hdw command line.
 Errors: ``ValueError`` for bad input (naming the field and what was expected),
 :class:`SimulationError` when the integrator cannot finish a run.
 """
@@ -23,6 +24,7 @@ from __future__ import annotations
 from typing import Any, List
 
 from . import _hdw
+from ._design import DesignResult, design
 from ._fit import FitResult, fit_friction, fit_hysteresis
 from ._fit_drive import DriveFitResult, fit_drive
 from ._fleet import FleetResult, fleet
@@ -36,11 +38,13 @@ SimulationError = _hdw.SimulationError
 __version__: str = _hdw.__version__
 
 __all__ = [
+    "DesignResult",
     "DriveFitResult",
     "FitResult",
     "FleetResult",
     "SimResult",
     "SimulationError",
+    "design",
     "export_fmu",
     "fit_drive",
     "fit_friction",
