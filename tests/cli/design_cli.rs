@@ -1,35 +1,29 @@
 //! `hdw design`: a small design from a params file respects its limits and writes its
 //! outputs; the refit check runs; a missing drive is refused in one line.
 
-use crate::common::{hdw, hdw_ok, repo_path, scratch};
+use crate::common::{hdw, hdw_ok, json, repo_path, scratch};
+use std::path::PathBuf;
 
-fn json(path: &std::path::Path) -> serde_json::Value {
-    serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap()
+/// `hdw design --params data/compliant/start.toml ARGS --out <scratch NAME>` (ARGS split at
+/// whitespace): the output folder and its design.json.
+fn design_from_start(name: &str, args: &str) -> (PathBuf, serde_json::Value) {
+    let out = scratch(name);
+    let params = repo_path("data/compliant/start.toml");
+    let mut all = vec!["design", "--params", params.to_str().unwrap()];
+    all.extend(args.split_whitespace());
+    all.extend_from_slice(&["--out", out.to_str().unwrap()]);
+    hdw_ok(&all);
+    let d = json(&out.join("design.json"));
+    (out, d)
 }
 
 #[test]
 fn design_from_params_meets_its_limits_and_writes_outputs() {
-    let out = scratch("design-params");
-    let params = repo_path("data/compliant/start.toml");
-    hdw_ok(&[
-        "design",
-        "--params",
-        params.to_str().unwrap(),
-        "--free",
-        "R,Ke,Jj,Cj",
-        "--duration",
-        "0.2",
-        "--evaluations",
-        "8",
-        "--family",
-        "chirp,ramp",
-        "--voltage",
-        "6",
-        "--speed",
-        "3",
-        "--out",
-        out.to_str().unwrap(),
-    ]);
+    let (out, d) = design_from_start(
+        "design-params",
+        "--free R,Ke,Jj,Cj --duration 0.2 --evaluations 8 --family chirp,ramp \
+         --voltage 6 --speed 3",
+    );
     for f in [
         "input.csv",
         "input.parquet",
@@ -42,7 +36,6 @@ fn design_from_params_meets_its_limits_and_writes_outputs() {
     ] {
         assert!(out.join(f).is_file(), "{f} missing");
     }
-    let d = json(&out.join("design.json"));
     assert_eq!(d["criterion"], "D-optimal");
     let peaks = d["design"]["peaks"].as_array().unwrap();
     for p in peaks {
@@ -65,26 +58,10 @@ fn design_from_params_meets_its_limits_and_writes_outputs() {
 
 #[test]
 fn design_check_refits() {
-    let out = scratch("design-check");
-    let params = repo_path("data/compliant/start.toml");
-    hdw_ok(&[
-        "design",
-        "--params",
-        params.to_str().unwrap(),
-        "--free",
-        "R,Ke,Cj",
-        "--duration",
-        "0.2",
-        "--evaluations",
-        "4",
-        "--family",
-        "chirp",
-        "--check",
-        "3",
-        "--out",
-        out.to_str().unwrap(),
-    ]);
-    let d = json(&out.join("design.json"));
+    let (_, d) = design_from_start(
+        "design-check",
+        "--free R,Ke,Cj --duration 0.2 --evaluations 4 --family chirp --check 3",
+    );
     assert_eq!(d["check"]["refits"], 3, "{}", d["check"]);
     let r = &d["check"]["parameters"]["R"];
     // Three refits of R (truth 7.5 in the start file) land near the truth.
