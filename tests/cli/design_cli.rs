@@ -63,6 +63,17 @@ fn design_check_refits() {
         "--free R,Ke,Cj --duration 0.2 --evaluations 4 --family chirp --check 3",
     );
     assert_eq!(d["check"]["refits"], 3, "{}", d["check"]);
+    // Each refit's verdict in words, and per parameter its estimates, SEs and verdicts.
+    assert_eq!(d["check"]["verdicts"].as_array().unwrap().len(), 3);
+    for (k, p) in d["check"]["parameters"].as_object().unwrap() {
+        for field in ["estimates", "std_errors", "determined"] {
+            assert_eq!(p[field].as_array().unwrap().len(), 3, "{k} {field}");
+        }
+        let det = p["determined"].as_array().unwrap().iter().filter(|b| b == &true).count();
+        assert_eq!(p["determined_in"], det, "{k}");
+        let no_se = p["std_errors"].as_array().unwrap().iter().filter(|s| s.is_null()).count();
+        assert_eq!(p["without_std_error_in"], no_se, "{k}");
+    }
     let r = &d["check"]["parameters"]["R"];
     // Three refits of R (truth 7.5 in the start file) land near the truth.
     assert!((r["mean"].as_f64().unwrap() / 7.5 - 1.0).abs() < 0.01, "{r}");

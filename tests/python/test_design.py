@@ -114,6 +114,14 @@ def test_design_check_refits(tmp_path):
         row = check["parameters"][name]
         assert row["predicted_std_error"] > 0 and row["spread"] >= 0
         assert 0 <= row["coverage_fit_se"] <= 1
+        assert len(row["estimates"]) == len(row["std_errors"]) == len(row["determined"]) == 2
+        assert row["determined_in"] == sum(row["determined"])
+        assert row["without_std_error_in"] == sum(s is None for s in row["std_errors"])
+        if row["without_std_error_in"] < 2:
+            assert row["coverage_fit_se"] <= row["coverage_fit_se_given"] <= 1
+        if row["determined_in"]:
+            assert 0 <= row["coverage_fit_se_determined"] <= 1
+    assert len(check["verdicts"]) == 2
 
 
 def test_a_bad_setting_is_a_value_error(tmp_path):

@@ -36,6 +36,8 @@ pub struct Check {
     pub truth: [f64; P],
     /// Each refit's values, standard errors and determined flags.
     pub fits: Vec<Refit>,
+    /// Each refit's verdict in words (the fit's sentences on what the records determine).
+    pub sentences: Vec<Vec<String>>,
     /// Refits that failed, with why.
     pub failed: Vec<String>,
     /// Wall time [s].
@@ -158,6 +160,7 @@ pub fn check(a: &DesignArgs, loaded: &Loaded, outcome: &Outcome) -> Result<Check
             .unwrap_or_else(|_| ProgressStyle::default_bar()),
     );
     let mut fits = Vec::new();
+    let mut sentences = Vec::new();
     let mut failed = Vec::new();
     for r in 0..a.check {
         let seed = a.seed.wrapping_mul(1000).wrapping_add(r as u64);
@@ -214,11 +217,14 @@ pub fn check(a: &DesignArgs, loaded: &Loaded, outcome: &Outcome) -> Result<Check
         };
         bar.set_message(format!("({} failed)", failed.len()));
         match fit_compliant(&spec, &records, &|_, _| {}) {
-            Ok(f) => fits.push((f.values, f.std_errors, f.determined)),
+            Ok(f) => {
+                fits.push((f.values, f.std_errors, f.determined));
+                sentences.push(f.determination.sentences);
+            }
             Err(e) => failed.push(e),
         }
         bar.inc(1);
     }
     bar.finish_and_clear();
-    Ok(Check { truth, fits, failed, secs: t0.elapsed().as_secs_f64() })
+    Ok(Check { truth, fits, sentences, failed, secs: t0.elapsed().as_secs_f64() })
 }

@@ -9,6 +9,7 @@ use anyhow::Result;
 use hd_ident::design::criterion::describe_direction;
 use hd_ident::design::{Evaluated, Outcome, Prediction, predict};
 use hd_ident::drive::compliant::NAMES;
+use hd_ident::drive::identifiability::CORRELATION_LIMIT;
 use hd_plot::{BarGroup, Series, bar_chart, line_plot};
 use serde_json::{Value, json};
 use std::fmt::Write as _;
@@ -47,16 +48,34 @@ struct Judged {
     name: String,
     alone: Vec<(Option<f64>, Option<f64>, bool)>,
     together: Vec<(Option<f64>, Option<f64>, bool)>,
+    /// With the prior: per free parameter, its strongest correlation (the other's slot, the
+    /// correlation), which the fit's rule calls not separable from 0.99 in magnitude.
+    strongest: Vec<Option<(usize, f64)>>,
     weakest_variance: f64,
+}
+
+/// Per free parameter of `pred`, the other free parameter it correlates with most.
+fn strongest(pred: &Prediction) -> Vec<Option<(usize, f64)>> {
+    let k = pred.relative.len();
+    (0..k)
+        .map(|i| {
+            (0..k)
+                .filter(|&j| j != i && pred.relative[j].is_some())
+                .map(|j| (j, pred.correlation[(i, j)]))
+                .max_by(|a, b| a.1.abs().total_cmp(&b.1.abs()))
+                .filter(|_| pred.relative[i].is_some())
+        })
+        .collect()
 }
 
 fn judge(name: &str, e: &Evaluated, loaded: &Loaded, o: &Outcome) -> Judged {
     let p = &loaded.problem;
-    let total = &p.prior + &e.info;
+    let total = predict(&(&p.prior + &e.info), &p.free);
     Judged {
         name: name.into(),
         alone: figures(&predict(&e.info, &p.free), loaded),
-        together: figures(&predict(&total, &p.free), loaded),
+        together: figures(&total, loaded),
+        strongest: strongest(&total),
         weakest_variance: o.weakest_variance(&p.prior, &e.info),
     }
 }
@@ -127,7 +146,16 @@ pub fn write(
                 judged[0].together[s].0.unwrap_or(f64::NAN)
             ),
             (false, false) => {
-                format!("{n} stays undetermined (relative SE {})", fmt(judged[0].together[s].0))
+                let corr = match judged[0].strongest[s] {
+                    Some((j, r)) if r.abs() >= CORRELATION_LIMIT => {
+                        format!("; correlation {r:.4} with {}", names[j])
+                    }
+                    _ => String::new(),
+                };
+                format!(
+                    "{n} stays undetermined (relative SE {}{corr})",
+                    fmt(judged[0].together[s].0)
+                )
             }
         };
         let dflt = if by_default.is_empty() {
@@ -164,6 +192,8 @@ pub fn write(
                 v[format!("{key}_alone_determined")] = json!(j.alone[s].2);
                 v[format!("{key}_with_fitted_std_error")] = json!(j.together[s].1);
                 v[format!("{key}_with_fitted_determined")] = json!(j.together[s].2);
+                v[format!("{key}_with_fitted_strongest_correlation")] =
+                    json!(j.strongest[s].map(|(o, r)| json!({"with": names[o], "correlation": r})));
             }
             (NAMES[i].to_string(), v)
         })
@@ -231,7 +261,7 @@ pub fn write(
         let mut rows = serde_json::Map::new();
         let _ = writeln!(
             check_md,
-            "\n## Refit check\n\n{} refits ({} failed) of the designed record together with the fitted records' voltages, synthesised with fresh noise, in {:.1} s.\n\n| parameter | truth | mean | spread (SD) | predicted SE | spread / predicted | 95 % coverage (fit's SE) | 95 % coverage (predicted SE) | determined |\n|---|---|---|---|---|---|---|---|---|",
+            "\n## Refit check\n\n{} refits ({} failed) of the designed record together with the fitted records' voltages, synthesised with fresh noise, in {:.1} s.\n\n| parameter | truth | mean | spread (SD) | predicted SE | spread / predicted | 95 % coverage, fit's SE (a refit without one misses) | where it gave one | where determined | 95 % coverage (predicted SE) | determined | no SE (held) |\n|---|---|---|---|---|---|---|---|---|---|---|---|",
             c.fits.len(),
             c.failed.len(),
             c.secs
@@ -243,22 +273,35 @@ pub fn write(
             let sd =
                 (est.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / (m - 1.0).max(1.0)).sqrt();
             let pred = judged[0].together[s].1;
-            let cov_fit = c
-                .fits
-                .iter()
-                .filter(|f| f.1[i].is_some_and(|se| (f.0[i] - c.truth[i]).abs() <= 1.96 * se))
-                .count() as f64
-                / m;
+            // A refit without a standard error (the parameter held, or in a null direction)
+            // counts as not covering; the coverage among the refits that call the parameter
+            // determined is the one the fit's verdict promises.
+            let covers = |f: &super::design_check::Refit| {
+                f.1[i].is_some_and(|se| (f.0[i] - c.truth[i]).abs() <= 1.96 * se)
+            };
+            let cov_fit = c.fits.iter().filter(|f| covers(f)).count() as f64 / m;
+            let determined: Vec<_> = c.fits.iter().filter(|f| f.2[i]).collect();
+            let cov_det = (!determined.is_empty()).then(|| {
+                determined.iter().filter(|f| covers(f)).count() as f64 / determined.len() as f64
+            });
+            let no_se = c.fits.iter().filter(|f| f.1[i].is_none()).count();
+            let cov_given = (no_se < c.fits.len()).then(|| {
+                c.fits.iter().filter(|f| covers(f)).count() as f64 / (c.fits.len() - no_se) as f64
+            });
             let cov_pred = pred.map(|se| {
                 est.iter().filter(|v| (*v - c.truth[i]).abs() <= 1.96 * se).count() as f64 / m
             });
-            let det = c.fits.iter().filter(|f| f.2[i]).count();
+            let det = determined.len();
             let ratio = pred.map(|se| sd / se);
             rows.insert(NAMES[i].into(), json!({"truth": c.truth[i], "mean": mean, "spread": sd, "predicted_std_error": pred,
-                "spread_over_predicted": ratio, "coverage_fit_se": cov_fit, "coverage_predicted_se": cov_pred, "determined_in": det}));
+                "spread_over_predicted": ratio, "coverage_fit_se": cov_fit, "coverage_fit_se_given": cov_given, "coverage_fit_se_determined": cov_det,
+                "coverage_predicted_se": cov_pred, "determined_in": det, "without_std_error_in": no_se,
+                "estimates": est, "std_errors": c.fits.iter().map(|f| f.1[i]).collect::<Vec<_>>(),
+                "determined": c.fits.iter().map(|f| f.2[i]).collect::<Vec<_>>()}));
+            let pct = |x: Option<f64>| x.map_or("—".into(), |c| format!("{:.0} %", 100.0 * c));
             let _ = writeln!(
                 check_md,
-                "| {} | {:.4e} | {:.4e} | {:.3e} | {} | {} | {:.0} % | {} | {det}/{} |",
+                "| {} | {:.4e} | {:.4e} | {:.3e} | {} | {} | {:.0} % | {} | {} | {} | {det}/{n} | {no_se}/{n} |",
                 NAMES[i],
                 c.truth[i],
                 mean,
@@ -266,11 +309,14 @@ pub fn write(
                 fmt(pred),
                 ratio.map_or("—".into(), |r| format!("{r:.2}")),
                 100.0 * cov_fit,
-                cov_pred.map_or("—".into(), |c| format!("{:.0} %", 100.0 * c)),
-                c.fits.len()
+                pct(cov_given),
+                pct(cov_det),
+                pct(cov_pred),
+                n = c.fits.len()
             );
         }
-        doc["check"] = json!({"refits": c.fits.len(), "failed": c.failed, "wall_time_s": c.secs, "parameters": rows});
+        doc["check"] = json!({"refits": c.fits.len(), "failed": c.failed, "wall_time_s": c.secs, "parameters": rows,
+            "verdicts": c.sentences});
     }
     write_json(&dir.join("design.json"), &doc)?;
     // Plots.
