@@ -9,7 +9,7 @@
 
 use crate::atomic::{Staged, commit};
 use crate::error::IoError;
-use crate::runs::{for_each_run, merge_runs_into};
+use crate::runs::for_each_run;
 use crate::table::{ColumnData, Table};
 use polars::prelude::*;
 use std::path::{Path, PathBuf};
@@ -258,62 +258,328 @@ pub fn shard_tables(dir: &Path) -> Result<Vec<PathBuf>, IoError> {
     list(dir, "fits-shard-")
 }
 
-/// Merge `inputs` (fit tables or parts, same columns) into `out`: one row per `run_id`
-/// (the first), sorted by `run_index`, with the first input's units and descriptions.
-/// Memory holds one window of rows ([`crate::runs::MERGE_WINDOW_ROWS`]) plus one chunk
-/// of the copy. Returns the number of rows.
+/// Rows a fleet merge holds at once, and the rows per row group of `fits.parquet` [rows]:
+/// small enough that merging stays flat in the fleet's size (a window of 2 048 rows is
+/// about 500 logs of four parameters), large enough that a query reads few row groups.
+pub const MERGE_WINDOW_ROWS: u64 = 2048;
+
+/// Row-group sizes of a Parquet file [rows].
+fn row_groups(path: &Path) -> Result<Vec<usize>, IoError> {
+    let f = std::fs::File::open(path).map_err(|e| IoError::fs(path, e))?;
+    let md = ParquetReader::new(f)
+        .get_metadata()
+        .map_err(IoError::polars(path, "cannot read Parquet"))?
+        .clone();
+    Ok(md.row_groups.iter().map(|g| g.num_rows()).collect())
+}
+
+/// Rows `[from, from + len)` of `path` (whole row groups decode; `columns` None: all).
+fn read_rows(
+    path: &Path,
+    columns: Option<Vec<String>>,
+    from: usize,
+    len: usize,
+) -> Result<DataFrame, IoError> {
+    let f = std::fs::File::open(path).map_err(|e| IoError::fs(path, e))?;
+    ParquetReader::new(f)
+        .with_columns(columns)
+        .with_slice(Some((from, len)))
+        .finish()
+        .map_err(IoError::polars(path, "cannot read Parquet"))
+}
+
+fn run_indices(df: &DataFrame, path: &Path) -> Result<Vec<u64>, IoError> {
+    let c = df
+        .column("run_index")
+        .and_then(|c| c.cast(&DataType::UInt64))
+        .map_err(IoError::polars(path, "no run_index column"))?;
+    let ca = c.u64().map_err(IoError::polars(path, "run_index is not a count"))?;
+    Ok(ca.iter().map(|v| v.unwrap_or(u64::MAX)).collect())
+}
+
+/// One input of a merge, read a row group at a time from where the last window ended.
+struct Cursor {
+    path: PathBuf,
+    groups: Vec<usize>,
+    next: usize,
+    offset: usize,
+    /// Rows read but not yet handed out (all at or after the last window's end).
+    pending: Option<DataFrame>,
+    /// First and last run index, rows.
+    range: Option<(u64, u64, u64)>,
+}
+
+impl Cursor {
+    /// Open `path`: its row groups and run-index range (the run_index column streamed).
+    fn open(path: &Path) -> Result<Self, IoError> {
+        let groups = row_groups(path)?;
+        let (mut lo, mut hi, mut n, mut prev) = (u64::MAX, 0u64, 0u64, 0u64);
+        let mut offset = 0;
+        for &g in &groups {
+            let df = read_rows(path, Some(vec!["run_index".into()]), offset, g)?;
+            for v in run_indices(&df, path)? {
+                if n > 0 && v < prev {
+                    return Err(IoError::format(path, "rows not sorted by run_index"));
+                }
+                prev = v;
+                lo = lo.min(v);
+                hi = hi.max(v);
+                n += 1;
+            }
+            offset += g;
+        }
+        let range = (n > 0).then_some((lo, hi, n));
+        Ok(Cursor { path: path.to_path_buf(), groups, next: 0, offset: 0, pending: None, range })
+    }
+
+    /// The rows with run index below `b` not yet handed out (the input is sorted).
+    fn take_below(&mut self, b: u64) -> Result<Option<DataFrame>, IoError> {
+        let mut out: Option<DataFrame> = None;
+        loop {
+            let df = match self.pending.take() {
+                Some(df) => df,
+                None if self.next < self.groups.len() => {
+                    let g = self.groups[self.next];
+                    self.next += 1;
+                    let df = read_rows(&self.path, None, self.offset, g)?;
+                    self.offset += g;
+                    df
+                }
+                None => break,
+            };
+            let idx = run_indices(&df, &self.path)?;
+            let split = idx.partition_point(|&v| v < b);
+            let (head, rest) = (df.slice(0, split), df.slice(split as i64, idx.len() - split));
+            if head.height() > 0 {
+                match out.as_mut() {
+                    None => out = Some(head),
+                    Some(o) => {
+                        o.vstack_mut(&head)
+                            .map_err(IoError::polars(&self.path, "columns differ"))?;
+                    }
+                }
+            }
+            if rest.height() > 0 {
+                self.pending = Some(rest);
+                break;
+            }
+        }
+        Ok(out)
+    }
+}
+
+/// Merge `inputs` (fit tables or parts, each sorted by `run_index`, same columns) into
+/// `out`: one row per `run_id` (the first in input order), sorted by `run_index`, with the
+/// first input's units and descriptions. Streamed by windows of run indices of about
+/// [`MERGE_WINDOW_ROWS`] rows: each input is read a row group at a time from where the
+/// last window left it, and each window is written as one row group, so memory holds a
+/// window and a row group per input being read, however large the fleet. Returns the
+/// number of rows.
 pub fn merge_with_docs(inputs: &[PathBuf], out: &Path) -> Result<usize, IoError> {
     if inputs.is_empty() {
         return Ok(0);
     }
     let (docs, extra) = read_docs(&inputs[0])?;
-    let tmp_dest = out.with_file_name(format!(
-        ".{}.merge.parquet",
-        out.file_stem().and_then(|s| s.to_str()).unwrap_or("fits")
-    ));
-    let mut merged = Staged::new(&tmp_dest)?;
-    let n = merge_runs_into(inputs, &mut merged)?;
-    // Copy the merged rows into `out` with the fleet's metadata, a chunk at a time.
-    let src = merged.path().to_path_buf();
     let extra: Vec<(&str, String)> = extra.iter().map(|(k, v)| (k.as_str(), v.clone())).collect();
+    let mut cursors = Vec::with_capacity(inputs.len());
+    let (mut lo, mut hi, mut rows) = (u64::MAX, 0u64, 0u64);
+    for f in inputs {
+        let c = Cursor::open(f)?;
+        if let Some((a, b, n)) = c.range {
+            lo = lo.min(a);
+            hi = hi.max(b);
+            rows += n;
+        }
+        cursors.push(c);
+    }
+    let span = if rows == 0 { 1 } else { hi - lo + 1 };
+    let width = (span as u128 * MERGE_WINDOW_ROWS as u128 / rows.max(1) as u128).max(1) as u64;
     let mut staged = Staged::new(out)?;
-    staged.write_with(|file| {
-        let f = std::fs::File::open(&src).map_err(|e| IoError::fs(&src, e))?;
-        let rows = ParquetReader::new(f)
-            .num_rows()
-            .map_err(IoError::polars(&src, "cannot read Parquet"))?;
+    let written = staged.write_with(|file| {
         let mut writer = None;
-        let chunk = crate::runs::MERGE_WINDOW_ROWS as usize;
-        let mut from = 0;
-        while from < rows.max(1) {
-            let f = std::fs::File::open(&src).map_err(|e| IoError::fs(&src, e))?;
-            let mut df = ParquetReader::new(f)
-                .with_slice(Some((from, chunk)))
-                .finish()
-                .map_err(IoError::polars(&src, "cannot read Parquet"))?;
-            if writer.is_none() {
+        let mut written = 0usize;
+        let mut a = lo;
+        while rows > 0 && a <= hi {
+            let b = a.saturating_add(width);
+            let mut window: Option<DataFrame> = None;
+            for c in cursors.iter_mut() {
+                let Some((fa, fb, _)) = c.range else { continue };
+                if fb < a || fa >= b {
+                    continue;
+                }
+                let Some(part) = c.take_below(b)? else { continue };
+                match window.as_mut() {
+                    None => window = Some(part),
+                    Some(w) => {
+                        w.vstack_mut(&part).map_err(IoError::polars(
+                            &c.path,
+                            "columns differ from the other parts",
+                        ))?;
+                    }
+                }
+            }
+            if let Some(w) = window {
+                let mut w = dedupe_and_sort(w, out)?;
+                if w.height() > 0 {
+                    if writer.is_none() {
+                        let meta = metadata(&w, &docs, &extra);
+                        writer = Some(
+                            ParquetWriter::new(&mut *file)
+                                .with_key_value_metadata(Some(meta))
+                                .batched(&w.schema().clone())
+                                .map_err(IoError::polars(out, "cannot write Parquet"))?,
+                        );
+                    }
+                    w.rechunk_mut();
+                    written += w.height();
+                    if let Some(bw) = writer.as_mut() {
+                        bw.write_batch(&w).map_err(IoError::polars(out, "cannot write Parquet"))?;
+                    }
+                }
+            }
+            // An input done with is closed (its last row group dropped).
+            for c in cursors.iter_mut() {
+                if c.range.is_some_and(|(_, fb, _)| fb < b) {
+                    c.pending = None;
+                }
+            }
+            if b > hi {
+                break;
+            }
+            a = b;
+        }
+        match writer {
+            Some(bw) => {
+                bw.finish().map(|_| ()).map_err(IoError::polars(out, "cannot write Parquet"))?
+            }
+            None => {
+                // No rows: the first input's (empty) table, with its columns.
+                let mut df = read_rows(&inputs[0], None, 0, 0)?;
                 let meta = metadata(&df, &docs, &extra);
+                ParquetWriter::new(&mut *file)
+                    .with_key_value_metadata(Some(meta))
+                    .finish(&mut df)
+                    .map_err(IoError::polars(out, "cannot write Parquet"))?;
+            }
+        }
+        Ok(written)
+    })?;
+    commit(vec![staged], &[])?;
+    Ok(written)
+}
+
+/// Drop repeated run ids (the first kept) and sort by run_index.
+fn dedupe_and_sort(df: DataFrame, out: &Path) -> Result<DataFrame, IoError> {
+    let ids = df.column("run_id").map_err(IoError::polars(out, "no run_id column"))?;
+    let ca = ids.str().map_err(IoError::polars(out, "run_id is not text"))?;
+    let mut seen = std::collections::HashSet::new();
+    let mask: BooleanChunked = ca.iter().map(|id| Some(seen.insert(id.unwrap_or("")))).collect();
+    let df = df.filter(&mask).map_err(IoError::polars(out, "cannot drop repeated runs"))?;
+    df.sort(["run_index"], SortMultipleOptions::default().with_maintain_order(true))
+        .map_err(IoError::polars(out, "cannot sort by run_index"))
+}
+
+/// Write a fleet table to `path` (Parquet, atomically) in batches: `fill` is handed a
+/// sink that takes one batch of columns at a time (same names and kinds every time; the
+/// first batch's units and descriptions go into the metadata), so the table never has to
+/// be held whole. A batch without rows still fixes the columns of an empty table.
+pub fn write_fleet_table_batched(
+    path: &Path,
+    extra: &[(&str, String)],
+    fill: impl FnOnce(&mut dyn FnMut(&[FleetColumn]) -> Result<(), IoError>) -> Result<(), IoError>,
+) -> Result<(), IoError> {
+    crate::atomic::write_atomically(path, |file| {
+        let mut file = Some(file);
+        let mut writer = None;
+        let mut empty: Option<(DataFrame, KeyValueMetadata)> = None;
+        let mut sink = |cols: &[FleetColumn]| -> Result<(), IoError> {
+            if let Some(c) = cols.iter().find(|c| c.cells.len() != cols[0].cells.len()) {
+                return Err(IoError::format(
+                    path,
+                    format!("column '{}' has another length (internal error)", c.name),
+                ));
+            }
+            let mut df = frame(cols).map_err(IoError::polars(path, "cannot build the table"))?;
+            let meta = || {
+                let docs: Vec<(String, String, String)> =
+                    cols.iter().map(|c| (c.name.clone(), c.unit.clone(), c.doc.clone())).collect();
+                metadata(&df, &docs, extra)
+            };
+            if df.height() == 0 {
+                if writer.is_none() && empty.is_none() {
+                    empty = Some((df.clone(), meta()));
+                }
+                return Ok(());
+            }
+            if writer.is_none() {
+                let m = meta();
+                let f = file.take().ok_or_else(|| IoError::format(path, "written twice"))?;
                 writer = Some(
-                    ParquetWriter::new(&mut *file)
-                        .with_key_value_metadata(Some(meta))
+                    ParquetWriter::new(f)
+                        .with_key_value_metadata(Some(m))
                         .batched(&df.schema().clone())
-                        .map_err(IoError::polars(out, "cannot write Parquet"))?,
+                        .map_err(IoError::polars(path, "cannot write Parquet"))?,
                 );
+                empty = None;
             }
             df.rechunk_mut();
             if let Some(w) = writer.as_mut() {
-                w.write_batch(&df).map_err(IoError::polars(out, "cannot write Parquet"))?;
+                w.write_batch(&df).map_err(IoError::polars(path, "cannot write Parquet"))?;
             }
-            from += chunk;
+            Ok(())
+        };
+        fill(&mut sink)?;
+        match (writer, empty, file) {
+            (Some(w), _, _) => {
+                w.finish().map(|_| ()).map_err(IoError::polars(path, "cannot write Parquet"))
+            }
+            (None, Some((mut df, meta)), Some(f)) => ParquetWriter::new(f)
+                .with_key_value_metadata(Some(meta))
+                .finish(&mut df)
+                .map(|_| ())
+                .map_err(IoError::polars(path, "cannot write Parquet")),
+            _ => Err(IoError::format(path, "no columns to write (internal error)")),
         }
-        if let Some(w) = writer {
-            w.finish().map_err(IoError::polars(out, "cannot write Parquet"))?;
+    })
+}
+
+/// Read the named columns of a Parquet file (those it has) a few row groups at a time (at
+/// least `rows` rows, whole row groups), handing each piece to `each` in file order, with
+/// polars' eager reader: memory follows the piece, and nothing stays behind between the
+/// pieces (a lazy scan per piece left a few MB per pass). A file without rows gives no piece.
+pub fn for_each_piece(
+    path: &Path,
+    names: &[&str],
+    rows: usize,
+    mut each: impl FnMut(&Table) -> Result<(), IoError>,
+) -> Result<(), IoError> {
+    let open = || std::fs::File::open(path).map_err(|e| IoError::fs(path, e));
+    let mut reader = ParquetReader::new(open()?);
+    let schema = reader.schema().map_err(IoError::polars(path, "cannot read Parquet"))?;
+    let present: Vec<String> =
+        names.iter().filter(|n| schema.contains(n)).map(|n| n.to_string()).collect();
+    let md = reader.get_metadata().map_err(IoError::polars(path, "cannot read Parquet"))?;
+    let groups: Vec<usize> = md.row_groups.iter().map(|g| g.num_rows()).collect();
+    let mut offset = 0;
+    let mut k = 0;
+    while k < groups.len() {
+        let mut len = 0;
+        while k < groups.len() && (len == 0 || len + groups[k] <= rows.max(1)) {
+            len += groups[k];
+            k += 1;
         }
-        Ok(())
-    })?;
-    drop(merged);
-    commit(vec![staged], &[])?;
-    Ok(n)
+        if len == 0 {
+            continue;
+        }
+        let df = ParquetReader::new(open()?)
+            .with_columns(Some(present.clone()))
+            .with_slice(Some((offset, len)))
+            .finish()
+            .map_err(IoError::polars(path, "cannot read Parquet"))?;
+        each(&crate::table::frame_to_table(&df, path)?)?;
+        offset += len;
+    }
+    Ok(())
 }
 
 /// Days since 1970-01-01 of a civil date (proleptic Gregorian).

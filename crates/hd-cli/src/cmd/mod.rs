@@ -26,6 +26,7 @@ pub mod fleet_drift;
 pub mod fleet_fit;
 pub mod fleet_plan;
 pub mod fleet_plot;
+pub mod fleet_spill;
 pub mod model_args;
 pub mod plot;
 pub mod report;

@@ -66,8 +66,14 @@ pub fn threshold_estimated(alpha: f64, m: usize, n: usize, k: f64) -> f64 {
     };
     let scale = 1.0 / (1.0 + 1.0 / m as f64).sqrt();
     let mut e = vec![0.0; n.max(1)];
-    let mut maxima: Vec<f64> = (0..sims)
-        .map(|_| {
+    // The (1 − α) quantile is the K-th largest of the maxima, K = sims − q: only the K
+    // largest are kept (a min-heap), so memory follows α·sims, not sims.
+    let q = (((1.0 - alpha) * sims as f64).floor() as usize).min(sims - 1);
+    let keep = sims - q;
+    let mut largest: std::collections::BinaryHeap<std::cmp::Reverse<Ordered>> =
+        std::collections::BinaryHeap::with_capacity(keep + 1);
+    for _ in 0..sims {
+        let top_of = {
             e.iter_mut().for_each(|v| *v = gauss());
             let mean = e[..m].iter().sum::<f64>() / m as f64;
             // The unit's own scale from its baseline, shrunk as in the normalisation.
@@ -87,11 +93,31 @@ pub fn threshold_estimated(alpha: f64, m: usize, n: usize, k: f64) -> f64 {
                 top = top.max(up).max(lo);
             }
             top
-        })
-        .collect();
-    let q = ((1.0 - alpha) * sims as f64).floor() as usize;
-    let q = q.min(sims - 1);
-    *maxima.select_nth_unstable_by(q, f64::total_cmp).1
+        };
+        largest.push(std::cmp::Reverse(Ordered(top_of)));
+        if largest.len() > keep {
+            largest.pop();
+        }
+    }
+    largest.peek().map_or(f64::NAN, |r| r.0.0)
+}
+
+/// A number ordered by `f64::total_cmp` (for the heap of largest maxima).
+#[derive(PartialEq)]
+struct Ordered(f64);
+
+impl Eq for Ordered {}
+
+impl PartialOrd for Ordered {
+    fn partial_cmp(&self, other: &Self) -> Option<std::cmp::Ordering> {
+        Some(self.cmp(other))
+    }
+}
+
+impl Ord for Ordered {
+    fn cmp(&self, other: &Self) -> std::cmp::Ordering {
+        self.0.total_cmp(&other.0)
+    }
 }
 
 /// The path of the test over one series.

@@ -75,6 +75,93 @@ pub struct ParameterDrift {
     pub threshold: f64,
 }
 
+/// One unit's estimates of a parameter for its test, in any order: per estimate the day
+/// [days], the normalised residual, its variance (with the unit's own scale) and the
+/// unit's level [parameter unit].
+pub struct UnitSeries<'a> {
+    /// Unit (0-based).
+    pub unit: usize,
+    /// Days of the estimates [days].
+    pub day: &'a [f64],
+    /// Residuals on the y scale (NaN: not tested).
+    pub residual: &'a [f64],
+    /// Their variances.
+    pub variance: &'a [f64],
+    /// The unit's baseline level at the reference covariates [parameter unit].
+    pub level: &'a [f64],
+}
+
+/// A unit's verdict with its series' baseline and total lengths `(m, n)`.
+pub type Verdict = (UnitDrift, (usize, usize));
+
+/// Page's test on one unit's series: per estimate its row (input order), and the verdict
+/// with the series' baseline and total lengths `(m, n)` (`None` when no estimate has a
+/// residual). `alpha` is the series' false-alarm probability; `thresholds` caches h per
+/// `(m, n)` ([`threshold_estimated`] is deterministic).
+pub fn test_unit(
+    s: &UnitSeries<'_>,
+    log_scale: bool,
+    alpha: f64,
+    o: &DriftOptions,
+    thresholds: &mut HashMap<(usize, usize), f64>,
+) -> (Vec<DriftRow>, Option<Verdict>) {
+    let mut rows = vec![DriftRow { z: f64::NAN, ..Default::default() }; s.day.len()];
+    let mut idx: Vec<usize> = (0..s.day.len()).filter(|&i| s.residual[i].is_finite()).collect();
+    if idx.is_empty() {
+        return (rows, None);
+    }
+    idx.sort_by(|&a, &b| s.day[a].total_cmp(&s.day[b]));
+    let z: Vec<f64> = idx.iter().map(|&i| s.residual[i] / s.variance[i].sqrt()).collect();
+    let first = s.day[idx[0]];
+    let m = idx.iter().filter(|&&i| s.day[i] < first + o.baseline_days).count();
+    let h = *thresholds
+        .entry((m, z.len()))
+        .or_insert_with(|| threshold_estimated(alpha, m, z.len(), o.k));
+    let path = cusum(&z, o.k, h);
+    for (p, &i) in idx.iter().enumerate() {
+        rows[i] = DriftRow {
+            z: z[p],
+            upper: path.upper[p],
+            lower: path.lower[p],
+            flagged: path.alarm.is_some_and(|a| p >= a),
+        };
+    }
+    let lengths = (m, z.len());
+    let m = o.last.max(1).min(idx.len());
+    let tail = &idx[idx.len() - m..];
+    let mean = tail.iter().map(|&i| s.residual[i]).sum::<f64>() / m as f64;
+    let se = (tail.iter().map(|&i| s.variance[i]).sum::<f64>()).sqrt() / m as f64;
+    let pct = |r: f64| {
+        if log_scale {
+            100.0 * r.exp_m1()
+        } else {
+            let level = s.level[tail[m - 1]].abs();
+            100.0 * r / level
+        }
+    };
+    let verdict = UnitDrift {
+        unit: s.unit,
+        tested: idx.len(),
+        first_flagged: path.alarm.map(|a| s.day[idx[a]]),
+        onset: path.onset.map(|a| s.day[idx[a.min(idx.len() - 1)]]),
+        direction: path.direction,
+        change_pct: pct(mean),
+        ci95: [pct(mean - 1.96 * se), pct(mean + 1.96 * se)],
+    };
+    (rows, Some((verdict, lengths)))
+}
+
+/// The CUSUM threshold of the series of median length among `lengths` (`(m, n)` per
+/// tested unit, in unit order) [standard deviations].
+pub fn median_threshold(
+    mut lengths: Vec<(usize, usize)>,
+    thresholds: &HashMap<(usize, usize), f64>,
+) -> f64 {
+    lengths.sort_unstable_by_key(|l| l.1);
+    let (m, n) = lengths.get(lengths.len() / 2).copied().unwrap_or((1, 1));
+    thresholds.get(&(m, n)).copied().unwrap_or(f64::NAN)
+}
+
 /// Analyse one parameter: `series` is the number of unit × parameter series tested over
 /// the whole fleet (the false-alarm probability is shared among them, Bonferroni).
 pub fn drift(
@@ -91,55 +178,29 @@ pub fn drift(
     let mut lengths = Vec::new();
     let mut thresholds: HashMap<(usize, usize), f64> = HashMap::new();
     for u in 0..units {
-        let mut idx: Vec<usize> = (0..samples.len())
-            .filter(|&i| samples[i].unit == u && norm.residual[i].is_finite())
-            .collect();
-        if idx.is_empty() {
-            continue;
-        }
-        idx.sort_by(|&a, &b| samples[a].day.total_cmp(&samples[b].day));
-        let z: Vec<f64> = idx.iter().map(|&i| norm.residual[i] / norm.variance[i].sqrt()).collect();
-        let first = samples[idx[0]].day;
-        let m = idx.iter().filter(|&&i| samples[i].day < first + o.baseline_days).count();
-        lengths.push((m, z.len()));
-        let h = *thresholds
-            .entry((m, z.len()))
-            .or_insert_with(|| threshold_estimated(alpha, m, z.len(), o.k));
-        let path = cusum(&z, o.k, h);
-        for (p, &i) in idx.iter().enumerate() {
-            rows[i] = DriftRow {
-                z: z[p],
-                upper: path.upper[p],
-                lower: path.lower[p],
-                flagged: path.alarm.is_some_and(|a| p >= a),
-            };
-        }
-        let m = o.last.max(1).min(idx.len());
-        let tail = &idx[idx.len() - m..];
-        let mean = tail.iter().map(|&i| norm.residual[i]).sum::<f64>() / m as f64;
-        let se = (tail.iter().map(|&i| norm.variance[i]).sum::<f64>()).sqrt() / m as f64;
-        let pct = |r: f64| {
-            if norm.log_scale {
-                100.0 * r.exp_m1()
-            } else {
-                let level = norm.level[tail[m - 1]].abs();
-                100.0 * r / level
-            }
-        };
-        out.push(UnitDrift {
+        let idx: Vec<usize> = (0..samples.len()).filter(|&i| samples[i].unit == u).collect();
+        let pick = |v: &[f64]| idx.iter().map(|&i| v[i]).collect::<Vec<f64>>();
+        let day: Vec<f64> = idx.iter().map(|&i| samples[i].day).collect();
+        let (residual, variance, level) =
+            (pick(&norm.residual), pick(&norm.variance), pick(&norm.level));
+        let s = UnitSeries {
             unit: u,
-            tested: idx.len(),
-            first_flagged: path.alarm.map(|a| samples[idx[a]].day),
-            onset: path.onset.map(|a| samples[idx[a.min(idx.len() - 1)]].day),
-            direction: path.direction,
-            change_pct: pct(mean),
-            ci95: [pct(mean - 1.96 * se), pct(mean + 1.96 * se)],
-        });
+            day: &day,
+            residual: &residual,
+            variance: &variance,
+            level: &level,
+        };
+        let (r, verdict) = test_unit(&s, norm.log_scale, alpha, o, &mut thresholds);
+        for (&i, r) in idx.iter().zip(r) {
+            rows[i] = r;
+        }
+        if let Some((v, l)) = verdict {
+            out.push(v);
+            lengths.push(l);
+        }
     }
-    lengths.sort_unstable_by_key(|l| l.1);
-    let (m, n) = lengths.get(lengths.len() / 2).copied().unwrap_or((1, 1));
-    let h = thresholds.get(&(m, n)).copied().unwrap_or(f64::NAN);
-    ParameterDrift { normalisation: norm, rows, units: out, threshold: h }
+    let threshold = median_threshold(lengths, &thresholds);
+    ParameterDrift { normalisation: norm, rows, units: out, threshold }
 }
 
 #[cfg(test)]

@@ -15,8 +15,13 @@ pub mod normalise;
 pub mod plateaus;
 pub mod synth;
 
-pub use drift::{DriftOptions, DriftRow, ParameterDrift, UnitDrift, drift};
-pub use normalise::{Normalisation, Normalise, Sample};
+pub use drift::{
+    DriftOptions, DriftRow, ParameterDrift, UnitDrift, UnitSeries, drift, median_threshold,
+    test_unit,
+};
+pub use normalise::{
+    Model, Normalisation, Normalise, Normalised, Reason, Sample, baseline_flags, fit_normalisation,
+};
 pub use plateaus::{PlateauFit, PlateauOptions, fit_plateaus};
 
 use crate::error::FitError;

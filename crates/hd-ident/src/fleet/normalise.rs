@@ -90,6 +90,7 @@ pub struct Normalisation {
     pub reason: Vec<Option<String>>,
 }
 
+#[derive(Clone, Debug)]
 struct Design {
     per_unit: bool,
     degree: usize,
@@ -171,37 +172,114 @@ fn wls(
     Some((beta, cov, rss))
 }
 
-/// Normalise `samples` (one parameter, all units); `baseline_days` from each unit's first
-/// estimate; `names` the covariates.
-pub fn normalise(
-    samples: &[Sample],
+/// Why an estimate has no residual.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Reason {
+    /// The estimate is missing (or was left out).
+    NoEstimate,
+    /// The covariate of this index is missing for the log.
+    CovariateMissing(usize),
+    /// The unit has no baseline estimate with covariates.
+    NoBaseline,
+    /// Too few baseline estimates in the fleet (this many) for any model.
+    TooFew(usize),
+}
+
+impl Reason {
+    /// In words; `names` the covariates.
+    pub fn text(&self, names: &[String]) -> String {
+        match self {
+            Reason::NoEstimate => "no estimate".into(),
+            Reason::CovariateMissing(c) => {
+                format!("covariate '{}' missing", names.get(*c).map_or("?", String::as_str))
+            }
+            Reason::NoBaseline => "the unit has no baseline estimates with covariates".into(),
+            Reason::TooFew(nb) => format!("too few baseline estimates ({nb}) to normalise"),
+        }
+    }
+}
+
+/// One estimate normalised by a [`Model`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Normalised {
+    /// Residual on the y scale (NaN where not normalised).
+    pub residual: f64,
+    /// Its variance (before the unit's own scale, [`Model::unit_scale`]).
+    pub variance: f64,
+    /// The estimate at the reference covariates [parameter unit].
+    pub normalised: f64,
+    /// The unit's baseline level at the reference covariates [parameter unit].
+    pub level: f64,
+    /// Why there is no residual, if so.
+    pub reason: Option<Reason>,
+}
+
+impl Normalised {
+    /// No residual, for `reason`.
+    pub fn missing(reason: Reason) -> Self {
+        Normalised {
+            residual: f64::NAN,
+            variance: f64::NAN,
+            normalised: f64::NAN,
+            level: f64::NAN,
+            reason: Some(reason),
+        }
+    }
+}
+
+/// A kept normalisation model: what normalises any estimate of the parameter, so the
+/// estimates can be streamed unit by unit once the model is fitted on the baseline.
+#[derive(Clone, Debug)]
+pub struct Model {
+    log_scale: bool,
+    design: Design,
+    nslots: usize,
+    slot_of: Vec<usize>,
+    centre: Vec<f64>,
+    scale: Vec<f64>,
+    beta: DVector<f64>,
+    cov: DMatrix<f64>,
+    unit_s2: Vec<f64>,
+    tau2: f64,
+}
+
+/// Whether an estimate can enter the baseline: a value and every covariate.
+pub fn usable(s: &Sample) -> bool {
+    s.value.is_finite() && s.covariates.iter().all(|c| c.is_finite())
+}
+
+/// Which of one unit's samples form its baseline: usable and within `baseline_days` of
+/// the unit's first estimate [days].
+pub fn baseline_flags(unit_samples: &[Sample], baseline_days: f64) -> Vec<bool> {
+    let first = unit_samples
+        .iter()
+        .filter(|s| s.value.is_finite())
+        .fold(f64::INFINITY, |m, s| m.min(s.day));
+    unit_samples.iter().map(|s| usable(s) && s.day < first + baseline_days).collect()
+}
+
+/// Fit the normalisation on the baseline estimates `base` (every unit's, in one fixed
+/// order; see [`baseline_flags`]) of a fleet of `units` units. `log_scale`: whether every
+/// finite estimate of the parameter (baseline or not) is positive. Returns the summary
+/// (per-sample vectors empty) and the model kept, `None` with too few estimates.
+pub fn fit_normalisation(
+    base: &[Sample],
+    units: usize,
+    log_scale: bool,
     names: &[String],
-    baseline_days: f64,
     mode: Normalise,
-) -> Normalisation {
-    let n = samples.len();
-    let units = samples.iter().map(|s| s.unit + 1).max().unwrap_or(0);
-    let log_scale = samples.iter().filter(|s| s.value.is_finite()).all(|s| s.value > 0.0);
+) -> (Normalisation, Option<Model>) {
     let y_of = |s: &Sample| if log_scale { s.value.ln() } else { s.value };
     let s_of = |s: &Sample| {
         let se = if log_scale { s.se / s.value } else { s.se };
         if se.is_finite() { se } else { 0.0 }
     };
-    let mut first = vec![f64::INFINITY; units];
-    for s in samples.iter().filter(|s| s.value.is_finite()) {
-        first[s.unit] = first[s.unit].min(s.day);
-    }
-    let usable = |s: &Sample| s.value.is_finite() && s.covariates.iter().all(|c| c.is_finite());
-    let base: Vec<usize> = (0..n)
-        .filter(|&i| usable(&samples[i]) && samples[i].day < first[samples[i].unit] + baseline_days)
-        .collect();
     // Units with a baseline, in slot order; covariate centres and scales.
     let mut slot_of = vec![usize::MAX; units];
     let mut nslots = 0;
-    for &i in &base {
-        let u = samples[i].unit;
-        if slot_of[u] == usize::MAX {
-            slot_of[u] = nslots;
+    for s in base {
+        if slot_of[s.unit] == usize::MAX {
+            slot_of[s.unit] = nslots;
             nslots += 1;
         }
     }
@@ -209,7 +287,7 @@ pub fn normalise(
     let mut centre = vec![0.0; nc];
     let mut scale = vec![1.0; nc];
     for c in 0..nc {
-        let v: Vec<f64> = base.iter().map(|&i| samples[i].covariates[c]).collect();
+        let v: Vec<f64> = base.iter().map(|s| s.covariates[c]).collect();
         let m = v.iter().sum::<f64>() / v.len().max(1) as f64;
         let sd = (v.iter().map(|x| (x - m) * (x - m)).sum::<f64>() / v.len().max(1) as f64).sqrt();
         centre[c] = m;
@@ -227,10 +305,9 @@ pub fn normalise(
         }
     }
     let nb = base.len();
-    let yb = DVector::from_iterator(nb, base.iter().map(|&i| y_of(&samples[i])));
+    let yb = DVector::from_iterator(nb, base.iter().map(y_of));
     let fill_row = |d: &Design, r: usize, row: &mut [f64]| {
-        let i = base[r];
-        d.row(slot_of[samples[i].unit], nslots, &xs(&samples[i]), row);
+        d.row(slot_of[base[r].unit], nslots, &xs(&base[r]), row);
     };
     let mut candidates = Vec::new();
     let mut best: Option<(usize, f64)> = None;
@@ -256,16 +333,14 @@ pub fn normalise(
         coefficients: Vec::new(),
         tau: f64::NAN,
         baseline_rows: nb,
-        residual: vec![f64::NAN; n],
-        variance: vec![f64::NAN; n],
-        normalised: vec![f64::NAN; n],
-        level: vec![f64::NAN; n],
-        reason: vec![None; n],
+        residual: Vec::new(),
+        variance: Vec::new(),
+        normalised: Vec::new(),
+        level: Vec::new(),
+        reason: Vec::new(),
     };
     let Some((k, _)) = best else {
-        let why = format!("too few baseline estimates ({nb}) to normalise");
-        out.reason.iter_mut().for_each(|r| *r = Some(why.clone()));
-        return out;
+        return (out, None);
     };
     let d = &designs[k];
     out.chosen = d.name();
@@ -276,11 +351,8 @@ pub fn normalise(
     // fit with few degrees of freedom, scatters about it (Student's t tails in z).
     let mut unit_s2 = vec![f64::NAN; units];
     for (u, slot) in unit_s2.iter_mut().enumerate() {
-        let mut v: Vec<f64> = base
-            .iter()
-            .filter(|&&i| samples[i].unit == u)
-            .map(|&i| s_of(&samples[i]).powi(2))
-            .collect();
+        let mut v: Vec<f64> =
+            base.iter().filter(|s| s.unit == u).map(|s| s_of(s).powi(2)).collect();
         if !v.is_empty() {
             v.sort_by(f64::total_cmp);
             *slot = v[v.len() / 2];
@@ -290,7 +362,7 @@ pub fn normalise(
         let typical = unit_s2[s.unit];
         if typical.is_finite() { typical } else { s_of(s).powi(2) }
     };
-    let s2: Vec<f64> = base.iter().map(|&i| s2_of(&samples[i])).collect();
+    let s2: Vec<f64> = base.iter().map(s2_of).collect();
     let ones = DVector::from_element(nb, 1.0);
     let (_, _, rss) = wls(nb, p, &fill, &yb, &ones).expect("scored above");
     let dof = (nb - p).max(1) as f64;
@@ -313,61 +385,130 @@ pub fn normalise(
         }
         out.coefficients.push((names[c].clone(), val, var.sqrt()));
     }
-    let mut row = vec![0.0; p];
-    for (i, s) in samples.iter().enumerate() {
+    let model = Model {
+        log_scale,
+        design: Design { per_unit: d.per_unit, degree: d.degree },
+        nslots,
+        slot_of,
+        centre,
+        scale,
+        beta,
+        cov,
+        unit_s2,
+        tau2,
+    };
+    (out, Some(model))
+}
+
+impl Model {
+    /// Normalise one estimate: its residual rᵢ = yᵢ − ŷᵢ, variance sᵢ² + τ² + Var ŷᵢ, the
+    /// estimate at the reference covariates and the unit's level there.
+    pub fn apply(&self, s: &Sample) -> Normalised {
         if !s.value.is_finite() {
-            out.reason[i] = Some("no estimate".into());
-            continue;
+            return Normalised::missing(Reason::NoEstimate);
         }
         if let Some(c) = s.covariates.iter().position(|c| !c.is_finite()) {
-            out.reason[i] = Some(format!("covariate '{}' missing", names[c]));
-            continue;
+            return Normalised::missing(Reason::CovariateMissing(c));
         }
-        if slot_of[s.unit] == usize::MAX {
-            out.reason[i] = Some("the unit has no baseline estimates with covariates".into());
-            continue;
+        let slot = self.slot_of.get(s.unit).copied().unwrap_or(usize::MAX);
+        if slot == usize::MAX {
+            return Normalised::missing(Reason::NoBaseline);
         }
-        let slot = slot_of[s.unit];
-        d.row(slot, nslots, &xs(s), &mut row);
+        let (beta, cov) = (&self.beta, &self.cov);
+        let mut row = vec![0.0; beta.len()];
+        let xs: Vec<f64> = s
+            .covariates
+            .iter()
+            .enumerate()
+            .map(|(c, v)| (v - self.centre[c]) / self.scale[c])
+            .collect();
+        self.design.row(slot, self.nslots, &xs, &mut row);
         let xr = DVector::from_column_slice(&row);
-        let pred = xr.dot(&beta);
-        let pvar = (xr.transpose() * &cov * &xr)[(0, 0)];
-        let y = y_of(s);
+        let pred = xr.dot(beta);
+        let pvar = (xr.transpose() * cov * &xr)[(0, 0)];
+        let (y, se) = if self.log_scale { (s.value.ln(), s.se / s.value) } else { (s.value, s.se) };
+        let se = if se.is_finite() { se } else { 0.0 };
+        let typical = self.unit_s2[s.unit];
+        let s2 = if typical.is_finite() { typical } else { se.powi(2) };
         let cov_part = pred - beta[slot];
-        out.residual[i] = y - pred;
-        out.variance[i] = s2_of(s) + tau2 + pvar.max(0.0);
-        if log_scale {
-            out.normalised[i] = (y - cov_part).exp();
-            out.level[i] = beta[slot].exp();
+        let (normalised, level) = if self.log_scale {
+            ((y - cov_part).exp(), beta[slot].exp())
         } else {
-            out.normalised[i] = y - cov_part;
-            out.level[i] = beta[slot];
+            (y - cov_part, beta[slot])
+        };
+        Normalised {
+            residual: y - pred,
+            variance: s2 + self.tau2 + pvar.max(0.0),
+            normalised,
+            level,
+            reason: None,
         }
     }
-    // Each unit's own scale: units differ in how well one log determines a parameter, so
-    // the pooled variance is rescaled by the unit's baseline ratio r²/Var, shrunk towards 1
-    // with the weight of UNIT_PRIOR estimates (the CUSUM threshold is simulated with the
-    // same estimator, [`super::cusum::threshold_estimated`]).
-    let own = if d.per_unit { 1 + nc * d.degree } else { 1 };
-    for u in 0..units {
-        let idx: Vec<usize> = base
-            .iter()
-            .copied()
-            .filter(|&i| samples[i].unit == u && out.residual[i].is_finite())
-            .collect();
-        let m = idx.len();
-        if m <= own {
-            continue;
+
+    /// A unit's own scale φ_u from its baseline estimates' normalised values (any
+    /// order): units differ in how well one log determines a parameter, so the pooled
+    /// variance is rescaled by the unit's baseline ratio r²/Var, shrunk towards 1 with the
+    /// weight of [`UNIT_PRIOR`] estimates (the CUSUM threshold is simulated with the same
+    /// estimator, [`super::cusum::threshold_estimated`]). `None` with too few estimates.
+    pub fn unit_scale<'a>(&self, baseline: impl Iterator<Item = &'a Normalised>) -> Option<f64> {
+        let own = if self.design.per_unit { 1 + self.centre.len() * self.design.degree } else { 1 };
+        let (mut m, mut sum) = (0usize, 0.0);
+        for n in baseline.filter(|n| n.residual.is_finite()) {
+            m += 1;
+            sum += n.residual.powi(2) / n.variance;
         }
-        let q = idx.iter().map(|&i| out.residual[i].powi(2) / out.variance[i]).sum::<f64>()
-            / (m - own) as f64;
-        let phi = (UNIT_PRIOR + m as f64 * q) / (UNIT_PRIOR + m as f64);
-        for (i, s) in samples.iter().enumerate() {
-            if s.unit == u && out.variance[i].is_finite() {
-                out.variance[i] *= phi;
+        if m <= own {
+            return None;
+        }
+        let q = sum / (m - own) as f64;
+        Some((UNIT_PRIOR + m as f64 * q) / (UNIT_PRIOR + m as f64))
+    }
+}
+
+/// Normalise `samples` (one parameter, all units, in memory); `baseline_days` from each
+/// unit's first estimate; `names` the covariates. The same as [`fit_normalisation`] on the
+/// baseline, then [`Model::apply`] and [`Model::unit_scale`] per unit.
+pub fn normalise(
+    samples: &[Sample],
+    names: &[String],
+    baseline_days: f64,
+    mode: Normalise,
+) -> Normalisation {
+    let n = samples.len();
+    let units = samples.iter().map(|s| s.unit + 1).max().unwrap_or(0);
+    let log_scale = samples.iter().filter(|s| s.value.is_finite()).all(|s| s.value > 0.0);
+    let mut is_base = vec![false; n];
+    for u in 0..units {
+        let idx: Vec<usize> = (0..n).filter(|&i| samples[i].unit == u).collect();
+        let mine: Vec<Sample> = idx.iter().map(|&i| samples[i].clone()).collect();
+        for (&i, b) in idx.iter().zip(baseline_flags(&mine, baseline_days)) {
+            is_base[i] = b;
+        }
+    }
+    let base: Vec<Sample> = (0..n).filter(|&i| is_base[i]).map(|i| samples[i].clone()).collect();
+    let (mut out, model) = fit_normalisation(&base, units, log_scale, names, mode);
+    let rows: Vec<Normalised> = match &model {
+        Some(m) => samples.iter().map(|s| m.apply(s)).collect(),
+        None => vec![Normalised::missing(Reason::TooFew(base.len())); n],
+    };
+    let mut variance: Vec<f64> = rows.iter().map(|r| r.variance).collect();
+    if let Some(m) = &model {
+        for u in 0..units {
+            let own = (0..n).filter(|&i| samples[i].unit == u && is_base[i]).map(|i| &rows[i]);
+            if let Some(phi) = m.unit_scale(own) {
+                for (i, v) in variance.iter_mut().enumerate() {
+                    if samples[i].unit == u && v.is_finite() {
+                        *v *= phi;
+                    }
+                }
             }
         }
     }
+    out.residual = rows.iter().map(|r| r.residual).collect();
+    out.variance = variance;
+    out.normalised = rows.iter().map(|r| r.normalised).collect();
+    out.level = rows.iter().map(|r| r.level).collect();
+    out.reason = rows.iter().map(|r| r.reason.map(|x| x.text(names))).collect();
     out
 }
 
