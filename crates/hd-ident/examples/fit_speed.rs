@@ -38,6 +38,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             let fit = fit_friction_with(None, Some(&d), &Fixed::none(), opts)?;
             let wall = t0.elapsed().as_secs_f64();
             println!("{}", fit.report.table());
+            for e in &fit.report.refinement_ends {
+                println!("end: {e}");
+            }
             println!(
                 "tribometer asymmetric={asymmetric}: fit {wall:.3} s, RMS {:.4}",
                 fit.report.rms

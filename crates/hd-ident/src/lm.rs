@@ -166,16 +166,34 @@ where
 /// [`levenberg_marquardt_exact`] for a model that forms its own normal equations:
 /// `model(x)` gives the cost ‖r‖² and [`Normal`] at x (no n-long vector crosses the
 /// interface, so a model can keep its buffers).
+///
+/// `bounds` gives (lower, upper) bounds of the first parameters (the rest, and every one
+/// when it is empty, are unbounded; ±∞ means none on that side). The bounds are kept by an
+/// active set: a parameter on a bound whose descent direction points out of the box is
+/// held there for the step, and a step that would cross a bound is projected onto it, so
+/// an optimum on a bound is reached exactly (in a few steps, where a logarithm would only
+/// approach it).
 pub fn levenberg_marquardt_normal<F>(
     model: &F,
     x0: &[f64],
+    bounds: &[(f64, f64)],
     opts: &LmOptions,
 ) -> Result<LmOutcome, FitError>
 where
     F: Fn(&[f64]) -> Result<(f64, Normal), FitError> + Sync,
 {
     let trial = normal_trial(model);
-    lm_core::<_, fn(&[f64]) -> Result<Vec<f64>, FitError>>(&trial, None, x0, opts)
+    match lm_core_step::<_, fn(&[f64]) -> Result<Vec<f64>, FitError>>(
+        &trial,
+        None,
+        Start::At(x0),
+        bounds,
+        opts,
+        None,
+    )? {
+        LmStep::Done(out) => Ok(out),
+        LmStep::Paused(_) => unreachable!("no pause was asked"),
+    }
 }
 
 /// A refinement stopped after a given number of iterations, to be resumed exactly where
@@ -227,6 +245,7 @@ pub enum LmStep {
 pub fn lm_normal_paused<F>(
     model: &F,
     x0: &[f64],
+    bounds: &[(f64, f64)],
     opts: &LmOptions,
     pause_after: usize,
 ) -> Result<LmStep, FitError>
@@ -238,15 +257,18 @@ where
         &trial,
         None,
         Start::At(x0),
+        bounds,
         opts,
         Some(pause_after),
     )
 }
 
-/// Resume a paused [`lm_normal_paused`] run to its end, with the same `model` and `opts`.
+/// Resume a paused [`lm_normal_paused`] run to its end, with the same `model`, `bounds`
+/// and `opts`.
 pub fn lm_normal_resume<F>(
     model: &F,
     paused: LmPaused,
+    bounds: &[(f64, f64)],
     opts: &LmOptions,
 ) -> Result<LmOutcome, FitError>
 where
@@ -257,6 +279,7 @@ where
         &trial,
         None,
         Start::Resume(Box::new(paused)),
+        bounds,
         opts,
         None,
     )? {
@@ -282,7 +305,7 @@ where
     T: Fn(&[f64]) -> Result<Trial, FitError> + Sync,
     F: Fn(&[f64]) -> Result<Vec<f64>, FitError> + Sync,
 {
-    match lm_core_step(model, residuals, Start::At(x0), opts, None)? {
+    match lm_core_step(model, residuals, Start::At(x0), &[], opts, None)? {
         LmStep::Done(out) => Ok(out),
         LmStep::Paused(_) => unreachable!("no pause was asked"),
     }
@@ -292,6 +315,7 @@ fn lm_core_step<T, F>(
     model: &T,
     residuals: Option<&F>,
     start: Start,
+    bounds: &[(f64, f64)],
     opts: &LmOptions,
     pause_after: Option<usize>,
 ) -> Result<LmStep, FitError>
@@ -404,6 +428,16 @@ where
             sec.update(&a, &g);
         }
         let model = secant.as_ref().and_then(|sec| sec.hessian(&a));
+        // The active set: on a bound with the descent direction (+Jᵀr) pointing out of the
+        // box. Those parameters do not move this iteration.
+        let bound = |k: usize| bounds.get(k).copied().unwrap_or((f64::NEG_INFINITY, f64::INFINITY));
+        let held: Vec<bool> = (0..p)
+            .map(|k| (x[k] <= bound(k).0 && g[k] <= 0.0) || (x[k] >= bound(k).1 && g[k] >= 0.0))
+            .collect();
+        let mut g_free = g.clone();
+        for k in (0..p).filter(|&k| held[k]) {
+            g_free[k] = 0.0;
+        }
         let mut accepted = false;
         let mut tries = 0;
         while !accepted && tries < 30 {
@@ -413,6 +447,11 @@ where
                 for k in 0..p {
                     m[(k, k)] += lambda * diag[k];
                 }
+                for k in (0..p).filter(|&k| held[k]) {
+                    m.row_mut(k).fill(0.0);
+                    m.column_mut(k).fill(0.0);
+                    m[(k, k)] = 1.0;
+                }
                 m.cholesky()
             };
             // The augmented model where it is positive definite here, else Gauss–Newton's.
@@ -420,16 +459,32 @@ where
                 lambda *= 10.0;
                 continue;
             };
-            let mut delta = chol.solve(&g);
+            let mut delta = chol.solve(&g_free);
             let largest = delta.amax();
             if !largest.is_finite() {
                 lambda *= 10.0;
                 continue;
             }
+            if largest == 0.0 {
+                // Every parameter that could lower the cost is held on its bound.
+                termination = "on its bounds: no free direction lowers the cost".into();
+                converged = true;
+                accepted = true;
+                break;
+            }
             if largest > radius {
                 delta *= radius / largest;
             }
-            let trial: Vec<f64> = x.iter().zip(delta.iter()).map(|(a, d)| a + d).collect();
+            // Projected onto the bounds; the step is what was actually taken.
+            let trial: Vec<f64> = x
+                .iter()
+                .zip(delta.iter())
+                .enumerate()
+                .map(|(k, (a, d))| (a + d).clamp(bound(k).0, bound(k).1))
+                .collect();
+            for k in 0..p {
+                delta[k] = trial[k] - x[k];
+            }
             match eval(&trial) {
                 Some(t) if t.cost < cost => {
                     let new_cost = t.cost;
@@ -512,6 +567,45 @@ mod tests {
     }
 
     #[test]
+    fn an_optimum_on_a_bound_is_reached_exactly() {
+        // y = −0.5 + 2 t with the intercept bounded below by 0: the constrained optimum
+        // is the intercept at exactly 0 and the slope Σty/Σt² (least squares through the
+        // origin), where the gradient pushes the intercept below its bound (KKT).
+        let t: Vec<f64> = (0..40).map(|k| 0.05 * k as f64).collect();
+        let y: Vec<f64> = t.iter().map(|&t| -0.5 + 2.0 * t).collect();
+        let model = |x: &[f64]| -> Result<(f64, Normal), FitError> {
+            let r: Vec<f64> = t.iter().zip(&y).map(|(&t, &y)| y - x[0] - x[1] * t).collect();
+            let j0 = vec![1.0; t.len()];
+            Ok((cost_of(&r), Normal::from_columns(&[j0, t.clone()], &r)))
+        };
+        let out =
+            levenberg_marquardt_normal(&model, &[1.0, 0.5], &[(0.0, 10.0)], &LmOptions::default())
+                .unwrap();
+        let slope = t.iter().zip(&y).map(|(t, y)| t * y).sum::<f64>()
+            / t.iter().map(|t| t * t).sum::<f64>();
+        println!("{out:?}, slope {slope}");
+        assert_eq!(out.x[0], 0.0, "{out:?}");
+        assert!((out.x[1] - slope).abs() <= 1e-9 * slope, "{out:?}");
+        let (_, n) = model(&out.x).unwrap();
+        assert!(n.jtr[0] <= 0.0, "the bound is binding: {n:?}");
+        assert!(out.iterations <= 10, "{out:?}");
+        // The slope bounded above by 1: it ends on 1 and the intercept at the mean of
+        // y − t, where the gradient pushes the slope above its bound.
+        let out = levenberg_marquardt_normal(
+            &model,
+            &[1.0, 0.5],
+            &[(f64::NEG_INFINITY, f64::INFINITY), (f64::NEG_INFINITY, 1.0)],
+            &LmOptions::default(),
+        )
+        .unwrap();
+        let intercept = t.iter().zip(&y).map(|(t, y)| y - t).sum::<f64>() / t.len() as f64;
+        assert_eq!(out.x[1], 1.0, "{out:?}");
+        assert!((out.x[0] - intercept).abs() <= 1e-9 * intercept.abs(), "{out:?} vs {intercept}");
+        let (_, n) = model(&out.x).unwrap();
+        assert!(n.jtr[1] >= 0.0, "the upper bound is binding: {n:?}");
+    }
+
+    #[test]
     fn a_paused_run_resumes_exactly() {
         // y = 3·e^{−0.7 t} + 0.5·e^{−4 t} with the secant model on: paused after 3
         // iterations and resumed, the run ends bit for bit where the uninterrupted one does.
@@ -526,14 +620,14 @@ mod tests {
             Ok((cost_of(&r), Normal::from_columns(&[j0, j1], &r)))
         };
         let opts = LmOptions { secant: true, ..Default::default() };
-        let whole = levenberg_marquardt_normal(&model, &[0.0, 1.0], &opts).unwrap();
-        let LmStep::Paused(paused) = lm_normal_paused(&model, &[0.0, 1.0], &opts, 3).unwrap()
+        let whole = levenberg_marquardt_normal(&model, &[0.0, 1.0], &[], &opts).unwrap();
+        let LmStep::Paused(paused) = lm_normal_paused(&model, &[0.0, 1.0], &[], &opts, 3).unwrap()
         else {
             panic!("ended before 3 iterations");
         };
         assert_eq!(paused.iterations(), 3);
         assert!(paused.cost() > whole.cost);
-        let resumed = lm_normal_resume(&model, paused, &opts).unwrap();
+        let resumed = lm_normal_resume(&model, paused, &[], &opts).unwrap();
         assert_eq!(resumed, whole);
         assert!(whole.iterations > 3, "{whole:?}");
     }

@@ -96,3 +96,60 @@ fn memory_law_data_rank_the_memory_law_first() {
     assert_eq!(cmp.entries[0].law, "memory");
     assert!(cmp.entries[1].delta_bic.unwrap() > 10.0);
 }
+
+/// RSS [N²·m²] of the cubic spring alone (θ³, θ², θ and, with `offset`, a constant) by
+/// linear least squares: the law every `--law all` law contains (each adds a hysteretic
+/// term whose coefficient is solved linearly, or a non-negative stiffness, so it can be 0).
+fn spring_only_rss(d: &HysteresisData, offset: bool) -> f64 {
+    let th = d.theta();
+    let n = th.len();
+    let cols = if offset { 4 } else { 3 };
+    let a = nalgebra::DMatrix::from_fn(
+        n,
+        cols,
+        |i, j| if j < 3 { th[i].powi(3 - j as i32) } else { 1.0 },
+    );
+    let y = nalgebra::DVector::from_column_slice(d.torque());
+    let beta = a.clone().svd(true, true).solve(&y, 1e-14).unwrap();
+    (&y - &a * beta).norm_squared()
+}
+
+/// Nested laws stay nested under `--law all`: on records from each law (and from a spring
+/// with no hysteresis at all), with and without an offset, no law ends above the cubic
+/// spring it contains.
+#[test]
+fn no_law_fits_worse_than_the_spring_it_contains() {
+    let p = Params::default();
+    let quasi = Schedule::QuasiStatic { test: QuasiStatic::default(), sample_rate: 200.0 };
+    let sines = Schedule::Sines(HysteresisExcitation::default());
+    let records = [
+        ("memory", StiffnessTruth::Memory(Box::new(p.clone())), &sines),
+        (
+            "spring only",
+            StiffnessTruth::Memory(Box::new(Params { mem_a: 0.0, ..p.clone() })),
+            &sines,
+        ),
+        (
+            "maxwell-slip",
+            StiffnessTruth::MaxwellSlip(maxwell_slip_truth(&p, 1e-3, 8, &[]).unwrap()),
+            &quasi,
+        ),
+        ("bouc-wen", StiffnessTruth::BoucWen(bouc_wen_truth(&p, 1e-3, &[]).unwrap()), &quasi),
+    ];
+    for (label, truth, schedule) in &records {
+        let (d, _) = data(truth, schedule, 0.01);
+        for offset in [false, true] {
+            let spring = spring_only_rss(&d, offset);
+            let cmp = compare_laws(&d, &LawOptions { offset, ..LawOptions::default() });
+            for (e, fit) in cmp.entries.iter().zip(&cmp.fits) {
+                println!(
+                    "{label}, offset {offset}: {} RSS {:.6e}, spring alone {spring:.6e}",
+                    e.law,
+                    fit.rss()
+                );
+                assert!(fit.rss() <= spring * (1.0 + 1e-9), "{label}, offset {offset}: {}", e.law);
+            }
+            assert_eq!(cmp.fits.len(), 3, "{label}: every law fitted");
+        }
+    }
+}

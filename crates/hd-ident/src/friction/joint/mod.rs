@@ -7,7 +7,8 @@
 //! exact Jacobian in one pass. For given levels and rates (Tc, Ts, ωs, σ0 and, with `asymmetric`, Tc_neg,
 //! Ts_neg) w and ṡ are fixed, so σ1, σ2 and the offset follow by bounded linear least
 //! squares (variable projection); the nonlinear ones are refined together by
-//! Levenberg–Marquardt over their logarithms ([`crate::lm`]).
+//! Levenberg–Marquardt over their logarithms ([`crate::lm`]), the Coulomb levels above an
+//! active-set floor ([`LEVEL_FLOOR`]) so that an optimum on 0 is reached in a few steps.
 //!
 //! The pipeline, each step tolerant of failed trials:
 //! 1. start the static parameters from quasi-steady samples of the series itself
@@ -102,7 +103,19 @@ pub struct JointProblem<'a> {
     /// Levels held on their lower bound 0 because the fit is best there
     /// ([`pipeline`]'s bound stage): reported "on its bound", not "fixed".
     on_bound: Vec<&'static str>,
+    /// The Coulomb levels' floor in the refinement [N·m]: [`LEVEL_FLOOR`] × the start's
+    /// largest level, or none (0) ([`JointProblem::bounds`]).
+    level_floor: f64,
 }
+
+/// The Coulomb levels' lower bound in the joint refinement, as a share of the start's
+/// largest level [–]. The levels move by their logarithms, which can only approach 0: a
+/// start drawn to an optimum on Tc = 0 would crawl towards it (40-odd iterations on such a
+/// record). With this floor kept as an active-set bound, the level lands on it in a few
+/// steps and is held while the rest converges; a level that ends on the floor is then held
+/// at exactly 0 and, separately, freed from just above 0 ([`pipeline`]), so the floor only
+/// shortens the way, it does not decide where the fit ends.
+pub const LEVEL_FLOOR: f64 = 1e-6;
 
 /// The model's pieces for one set of nonlinear values.
 struct Pieces {
@@ -153,6 +166,8 @@ impl<'a> JointProblem<'a> {
             .filter(|&n| n != OFFSET || opts.offset)
             .map(|n| (n, if n == OFFSET { None } else { fixed.get(n) }))
             .collect();
+        let largest = [base[0], base[1], base[4], base[5]].into_iter().fold(0.0f64, f64::max);
+        let level_floor = if largest.is_finite() { LEVEL_FLOOR * largest } else { 0.0 };
         Self {
             data,
             nonlinear,
@@ -163,6 +178,7 @@ impl<'a> JointProblem<'a> {
             ones: vec![1.0; data.len()],
             pool: fast::Pool::default(),
             on_bound: Vec::new(),
+            level_floor,
         }
     }
 
@@ -185,6 +201,26 @@ impl<'a> JointProblem<'a> {
             .iter()
             .map(|name| values[NONLINEAR_ALL.iter().position(|n| n == name).unwrap()].ln())
             .collect()
+    }
+
+    /// Bounds of the optimiser's variables (logarithms): the Coulomb levels from their
+    /// floor ([`LEVEL_FLOOR`]), the rest free.
+    fn bounds(&self) -> Vec<(f64, f64)> {
+        self.nonlinear
+            .iter()
+            .map(|name| match *name {
+                "Tc" | "Tc_neg" if self.level_floor > 0.0 => (self.level_floor.ln(), f64::INFINITY),
+                _ => (f64::NEG_INFINITY, f64::INFINITY),
+            })
+            .collect()
+    }
+
+    /// Whether the free level `name` ended on its floor at values `v`.
+    fn on_floor(&self, name: &str, v: &[f64; 6]) -> bool {
+        let k = NONLINEAR_ALL.iter().position(|n| *n == name).expect("a level");
+        self.nonlinear.contains(&name)
+            && self.level_floor > 0.0
+            && v[k] <= self.level_floor * (1.0 + 1e-9)
     }
 
     /// The LuGre law with nonlinear values `v` and no linear terms.
@@ -265,10 +301,11 @@ impl<'a> JointProblem<'a> {
         self.rss_fast(v)
     }
 
-    /// Levenberg–Marquardt over the free nonlinear parameters' logarithms from `x0`.
+    /// Levenberg–Marquardt over the free nonlinear parameters' logarithms from `x0`, the
+    /// Coulomb levels bounded below by their floor ([`JointProblem::bounds`]).
     fn refine(&self, x0: &[f64], lm: &LmOptions) -> Result<crate::lm::LmOutcome, FitError> {
         let model = |x: &[f64]| self.pool.with(|ws| self.normal_at(x, ws));
-        levenberg_marquardt_normal(&model, x0, lm)
+        levenberg_marquardt_normal(&model, x0, &self.bounds(), lm)
     }
 
     /// [`JointProblem::refine`], paused after `iterations` unless it ends before.
@@ -279,13 +316,13 @@ impl<'a> JointProblem<'a> {
         iterations: usize,
     ) -> Result<LmStep, FitError> {
         let model = |x: &[f64]| self.pool.with(|ws| self.normal_at(x, ws));
-        lm_normal_paused(&model, x0, lm, iterations)
+        lm_normal_paused(&model, x0, &self.bounds(), lm, iterations)
     }
 
     /// Resume a paused [`JointProblem::refine_paused`] to its end.
     fn resume(&self, paused: LmPaused, lm: &LmOptions) -> Result<crate::lm::LmOutcome, FitError> {
         let model = |x: &[f64]| self.pool.with(|ws| self.normal_at(x, ws));
-        lm_normal_resume(&model, paused, lm)
+        lm_normal_resume(&model, paused, &self.bounds(), lm)
     }
 
     /// Range of σ0 worth searching, from the record: see [`super::transient`].

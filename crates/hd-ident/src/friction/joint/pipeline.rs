@@ -7,9 +7,13 @@
 //!   (among its starts) from that optimum with its levels copied to both sides; its final
 //!   cost is then never above the symmetric fit's;
 //! - **optima on a bound are reachable**: the levels are refined by their logarithms, which
-//!   can only approach 0. The bound stage holds each Coulomb level at exactly 0 (an active
-//!   set of one bound) and refines the rest from the best fit and from Stribeck-dominated
-//!   starts; where that is lower, the level is reported on its bound.
+//!   can only approach 0, above a floor kept as an active-set bound
+//!   ([`super::LEVEL_FLOOR`]), so a start drawn to Tc = 0 lands on the floor in a few
+//!   steps. A level that ends there is held at exactly 0 and the rest refined; the bound
+//!   stage also holds each Coulomb level at 0 from the best fit and from
+//!   Stribeck-dominated starts (valleys the free starts did not enter). Where a level ends
+//!   on 0 either way it is reported on its bound, after a polish that frees it from just
+//!   above 0 with no floor (an optimum just above 0 is not lost to the floor).
 
 use super::race::{Refined, refine_starts};
 use super::sigma0_pass::Sigma0Pass;
@@ -68,6 +72,11 @@ pub const BOUND_GATE: f64 = 0.1;
 
 /// The Coulomb levels the bound stage may hold at 0, in the order it tries them.
 const BOUND_LEVELS: [&str; 2] = ["Tc", "Tc_neg"];
+
+/// Share of its side's static level from which a Coulomb level on 0 is freed by its
+/// logarithm in the polish [–] (above the law's floor,
+/// [`hd_model::laws::friction::LEVEL_FLOOR_SHARE`]).
+const POLISH_SHARE: f64 = 1e-6;
 
 /// Share of the largest level a Stribeck-dominated start gives the Coulomb level [–].
 const STRIBECK_START_SHARE: f64 = 0.02;
@@ -195,6 +204,12 @@ pub fn fit_joint_with(
         if !problem.nonlinear.contains(&name) {
             continue;
         }
+        if settings.shortcuts && problem.on_floor(name, &best.values) {
+            ends.push(format!(
+                "{name} held at 0: not tried here (the free refinement ended on its floor: held at 0 below)"
+            ));
+            continue;
+        }
         if settings.shortcuts && !bound_stage_needed(name, &race.end_values, nested.as_ref()) {
             ends.push(format!(
                 "{name} held at 0: not tried (no start ended with {name} below {BOUND_GATE} of its side's larger level)"
@@ -215,6 +230,84 @@ pub fn fit_joint_with(
             ));
             problem = held;
             best = refined;
+        }
+    }
+    // A level the free refinement brought to its floor: held at exactly 0 and the rest
+    // refined from there; kept where that is no worse, so that it is reported on its bound
+    // and the covariance leaves it out.
+    let reached: Vec<&'static str> =
+        BOUND_LEVELS.into_iter().filter(|name| problem.on_floor(name, &best.values)).collect();
+    if !reached.is_empty() {
+        let mut on_bound = problem.on_bound.clone();
+        on_bound.extend(&reached);
+        let mut at_zero = best.values;
+        for name in &reached {
+            at_zero[if *name == "Tc" { 0 } else { 4 }] = 0.0;
+        }
+        if !opts.asymmetric {
+            at_zero[4] = at_zero[0];
+        }
+        let mut held = held_problem(data, fixed, opts, &at_zero, &on_bound)?;
+        held.first_bias = problem.first_bias;
+        if let Ok(out) = held.refine(&held.x_of(&at_zero), &lm) {
+            iterations += out.iterations;
+            evaluations += out.evaluations;
+            ends.push(format!(
+                "{} from the floor to 0: RSS {:.6e} after {} iterations ({})",
+                reached.join(" and "),
+                out.cost,
+                out.iterations,
+                out.termination
+            ));
+            if out.cost <= best.rss {
+                remarks.push(format!(
+                    "{} reached the floor of the free refinement; held at 0 (on its bound): RSS {:.6e}",
+                    reached.join(" and "),
+                    out.cost
+                ));
+                best = Refined::from_outcome(&held, out);
+                problem = held;
+            }
+        }
+    }
+    // The polish of a level on 0: the law holds a level below a share of the static one at
+    // that floor, so the one-sided slope at 0 can hide an optimum just above it. The levels
+    // on 0, freed and moved by their logarithms from just above it with no floor, show
+    // whether there is one.
+    if !problem.on_bound.is_empty() {
+        let mut start = best.values;
+        for name in &problem.on_bound {
+            let (c, st) = if *name == "Tc" { (0, 1) } else { (4, 5) };
+            start[c] = POLISH_SHARE * start[st];
+        }
+        if !opts.asymmetric {
+            start[4] = start[0];
+        }
+        let named: Vec<(&'static str, f64)> =
+            NONLINEAR_ALL.iter().copied().zip(start.iter().copied()).collect();
+        let mut polish = JointProblem::new(data, fixed, opts, &named);
+        polish.level_floor = 0.0;
+        polish.first_bias = problem.first_bias;
+        if let Ok(out) = polish.refine(&polish.x_of(&start), &lm) {
+            iterations += out.iterations;
+            evaluations += out.evaluations;
+            ends.push(format!(
+                "{} freed from just above 0: RSS {:.6e} after {} iterations ({})",
+                problem.on_bound.join(" and "),
+                out.cost,
+                out.iterations,
+                out.termination
+            ));
+            if out.cost < best.rss {
+                remarks.push(format!(
+                    "{} just above 0 fit better than on it: RSS {:.6e} against {:.6e}",
+                    problem.on_bound.join(" and "),
+                    out.cost,
+                    best.rss
+                ));
+                best = Refined::from_outcome(&polish, out);
+                problem = polish;
+            }
         }
     }
     if failed > 0 {
@@ -346,9 +439,8 @@ fn start_set(problem: &JointProblem, base: [f64; 6], nested: Option<&Nested>) ->
         }
     }
     if let Some(n) = nested {
-        // A level on its bound in the nested fit enters the free refinement just above it.
-        let floor = 1e-6 * n.values.iter().fold(0.0f64, |m, v| m.max(*v));
-        starts.push(n.values.map(|v| v.max(floor)));
+        // A level on its bound in the nested fit enters the free refinement on its floor.
+        starts.push(n.values.map(|v| v.max(problem.level_floor)));
     }
     starts
 }
