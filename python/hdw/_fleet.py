@@ -67,7 +67,8 @@ def fleet(
 
     The logs come from a manifest (CSV or Parquet: the file, the unit's identifiers, a
     timestamp, covariates) or a path pattern (``"logs/{robot}/{joint}/{date}.csv"``); every
-    log gets the same fit (``fit``: ``plateaus``, ``transient`` or ``steady``), in parallel,
+    log gets the same fit (``fit``: ``plateaus``, ``transient``, ``steady``, or ``hysteresis``
+    with ``options=["--law", "memory"]`` for a stiffness law per torque–deflection log), in parallel,
     committed in parts (``resume=True`` continues an interrupted run). Then each parameter
     is normalised for the covariates over a baseline and Page's CUSUM flags the units whose
     normalised estimates drift, at a fleet-wide false-alarm probability ``false_alarm``.
@@ -80,7 +81,7 @@ def fleet(
         unit: columns identifying a unit.
         time: the timestamp column.
         covariates: numeric columns to normalise for (e.g. ``["temperature"]``).
-        fit: the per-log fit.
+        fit: the per-log fit: plateaus, transient, steady or hysteresis.
         baseline_days: each unit's first days, over which the covariate model is fitted.
         false_alarm: probability of any false alarm over the fleet and record.
         normalise: ``"auto"`` (the covariate model of least BIC) or ``"none"``.

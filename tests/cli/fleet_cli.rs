@@ -243,3 +243,96 @@ fn a_bad_manifest_or_setting_is_one_line() {
     assert_one_line_error(&e, &["--wear r9/j1@3", "robot 1..4"]);
     let _ = std::fs::remove_dir_all(dir);
 }
+
+/// The hysteresis template: every torque–deflection log of a small fleet fitted with the
+/// stiffness law `hdw fit hysteresis` fits (`--fit hysteresis --law memory`); each log's
+/// c comes back near the truth the logs were made with, a log without the deflection
+/// column is a failed row naming it, and a resumed run with another law is refused.
+#[test]
+fn the_hysteresis_template_fits_every_log_with_a_stiffness_law() {
+    let dir = scratch("fleet-hysteresis");
+    let data = dir.join("data");
+    let mut manifest = vec!["file,robot,joint,date".to_string()];
+    let c_true = 6.5e4;
+    for (u, robot) in ["r1", "r2"].iter().enumerate() {
+        for day in 1..=5 {
+            let file = format!("logs/{robot}/j1/2026-03-0{day}.csv");
+            let path = data.join(&file);
+            std::fs::create_dir_all(path.parent().unwrap()).unwrap();
+            let seed = (10 * u + day).to_string();
+            hdw_ok(&[
+                "synth",
+                "hysteresis",
+                "--set",
+                &format!("c={c_true}"),
+                "--samples",
+                "4000",
+                "--noise",
+                "0.01",
+                "--seed",
+                &seed,
+                "--out",
+                path.to_str().unwrap(),
+            ]);
+            manifest.push(format!("{file},{robot},j1,2026-03-0{day}"));
+        }
+    }
+    std::fs::write(data.join("other.csv"), "t,angle,torque\n0,0,0\n1,1,1\n").unwrap();
+    manifest.push("other.csv,r3,j1,2026-03-01".into());
+    std::fs::write(data.join("manifest.csv"), manifest.join("\n") + "\n").unwrap();
+    let out = dir.join("fleet");
+    let m = data.join("manifest.csv");
+    let run = |law: &str, extra: &[&str]| {
+        let mut a = vec![
+            "fleet",
+            "--manifest",
+            m.to_str().unwrap(),
+            "--fit",
+            "hysteresis",
+            "--law",
+            law,
+            "--baseline-days",
+            "3",
+            "--no-plots",
+            "--out",
+            out.to_str().unwrap(),
+        ];
+        a.extend(extra);
+        hdw(&a)
+    };
+    let first = run("memory", &[]);
+    assert!(first.status.success(), "{}", String::from_utf8_lossy(&first.stderr));
+    let t = read(&out.join("fits.parquet"));
+    let (status, error, fit, param) = (
+        t.text("status").unwrap(),
+        t.text("error").unwrap(),
+        t.text("fit").unwrap(),
+        t.text("parameter").unwrap(),
+    );
+    let (value, se, li) =
+        (t.num("value").unwrap(), t.num("std_error").unwrap(), t.num("log_index").unwrap());
+    let failed: Vec<usize> =
+        (0..t.height).filter(|&r| status[r].as_deref() != Some("ok")).collect();
+    assert_eq!(failed.len(), 1, "one failed row");
+    let e = error[failed[0]].clone().unwrap_or_default();
+    assert!(e.contains("other.csv") && e.contains("theta"), "{e}");
+    assert_eq!(li[failed[0]] as usize, 10);
+    let mut logs_with_c = 0;
+    for r in (0..t.height).filter(|&r| status[r].as_deref() == Some("ok")) {
+        assert_eq!(fit[r].as_deref(), Some("hysteresis-memory"));
+        if param[r].as_deref() == Some("c") {
+            logs_with_c += 1;
+            assert!((value[r] / c_true - 1.0).abs() < 0.05, "c = {} on log {}", value[r], li[r]);
+            assert!(se[r].is_finite() && se[r] > 0.0, "c's standard error {}", se[r]);
+        }
+    }
+    assert_eq!(logs_with_c, 10, "every good log gives c");
+    // The drift ran on the stiffness parameters.
+    let d = read(&out.join("drift.parquet"));
+    let tested = d.text("parameter").unwrap();
+    assert!(tested.iter().flatten().any(|p| p == "c"));
+    // Another law on the same folder is another template: refused.
+    let other = run("bouc-wen", &["--resume"]);
+    assert_one_line_error(&other, &["another fit template"]);
+    let _ = std::fs::remove_dir_all(dir);
+}

@@ -9,7 +9,6 @@
 
 use crate::atomic::{Staged, commit};
 use crate::error::IoError;
-use crate::runs::for_each_run;
 use crate::table::{ColumnData, Table};
 use polars::prelude::*;
 use std::path::{Path, PathBuf};
@@ -183,12 +182,25 @@ impl FitStore {
     }
 
     /// Call `visit(run_index, run_id)` for every committed row (final table and parts).
+    /// Each file is read a row group at a time (two columns), with the eager reader.
     pub fn committed(&self, visit: &mut dyn FnMut(u64, &str)) -> Result<(), IoError> {
+        let mut files = self.parts()?;
         if self.fits_path().exists() {
-            for_each_run(&self.fits_path(), visit)?;
+            files.insert(0, self.fits_path());
         }
-        for f in self.parts()? {
-            for_each_run(&f, visit)?;
+        for f in &files {
+            let mut offset = 0;
+            for g in row_groups(f)? {
+                let cols = Some(vec!["run_index".to_string(), "run_id".to_string()]);
+                let df = read_rows(f, cols, offset, g)?;
+                offset += g;
+                let idx = run_indices(&df, f)?;
+                let ids = df.column("run_id").map_err(IoError::polars(f, "no run_id column"))?;
+                let ids = ids.str().map_err(IoError::polars(f, "run_id is not text"))?;
+                for (i, id) in idx.into_iter().zip(ids.iter()) {
+                    visit(i, id.unwrap_or(""));
+                }
+            }
         }
         Ok(())
     }

@@ -22,7 +22,9 @@ speed_scale, torque_scale override the template's factors for that row) or --pat
 become columns. Every log gets the same fit (--fit): plateaus (the static law Tc, Ts, ws, sigma2 from\n\
 the speed plateaus of a joint test: mean torque per plateau after the bristles settle, about 1 ms a\n\
 log), transient (all six LuGre parameters from the series, as hdw fit friction --transient, about\n\
-0.15 s a log) or steady (a steady-state table, as hdw fit friction --steady).\n\n\
+0.15 s a log), steady (a steady-state table, as hdw fit friction --steady) or hysteresis (a stiffness\n\
+law from a torque-deflection record, as hdw fit hysteresis: --law memory|maxwell-slip|bouc-wen, --elements,\n\
+--theta-unit, --offset, --fix; columns t,theta,torque).\n\n\
 A log that cannot be fitted (missing file or column, a fit that fails, a duplicate row, a timestamp\n\
 that does not parse) is a failed row with its reason; the rest go on. Finished logs are committed in\n\
 parts: after Ctrl-C, --resume fits only the rest. --shard K/N fits every N-th log (array jobs,\n\
@@ -70,7 +72,7 @@ pub struct FleetArgs {
     /// The fit every log gets.
     #[arg(long, value_enum, default_value = "plateaus")]
     pub fit: FitKind,
-    /// Columns of each log: T,OMEGA,TORQUE (steady: OMEGA,TORQUE).
+    /// Columns of each log: T,OMEGA,TORQUE (steady: OMEGA,TORQUE; hysteresis: T,THETA,TORQUE).
     #[arg(long, value_name = "NAMES", value_delimiter = ',')]
     pub columns: Vec<String>,
     /// Factor from the logs' time unit to s.
@@ -100,6 +102,15 @@ pub struct FleetArgs {
     /// Plateaus: shortest plateau [s].
     #[arg(long, value_name = "S", default_value_t = 0.1)]
     pub min_dwell: f64,
+    /// Hysteresis: stiffness law, memory, maxwell-slip or bouc-wen (as hdw fit hysteresis).
+    #[arg(long, value_name = "LAW", default_value = "memory")]
+    pub law: String,
+    /// Hysteresis: Maxwell-slip elements.
+    #[arg(long, value_name = "N", default_value_t = hd_ident::stiffness::maxwell_slip::DEFAULT_ELEMENTS)]
+    pub elements: usize,
+    /// Hysteresis: unit of the deflection column: rad, mrad, urad, deg, arcmin or arcsec.
+    #[arg(long, value_name = "UNIT", default_value = "rad")]
+    pub theta_unit: String,
     /// Output folder.
     #[arg(long, value_name = "DIR", default_value = "out/fleet")]
     pub out: PathBuf,
@@ -188,6 +199,9 @@ pub fn run(args: FleetArgs) -> Result<()> {
     let columns = if args.columns.is_empty() {
         match args.fit {
             FitKind::Steady => vec!["omega".to_string(), "torque".to_string()],
+            FitKind::Hysteresis => {
+                vec!["t".to_string(), "theta".to_string(), "torque".to_string()]
+            }
             _ => vec!["t".to_string(), "omega".to_string(), "torque".to_string()],
         }
     } else {
@@ -198,7 +212,11 @@ pub fn run(args: FleetArgs) -> Result<()> {
         bail!(
             "--columns {}: expected {want} names ({})",
             columns.join(","),
-            if want == 2 { "OMEGA,TORQUE" } else { "T,OMEGA,TORQUE" }
+            match args.fit {
+                FitKind::Steady => "OMEGA,TORQUE",
+                FitKind::Hysteresis => "T,THETA,TORQUE",
+                _ => "T,OMEGA,TORQUE",
+            }
         );
     }
     for (name, v) in [
@@ -216,6 +234,19 @@ pub fn run(args: FleetArgs) -> Result<()> {
     if !(0.0..0.95).contains(&args.settle) {
         bail!("--settle {}: expected a share in [0, 0.95)", args.settle);
     }
+    if args.fit == FitKind::Hysteresis {
+        let law = hd_ident::stiffness::Law::parse(&args.law).context("--law")?;
+        if args.law == "all" {
+            bail!(
+                "--law all: a fleet fits one law per log; expected memory, maxwell-slip or bouc-wen"
+            );
+        }
+        let _ = law;
+        super::fit_input::angle_factor(&args.theta_unit).context("--theta-unit")?;
+        if args.elements == 0 {
+            bail!("--elements 0: expected at least 1 Maxwell-slip element");
+        }
+    }
     let template = Template {
         kind: args.fit,
         columns,
@@ -228,6 +259,9 @@ pub fn run(args: FleetArgs) -> Result<()> {
         plateau_tolerance: args.plateau_tolerance,
         settle: args.settle,
         min_dwell: args.min_dwell,
+        law: args.law.clone(),
+        elements: args.elements,
+        theta_unit: args.theta_unit.clone(),
     };
     let fixed = Fixed::parse(&args.fix)?;
     let shard = args.shard.as_deref().map(parse_shard).transpose()?;
@@ -334,6 +368,7 @@ pub fn run(args: FleetArgs) -> Result<()> {
         store.commit(&rows(&plan, chunk, &fits), &extra_ref)?;
     }
     bar.finish();
+    release_free_memory();
     let total = store.finish()?;
     let secs = start.elapsed().as_secs_f64();
     eprintln!(
@@ -349,9 +384,27 @@ pub fn run(args: FleetArgs) -> Result<()> {
         );
     }
     if shard.is_none() {
+        release_free_memory();
         super::fleet_drift::run(&dir, &source, &args.drift)?;
     }
     Ok(())
+}
+
+/// Give the allocator's free pages back to the system between the stages: glibc keeps
+/// what the fitting threads freed in their arenas, which would add to the next stage's
+/// peak (the stages' live data are small and flat in the number of logs).
+fn release_free_memory() {
+    #[cfg(all(target_os = "linux", target_env = "gnu"))]
+    {
+        unsafe extern "C" {
+            fn malloc_trim(pad: usize) -> i32;
+        }
+        // SAFETY: malloc_trim only returns free memory of glibc's heaps to the system; it
+        // touches no live allocation.
+        unsafe {
+            malloc_trim(0);
+        }
+    }
 }
 
 /// Every shard of one split, none missing (the merge of an incomplete set is refused).

@@ -4,7 +4,10 @@
 
 use super::fleet_plan::{LogSpec, Plan};
 use hd_ident::fleet::{PlateauOptions, fit_plateaus};
-use hd_ident::{Estimate, Fixed, FrictionOptions, SteadyData, TransientData, fit_friction_with};
+use hd_ident::stiffness::{Law, LawOptions, fit_law};
+use hd_ident::{
+    Estimate, Fixed, FrictionOptions, HysteresisData, SteadyData, TransientData, fit_friction_with,
+};
 use hd_io::fleet::{FleetCells, FleetColumn};
 use hd_io::table::ColumnData;
 use std::time::Instant;
@@ -21,6 +24,9 @@ pub enum FitKind {
     Transient,
     /// The static law from a steady-state table (`hdw fit friction --steady`).
     Steady,
+    /// A stiffness law from a torque–deflection record (`hdw fit hysteresis`: `--law`,
+    /// `--elements`, `--theta-unit`, `--offset`, `--fix`).
+    Hysteresis,
 }
 
 /// The fit template: the same settings for every log.
@@ -48,6 +54,43 @@ pub struct Template {
     pub settle: f64,
     /// Plateaus: shortest plateau [s].
     pub min_dwell: f64,
+    /// Hysteresis: the stiffness law (memory, maxwell-slip, bouc-wen).
+    #[serde(default = "default_law")]
+    pub law: String,
+    /// Hysteresis: Maxwell-slip elements.
+    #[serde(default = "default_elements")]
+    pub elements: usize,
+    /// Hysteresis: unit of the deflection column (rad, mrad, urad, deg, arcmin, arcsec).
+    #[serde(default = "default_theta_unit")]
+    pub theta_unit: String,
+}
+
+fn default_law() -> String {
+    "memory".into()
+}
+
+fn default_elements() -> usize {
+    hd_ident::stiffness::maxwell_slip::DEFAULT_ELEMENTS
+}
+
+fn default_theta_unit() -> String {
+    "rad".into()
+}
+
+impl Template {
+    /// The name of the fit in fits.parquet: `friction-plateaus`, `hysteresis-memory` …
+    pub fn fit_name(&self) -> String {
+        match self.kind {
+            FitKind::Hysteresis => format!("hysteresis-{}", self.law),
+            k => format!(
+                "friction-{}",
+                serde_json::to_value(k)
+                    .ok()
+                    .and_then(|v| v.as_str().map(str::to_string))
+                    .unwrap_or_default()
+            ),
+        }
+    }
 }
 
 /// What one log gave.
@@ -100,13 +143,7 @@ pub fn fit_log(log: &LogSpec, t: &Template, fixed: &Fixed) -> LogFit {
     let start = Instant::now();
     let mut out = LogFit {
         outcome: Err(String::new()),
-        fit: format!(
-            "friction-{}",
-            serde_json::to_value(t.kind)
-                .ok()
-                .and_then(|v| v.as_str().map(str::to_string))
-                .unwrap_or_default()
-        ),
+        fit: t.fit_name(),
         resid_over_noise: f64::NAN,
         rms: f64::NAN,
         noise_std: f64::NAN,
@@ -161,6 +198,21 @@ pub fn fit_log(log: &LogSpec, t: &Template, fixed: &Fixed) -> LogFit {
                     out.samples = f.report.samples as u64;
                     Ok(f.report.parameters.0)
                 }
+            }
+            FitKind::Hysteresis => {
+                let to_rad = super::fit_input::angle_factor(&t.theta_unit)
+                    .map_err(|e| format!("--theta-unit: {e}"))?;
+                let (tt, th, q) =
+                    (scaled(&cols[0], ts), scaled(&cols[1], to_rad), scaled(&cols[2], qs));
+                let d = HysteresisData::new(tt, th, q).map_err(|e| at(e.to_string()))?;
+                let law = Law::parse(&t.law).map_err(|e| format!("--law: {e}"))?;
+                let o = LawOptions { offset: t.offset, elements: t.elements, fixed: fixed.clone() };
+                let f = fit_law(&d, law, &o).map_err(|e| at(e.to_string()))?;
+                out.rms = f.report.rms;
+                out.noise_std = f.report.noise_std;
+                out.resid_over_noise = f.report.rms / f.report.noise_std;
+                out.samples = f.report.samples as u64;
+                Ok(f.report.parameters.0)
             }
             FitKind::Steady => {
                 let (w, q) = (scaled(&cols[0], ws), scaled(&cols[1], qs));
@@ -280,7 +332,7 @@ pub fn rows(plan: &Plan, logs: &[&LogSpec], fits: &[LogFit]) -> Vec<FleetColumn>
     cols.extend([
         col("status", FleetCells::Text(status), "text", "ok, or failed (see error)"),
         col("error", FleetCells::Text(error), "text", "why the log was not fitted: file, column or fit, and what was expected"),
-        col("fit", FleetCells::Text(fit), "text", "fit kind: friction-plateaus, friction-transient or friction-steady"),
+        col("fit", FleetCells::Text(fit), "text", "fit kind: friction-plateaus, friction-transient, friction-steady or hysteresis-LAW"),
         col("parameter", FleetCells::Text(parameter), "text", "registry name of the parameter (null on a failed row)"),
         col("value", FleetCells::F64(value), "param_unit", "estimate, in the unit of param_unit"),
         col("std_error", FleetCells::F64(se), "param_unit", "standard error (null when fixed or singular)"),
@@ -288,7 +340,7 @@ pub fn rows(plan: &Plan, logs: &[&LogSpec], fits: &[LogFit]) -> Vec<FleetColumn>
         col("ci95_hi", FleetCells::F64(hi), "param_unit", "95 % interval, upper end"),
         col("determined", FleetCells::Bool(determined), "-", "whether the log determines the parameter"),
         col("param_unit", FleetCells::Text(punit), "text", "the parameter's unit (registry)"),
-        col("resid_over_noise", FleetCells::F64(ron), "-", "RMS residual over the noise (plateaus: of the plateau means over their standard errors; transient: over the noise from first differences)"),
+        col("resid_over_noise", FleetCells::F64(ron), "-", "RMS residual over the noise (plateaus: of the plateau means over their standard errors; transient: over the noise from first differences; hysteresis: over the fit's noise estimate)"),
         col("rms", FleetCells::F64(rms), "N·m", "RMS residual of the fit"),
         col("noise_std", FleetCells::F64(noise), "N·m", "noise of the torque estimated from first differences"),
         col("samples", FleetCells::U64(samples), "-", "points fitted (plateaus: plateau means)"),
