@@ -153,12 +153,49 @@ fn not_of_law(k: usize, law: HystLaw, file: &str, key: &str) -> Result<(), Drive
 }
 
 impl CompliantConfig {
+    /// Every parameter name typed in `[params]`, `[bounds]` and `[fit] free`/`fix` in its
+    /// canonical form (the seed's `A` and `B` are `mem_A` and `mem_B`, as everywhere a name
+    /// is typed); an error where two keys of one table name the same parameter.
+    fn canonical_names(&mut self, file: &str) -> Result<(), DriveError> {
+        use hd_model::registry::canonical;
+        fn table<V>(
+            map: &mut BTreeMap<String, V>,
+            file: &str,
+            key: &str,
+        ) -> Result<(), DriveError> {
+            let typed = std::mem::take(map);
+            let mut seen: BTreeMap<String, String> = BTreeMap::new();
+            for (name, v) in typed {
+                let canon = canonical(&name).to_string();
+                if let Some(first) = seen.insert(canon.clone(), name.clone()) {
+                    return Err(DriveError::config(
+                        format!("{file}, {key} '{name}'"),
+                        format!(
+                            "two names for one parameter: '{first}' and '{name}' are both {canon}; give it once"
+                        ),
+                    ));
+                }
+                map.insert(canon, v);
+            }
+            Ok(())
+        }
+        table(&mut self.params, file, "[params]")?;
+        table(&mut self.bounds, file, "[bounds]")?;
+        for list in [self.fit.free.as_mut(), self.fit.fix.as_mut()].into_iter().flatten() {
+            for name in list.iter_mut() {
+                *name = canonical(name).to_string();
+            }
+        }
+        Ok(())
+    }
+
     /// Parse and check `text` of file `file`.
     pub fn parse(text: &str, file: &str) -> Result<CompliantConfig, DriveError> {
         use crate::drive::config::{toml_error, validate_compliant};
         let table: toml::Table = toml::from_str(text).map_err(|e| toml_error(file, &e))?;
         validate_compliant::raw(&table, file)?;
-        let c: CompliantConfig = toml::from_str(text).map_err(|e| toml_error(file, &e))?;
+        let mut c: CompliantConfig = toml::from_str(text).map_err(|e| toml_error(file, &e))?;
+        c.canonical_names(file)?;
         if c.transmission != "compliant" {
             return Err(DriveError::config(
                 format!("{file}, transmission"),
@@ -425,5 +462,30 @@ mod tests {
         assert_eq!((lower[ix::R], upper[ix::R]), (6e-3, 6e3));
         assert_eq!((lower[ix::BW_GAMMA], upper[ix::BW_GAMMA]), (-1e6, 1e6));
         assert!(lower[ix::JZ] == f64::NEG_INFINITY && upper[ix::JZ] == f64::INFINITY);
+    }
+
+    /// The seed's names `A` and `B` are accepted wherever a parameter is named, as the
+    /// canonical `mem_A` and `mem_B`; one parameter named twice is refused, naming both.
+    #[test]
+    fn the_seeds_names_are_aliases() {
+        let experiment = "[[experiment]]\nname = \"a\"\nfile = \"a.csv\"\n\
+                          time = \"t\"\nvoltage = \"u\"\nmotor = \"m\"\nload = \"l\"\n";
+        let text = format!(
+            "transmission = \"compliant\"\n[params]\nA = 3e4\n[bounds]\nB = [1.0, 1e4]\n\
+             [fit]\nfree = [\"R\", \"A\", \"B\"]\n{experiment}"
+        );
+        let cfg = CompliantConfig::parse(&text, "fit.toml").unwrap();
+        assert_eq!(cfg.params.get("mem_A"), Some(&3e4));
+        assert_eq!(cfg.bounds.get("mem_B"), Some(&[1.0, 1e4]));
+        assert_eq!(
+            cfg.fit.free.as_deref(),
+            Some(&["R".to_string(), "mem_A".into(), "mem_B".into()][..])
+        );
+        let (start, lower, _) = cfg.start_and_bounds(&[1.0; P]);
+        assert_eq!((start[ix::MEM_A], lower[ix::MEM_B]), (3e4, 1.0));
+        let twice =
+            format!("transmission = \"compliant\"\n[params]\nA = 3e4\nmem_A = 2e4\n{experiment}");
+        let e = CompliantConfig::parse(&twice, "fit.toml").unwrap_err().to_string();
+        assert!(e.contains("[params]") && e.contains("'A'") && e.contains("'mem_A'"), "{e}");
     }
 }
