@@ -67,7 +67,8 @@ def fleet(
 
     The logs come from a manifest (CSV or Parquet: the file, the unit's identifiers, a
     timestamp, covariates) or a path pattern (``"logs/{robot}/{joint}/{date}.csv"``); every
-    log gets the same fit (``fit``: ``plateaus``, ``transient``, ``steady``, or ``hysteresis``
+    log gets the same fit (``fit``: ``plateaus``, ``transient``, ``steady``, ``drive`` with
+    ``options=["--drive-config", "fit.toml"]``, or ``hysteresis``
     with ``options=["--law", "memory"]`` for a stiffness law per torque–deflection log), in parallel,
     committed in parts (``resume=True`` continues an interrupted run). Then each parameter
     is normalised for the covariates over a baseline and Page's CUSUM flags the units whose
@@ -81,7 +82,7 @@ def fleet(
         unit: columns identifying a unit.
         time: the timestamp column.
         covariates: numeric columns to normalise for (e.g. ``["temperature"]``).
-        fit: the per-log fit: plateaus, transient, steady or hysteresis.
+        fit: the per-log fit: plateaus, transient, steady, hysteresis or drive.
         baseline_days: each unit's first days, over which the covariate model is fitted.
         false_alarm: probability of any false alarm over the fleet and record.
         normalise: ``"auto"`` (the covariate model of least BIC) or ``"none"``.

@@ -336,3 +336,88 @@ fn the_hysteresis_template_fits_every_log_with_a_stiffness_law() {
     assert_one_line_error(&other, &["another fit template"]);
     let _ = std::fs::remove_dir_all(dir);
 }
+
+/// The drive template: every log fitted as `hdw fit drive` fits one record, with the
+/// fleet's configuration whose `file` each log replaces. The EMPS record under three
+/// names (two units) gives the same estimates three times; a file that is no MAT record is
+/// a failed row naming it; a configuration with two records is refused in one line.
+#[test]
+fn the_drive_template_fits_every_log_as_fit_drive_does() {
+    let dir = scratch("fleet-drive");
+    let data = dir.join("data");
+    let emps = crate::common::repo_path("data/emps/DATA_EMPS.mat");
+    let mut manifest = vec!["file,robot,joint,date".to_string()];
+    for (file, robot, date) in [
+        ("u1/a.mat", "r1", "2026-01-01"),
+        ("u1/b.mat", "r1", "2026-01-02"),
+        ("u2/a.mat", "r2", "2026-01-01"),
+    ] {
+        let p = data.join(file);
+        std::fs::create_dir_all(p.parent().unwrap()).unwrap();
+        std::fs::copy(&emps, &p).unwrap();
+        manifest.push(format!("{file},{robot},j1,{date}"));
+    }
+    std::fs::write(data.join("bad.mat"), "not a MAT file").unwrap();
+    manifest.push("bad.mat,r3,j1,2026-01-01".into());
+    std::fs::write(data.join("manifest.csv"), manifest.join("\n") + "\n").unwrap();
+    let cfg = std::fs::read_to_string(crate::common::repo_path("data/emps/fit.toml")).unwrap();
+    let one_law: String = cfg
+        .lines()
+        .map(|l| if l.starts_with("friction") { "friction = \"coulomb-viscous\"" } else { l })
+        .collect::<Vec<_>>()
+        .join("\n");
+    std::fs::write(dir.join("fit.toml"), &one_law).unwrap();
+    let out = dir.join("fleet");
+    let args = |config: &Path, out: &Path| {
+        hdw(&[
+            "fleet",
+            "--manifest",
+            data.join("manifest.csv").to_str().unwrap(),
+            "--fit",
+            "drive",
+            "--drive-config",
+            config.to_str().unwrap(),
+            "--baseline-days",
+            "2",
+            "--no-plots",
+            "--out",
+            out.to_str().unwrap(),
+        ])
+    };
+    let run = args(&dir.join("fit.toml"), &out);
+    assert!(run.status.success(), "{}", String::from_utf8_lossy(&run.stderr));
+    let t = read(&out.join("fits.parquet"));
+    let (status, error, fit, param) = (
+        t.text("status").unwrap(),
+        t.text("error").unwrap(),
+        t.text("fit").unwrap(),
+        t.text("parameter").unwrap(),
+    );
+    let (value, se, li) =
+        (t.num("value").unwrap(), t.num("std_error").unwrap(), t.num("log_index").unwrap());
+    let failed: Vec<usize> =
+        (0..t.height).filter(|&r| status[r].as_deref() != Some("ok")).collect();
+    assert_eq!(failed.len(), 1);
+    assert_eq!(li[failed[0]] as usize, 3);
+    let e = error[failed[0]].clone().unwrap_or_default();
+    assert!(e.contains("bad.mat") && e.contains("MAT"), "{e}");
+    let masses: Vec<(f64, f64)> = (0..t.height)
+        .filter(|&r| param[r].as_deref() == Some("M"))
+        .map(|r| (value[r], se[r]))
+        .collect();
+    assert_eq!(masses.len(), 3, "every good log gives the mass");
+    for &(m, s) in &masses {
+        assert_eq!(m, masses[0].0, "the same record gives the same mass");
+        assert!(s.is_finite() && s > 0.0 && s < 0.01 * m, "M = {m} ± {s}");
+    }
+    for r in (0..t.height).filter(|&r| status[r].as_deref() == Some("ok")) {
+        assert_eq!(fit[r].as_deref(), Some("drive-coulomb-viscous"));
+    }
+    assert!(out.join("drift.parquet").exists());
+    // Two records in the configuration: which would each log replace? Refused.
+    let two = one_law.clone() + "\n[[experiment]]\nname = \"second\"\nfile = \"x.mat\"\n";
+    std::fs::write(dir.join("two.toml"), two).unwrap();
+    let refused = args(&dir.join("two.toml"), &dir.join("fleet-two"));
+    assert_one_line_error(&refused, &["--drive-config", "2 `file =` keys"]);
+    let _ = std::fs::remove_dir_all(dir);
+}

@@ -24,7 +24,8 @@ the speed plateaus of a joint test: mean torque per plateau after the bristles s
 log), transient (all six LuGre parameters from the series, as hdw fit friction --transient, about\n\
 0.15 s a log), steady (a steady-state table, as hdw fit friction --steady) or hysteresis (a stiffness\n\
 law from a torque-deflection record, as hdw fit hysteresis: --law memory|maxwell-slip|bouc-wen, --elements,\n\
---theta-unit, --offset, --fix; columns t,theta,torque).\n\n\
+--theta-unit, --offset, --fix; columns t,theta,torque) or drive (hdw fit drive with --drive-config FILE,\n\
+its one [[experiment]] file replaced by each log; the best law's parameters).\n\n\
 A log that cannot be fitted (missing file or column, a fit that fails, a duplicate row, a timestamp\n\
 that does not parse) is a failed row with its reason; the rest go on. Finished logs are committed in\n\
 parts: after Ctrl-C, --resume fits only the rest. --shard K/N fits every N-th log (array jobs,\n\
@@ -111,6 +112,10 @@ pub struct FleetArgs {
     /// Hysteresis: unit of the deflection column: rad, mrad, urad, deg, arcmin or arcsec.
     #[arg(long, value_name = "UNIT", default_value = "rad")]
     pub theta_unit: String,
+    /// Drive (`--fit drive`): an `hdw fit drive` configuration with one [[experiment]],
+    /// whose `file` each log replaces.
+    #[arg(long, value_name = "FILE")]
+    pub drive_config: Option<PathBuf>,
     /// Output folder.
     #[arg(long, value_name = "DIR", default_value = "out/fleet")]
     pub out: PathBuf,
@@ -208,7 +213,7 @@ pub fn run(args: FleetArgs) -> Result<()> {
         args.columns.clone()
     };
     let want = if args.fit == FitKind::Steady { 2 } else { 3 };
-    if columns.len() != want {
+    if columns.len() != want && args.fit != FitKind::Drive {
         bail!(
             "--columns {}: expected {want} names ({})",
             columns.join(","),
@@ -247,6 +252,20 @@ pub fn run(args: FleetArgs) -> Result<()> {
             bail!("--elements 0: expected at least 1 Maxwell-slip element");
         }
     }
+    let drive_config = match (&args.drive_config, args.fit) {
+        (Some(p), FitKind::Drive) => {
+            let text = std::fs::read_to_string(p)
+                .with_context(|| format!("--drive-config {}", p.display()))?;
+            super::fleet_drive::with_record(&text, Path::new("log"))
+                .map_err(|e| anyhow::anyhow!("--drive-config {}: {e}", p.display()))?;
+            text
+        }
+        (None, FitKind::Drive) => {
+            bail!("--fit drive: expected --drive-config FILE (an hdw fit drive configuration)")
+        }
+        (Some(_), _) => bail!("--drive-config: only with --fit drive"),
+        (None, _) => String::new(),
+    };
     let template = Template {
         kind: args.fit,
         columns,
@@ -262,6 +281,7 @@ pub fn run(args: FleetArgs) -> Result<()> {
         law: args.law.clone(),
         elements: args.elements,
         theta_unit: args.theta_unit.clone(),
+        drive_config,
     };
     let fixed = Fixed::parse(&args.fix)?;
     let shard = args.shard.as_deref().map(parse_shard).transpose()?;

@@ -27,6 +27,9 @@ pub enum FitKind {
     /// A stiffness law from a torque–deflection record (`hdw fit hysteresis`: `--law`,
     /// `--elements`, `--theta-unit`, `--offset`, `--fix`).
     Hysteresis,
+    /// A rigid drive from its logged closed loop (`hdw fit drive`): the configuration of
+    /// `--drive-config` with its one record's `file` replaced by each log.
+    Drive,
 }
 
 /// The fit template: the same settings for every log.
@@ -63,6 +66,9 @@ pub struct Template {
     /// Hysteresis: unit of the deflection column (rad, mrad, urad, deg, arcmin, arcsec).
     #[serde(default = "default_theta_unit")]
     pub theta_unit: String,
+    /// Drive: the text of the fit-drive configuration (its `file` replaced per log).
+    #[serde(default)]
+    pub drive_config: String,
 }
 
 fn default_law() -> String {
@@ -82,6 +88,7 @@ impl Template {
     pub fn fit_name(&self) -> String {
         match self.kind {
             FitKind::Hysteresis => format!("hysteresis-{}", self.law),
+            FitKind::Drive => "drive".into(),
             k => format!(
                 "friction-{}",
                 serde_json::to_value(k)
@@ -124,7 +131,7 @@ fn diff_noise(y: &[f64]) -> f64 {
 }
 
 /// An error with its sources, on one line: `file: no such file (os error 2)`.
-fn chain(e: &dyn std::error::Error) -> String {
+pub fn chain(e: &dyn std::error::Error) -> String {
     let mut s = e.to_string();
     let mut src = e.source();
     while let Some(c) = src {
@@ -152,6 +159,11 @@ pub fn fit_log(log: &LogSpec, t: &Template, fixed: &Fixed) -> LogFit {
     };
     if let Some(p) = &log.problem {
         out.outcome = Err(p.clone());
+        return out;
+    }
+    if t.kind == FitKind::Drive {
+        out.outcome = super::fleet_drive::fit_drive_log(log, &t.drive_config, &mut out);
+        out.time_s = start.elapsed().as_secs_f64();
         return out;
     }
     let res = (|| -> Result<Vec<(String, Estimate)>, String> {
@@ -214,6 +226,7 @@ pub fn fit_log(log: &LogSpec, t: &Template, fixed: &Fixed) -> LogFit {
                 out.samples = f.report.samples as u64;
                 Ok(f.report.parameters.0)
             }
+            FitKind::Drive => Err("internal error: a drive log read as columns".into()),
             FitKind::Steady => {
                 let (w, q) = (scaled(&cols[0], ws), scaled(&cols[1], qs));
                 let d = SteadyData::new(w, q).map_err(|e| at(e.to_string()))?;
@@ -332,7 +345,7 @@ pub fn rows(plan: &Plan, logs: &[&LogSpec], fits: &[LogFit]) -> Vec<FleetColumn>
     cols.extend([
         col("status", FleetCells::Text(status), "text", "ok, or failed (see error)"),
         col("error", FleetCells::Text(error), "text", "why the log was not fitted: file, column or fit, and what was expected"),
-        col("fit", FleetCells::Text(fit), "text", "fit kind: friction-plateaus, friction-transient, friction-steady or hysteresis-LAW"),
+        col("fit", FleetCells::Text(fit), "text", "fit kind: friction-plateaus, friction-transient, friction-steady, hysteresis-LAW or drive"),
         col("parameter", FleetCells::Text(parameter), "text", "registry name of the parameter (null on a failed row)"),
         col("value", FleetCells::F64(value), "param_unit", "estimate, in the unit of param_unit"),
         col("std_error", FleetCells::F64(se), "param_unit", "standard error (null when fixed or singular)"),
