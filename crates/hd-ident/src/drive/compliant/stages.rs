@@ -19,7 +19,10 @@
 //!    and the fit run again. That fit is reported unless freeing the parameter lowers the cost by at
 //!    least BIC's price, ln n per parameter (in units of the cost per degree of freedom);
 //!    the other fit is a rival.
-//! 6. **Agreement.** The best full fit is reported. Another full fit whose cost is within the
+//! 6. **Nested law.** With direction-dependent friction, the symmetric law's own fit (these
+//!    same stages) joins the fits, as a point of the directional law and as the start of one
+//!    more full fit, so the directional fit never ends above it.
+//! 7. **Agreement.** The best full fit is reported. Another full fit whose cost is within the
 //!    95 % threshold of the best (Δcost ≤ χ²₉₅(m)·s², m the number of parameters on which
 //!    the two differ by more than twice the best fit's standard error, s² the best fit's
 //!    cost per degree of freedom) is as good an explanation of the records; a parameter on
@@ -79,6 +82,7 @@ pub fn fit_compliant(
     records: &[VoltageRecord],
     progress: Progress<'_>,
 ) -> Result<CompliantFit, String> {
+    let nested = nested_symmetric(spec, records, progress);
     let starts = staged_starts(spec, records, progress);
     let mut fits: Vec<Result<CompliantFit, String>> =
         starts.par_iter().map(|s| settle(spec, *s, records, progress)).collect();
@@ -139,6 +143,26 @@ pub fn fit_compliant(
             ok.push(end);
             ok.sort_by(|a, b| a.cost.total_cmp(&b.cost));
         }
+    }
+    // Nested laws stay nested: the symmetric law's own fit joins the fits as a point of this
+    // law (the negative-side levels equal to the positive ones), costed with this fit's
+    // weights, and as the start of one more full fit; the directional fit's cost is then
+    // never above the symmetric one's.
+    if let Some(n) = &nested {
+        let from = used.tied(n.values);
+        let mut at = used.clone();
+        at.start = from;
+        at.settings.max_iterations = 0;
+        if let Ok(point) = fit_stage(&at, records, progress) {
+            ok.push(point);
+        }
+        if let Ok(end) = settle(used, from, records, progress) {
+            spent += end.iterations;
+            failed += end.failed_trials;
+            ok.push(end);
+        }
+        spent += n.iterations;
+        ok.sort_by(|a, b| a.cost.total_cmp(&b.cost));
     }
     let mut best = if ok.is_empty() { return Err(last_error) } else { ok.remove(0) };
     // A parameter on its bound: the fit again with it held at its start is reported unless
@@ -209,6 +233,21 @@ pub fn fit_compliant(
     best.failed_trials = failed;
     best.starts = starts.len();
     Ok(best)
+}
+
+/// With direction-dependent friction on the gear (Tc_neg or Ts_neg free), the fit of the
+/// symmetric law it contains, as [`fit_compliant`] gives it; None otherwise or where that
+/// fit fails (the richer fit then goes on from its own starts).
+fn nested_symmetric(
+    spec: &CompliantSpec,
+    records: &[VoltageRecord],
+    progress: Progress<'_>,
+) -> Option<CompliantFit> {
+    if spec.symmetric_friction || !(spec.free[TC_NEG] || spec.free[TS_NEG]) {
+        return None;
+    }
+    let symmetric = CompliantSpec { symmetric_friction: true, ..spec.clone() };
+    fit_compliant(&symmetric, records, progress).ok()
 }
 
 /// The free parameters of `fit` that ended on a bound of `spec` (within 1e-9 of it,

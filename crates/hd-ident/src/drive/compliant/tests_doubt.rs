@@ -4,7 +4,7 @@
 //! end in doubt (fit.doubt, the misfit said first) with the cause named; fitted as
 //! configured rightly, at the noise and not in doubt.
 
-use super::fit::{CompliantFit, CompliantSpec, Signal, substeps_for};
+use super::fit::{CompliantFit, CompliantSpec, Signal, cost_at, substeps_for};
 use super::model::{Compliant, P, ix::*};
 use super::record::{Between, CurrentSampled, VoltageRecord};
 use super::simulate::simulate;
@@ -137,4 +137,33 @@ fn directional_friction_fitted_as_symmetric_is_named() {
     sym[TS_NEG] = sym[TS];
     let wrong = fit(&spec_for(&sym, outputs, Between::Hold), &rec);
     assert_named(&wrong, "directional_friction = true");
+}
+
+/// Nested laws stay nested (issue 50 item 1): with the noise levels given, so that both
+/// fits weigh the residuals alike, the direction-dependent fit of a record ends no higher
+/// than the symmetric fit of the same record, whether the drive's friction is symmetric or
+/// twice as high in the negative direction.
+#[test]
+fn the_directional_fit_never_ends_above_the_symmetric_one() {
+    for factor in [1.0, 2.0] {
+        let mut truth = seed();
+        truth[TC_NEG] = factor * truth[TC];
+        truth[TS_NEG] = factor * truth[TS];
+        let (rec, outputs) = held_record(&truth, CurrentSampled::After);
+        let mut sym = truth;
+        sym[TC_NEG] = sym[TC];
+        sym[TS_NEG] = sym[TS];
+        let symmetric = spec_for(&sym, outputs, Between::Hold);
+        assert!(symmetric.symmetric_friction);
+        let directional = CompliantSpec { symmetric_friction: false, ..symmetric.clone() };
+        let s = fit(&symmetric, &rec);
+        let d = fit(&directional, &rec);
+        let s_here = cost_at(&directional, &s.values, std::slice::from_ref(&rec)).unwrap();
+        println!(
+            "factor {factor}: directional cost {:.6e}, symmetric {:.6e} ({s_here:.6e} as a directional point)",
+            d.cost, s.cost
+        );
+        assert!(d.cost <= s.cost * (1.0 + 1e-9), "factor {factor}: {} > {}", d.cost, s.cost);
+        assert!(d.cost <= s_here * (1.0 + 1e-9), "factor {factor}: {} > {s_here}", d.cost);
+    }
 }
