@@ -282,12 +282,14 @@ pub fn run(args: &DriveArgs, text: &str) -> Result<()> {
     let spec = CompliantSpec { start: spec.tied(spec.start), ..spec };
     // A count given in the configuration is used as given; otherwise it is raised until
     // the integration error is below the noise (hd_ident::drive::compliant::accuracy).
+    let t_accuracy = Instant::now();
     let spec = if cfg.substeps.is_some() {
         spec
     } else {
         let (substeps, _) = accurate_substeps(&spec, &records);
         CompliantSpec { substeps, ..spec }
     };
+    let accuracy_secs = cfg.substeps.is_none().then(|| t_accuracy.elapsed().as_secs_f64());
     // The current's scale against what the start values drive from the voltage.
     doubt.extend(records.iter().filter_map(|r| check_current(&spec, r)));
     for d in &doubt {
@@ -303,6 +305,9 @@ pub fn run(args: &DriveArgs, text: &str) -> Result<()> {
     };
     let mut fit = fit_compliant(&spec, &records, &progress)
         .map_err(|e| anyhow::anyhow!("{file}: the compliant fit failed: {e}"))?;
+    if let Some(secs) = accuracy_secs {
+        fit.stage_seconds.insert(0, ("substeps chosen (integration accuracy check)", secs));
+    }
     if !doubt.is_empty() {
         let d = &mut fit.determination;
         d.sentences.retain(|s| !s.starts_with("Every free parameter is determined"));

@@ -194,6 +194,7 @@ fn write_all(dir: &Path, o: &Outcome) -> Result<()> {
         "directional_load_friction": !sp.symmetric_load_friction,
         "friction_velocity": sp.friction_velocity.name(),
         "wall_time_s": o.secs,
+        "stage_seconds": f.stage_seconds.iter().map(|(stage, s)| serde_json::json!({ "stage": stage, "seconds": s })).collect::<Vec<_>>(),
         "starts": f.starts,
         "iterations": f.iterations,
         "failed_trials": f.failed_trials,
@@ -279,6 +280,11 @@ fn write_all(dir: &Path, o: &Outcome) -> Result<()> {
         o.secs,
         f.termination
     );
+    if !f.stage_seconds.is_empty() {
+        let stages: Vec<String> =
+            f.stage_seconds.iter().map(|(stage, s)| format!("{stage} {s:.2} s")).collect();
+        let _ = writeln!(r, "Time by stage: {}.\n", stages.join("; "));
+    }
     if let Some(c) = &o.controller {
         let _ = writeln!(r, "## The loop\n");
         for l in c.lines() {

@@ -266,6 +266,9 @@ pub struct CompliantFit {
     /// noise, a scale or the controller check fails; [`super::diagnose`]); empty when it
     /// is not. Where it is not empty, no parameter's `determined` should be trusted.
     pub doubt: Vec<String>,
+    /// Wall time of each stage of [`super::stages::fit_compliant`] that ran, in order
+    /// (name, seconds [s]): where a fit's time goes.
+    pub stage_seconds: Vec<(&'static str, f64)>,
 }
 
 /// Score every output of every record with parameters `p` ([`NAMES`] order), against the
@@ -541,5 +544,6 @@ pub(super) fn fit_stage(
         starts: 1,
         determined,
         doubt: Vec::new(),
+        stage_seconds: Vec::new(),
     })
 }

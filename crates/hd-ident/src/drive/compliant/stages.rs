@@ -82,10 +82,14 @@ pub fn fit_compliant(
     records: &[VoltageRecord],
     progress: Progress<'_>,
 ) -> Result<CompliantFit, String> {
+    let mut clock = Stages::default();
     let nested = nested_symmetric(spec, records, progress);
+    clock.lap("symmetric law's fit (nested)", nested.is_some());
     let starts = staged_starts(spec, records, progress);
+    clock.lap("motor and load passes", true);
     let mut fits: Vec<Result<CompliantFit, String>> =
         starts.par_iter().map(|s| settle(spec, *s, records, progress)).collect();
+    clock.lap("full fits", true);
     let mut spent: usize = fits.iter().flatten().map(|f| f.iterations).sum();
     let mut failed: usize = fits.iter().flatten().map(|f| f.failed_trials).sum();
     // Noise levels estimated from the records (third differences) overstate a signal whose
@@ -114,6 +118,7 @@ pub fn fit_compliant(
             f.cost = cost_at(new, &f.values, records).unwrap_or(f64::INFINITY);
         }
     }
+    clock.lap("noise levels re-estimated, best refitted", weighed.is_some());
     let mut ok: Vec<CompliantFit> = Vec::new();
     let mut last_error = String::from("no start could be fitted");
     for f in fits {
@@ -143,6 +148,7 @@ pub fn fit_compliant(
             ok.push(end);
             ok.sort_by(|a, b| a.cost.total_cmp(&b.cost));
         }
+        clock.lap("split (friction on both sides)", true);
     }
     // Nested laws stay nested: the symmetric law's own fit joins the fits as a point of this
     // law (the negative-side levels equal to the positive ones), costed with this fit's
@@ -163,6 +169,7 @@ pub fn fit_compliant(
         }
         spent += n.iterations;
         ok.sort_by(|a, b| a.cost.total_cmp(&b.cost));
+        clock.lap("full fit from the symmetric law's optimum", true);
     }
     let mut best = if ok.is_empty() { return Err(last_error) } else { ok.remove(0) };
     // A parameter on its bound: the fit again with it held at its start is reported unless
@@ -207,9 +214,11 @@ pub fn fit_compliant(
             ));
         }
     }
+    clock.lap("bounds: held refit", !bounded.is_empty());
     let rivals: Vec<&CompliantFit> = ok.iter().filter(|f| as_good(&best, f)).collect();
     not_determined_by_agreement(&mut best, &rivals);
     super::requantised::widen_by_rounding(used, &mut best, records);
+    clock.lap("rounding check (refits of re-rounded records)", true);
     refine_fit(&mut best, spec.n);
     let given = |s: Signal| {
         spec.outputs
@@ -228,11 +237,36 @@ pub fn fit_compliant(
         d.sentences.splice(0..0, doubt.iter().cloned());
         d.all_determined = false;
         best.doubt = doubt;
+        clock.lap("misfit diagnosis", true);
     }
+    best.stage_seconds = clock.done;
     best.iterations = spent;
     best.failed_trials = failed;
     best.starts = starts.len();
     Ok(best)
+}
+
+/// The wall time of each stage of [`fit_compliant`], as [`CompliantFit::stage_seconds`].
+struct Stages {
+    since: std::time::Instant,
+    done: Vec<(&'static str, f64)>,
+}
+
+impl Default for Stages {
+    fn default() -> Self {
+        Self { since: std::time::Instant::now(), done: Vec::new() }
+    }
+}
+
+impl Stages {
+    /// End the stage `name`, recording its time where it `ran`.
+    fn lap(&mut self, name: &'static str, ran: bool) {
+        let now = std::time::Instant::now();
+        if ran {
+            self.done.push((name, (now - self.since).as_secs_f64()));
+        }
+        self.since = now;
+    }
 }
 
 /// With direction-dependent friction on the gear (Tc_neg or Ts_neg free), the fit of the
