@@ -87,10 +87,6 @@ impl<'a> Cursor<'a> {
         })
     }
 
-    fn done(&self) -> bool {
-        self.at >= self.bytes.len()
-    }
-
     /// The next element: its type and its bytes (the cursor then stands after its padding).
     fn element(&mut self) -> Result<(u32, &'a [u8]), String> {
         let first = self.u32()?;
@@ -181,8 +177,9 @@ fn numbers(ty: u32, b: &[u8], order: Order) -> Result<Vec<f64>, String> {
     })
 }
 
-/// Parse the contents of one `miMATRIX` element.
-fn matrix(b: &[u8], order: Order) -> Result<Entry, String> {
+/// Parse the contents of one `miMATRIX` element; its numbers are decoded only where `want`
+/// holds for its name (the others are listed by name only).
+fn matrix(b: &[u8], order: Order, want: &dyn Fn(&str) -> bool) -> Result<Entry, String> {
     let mut c = Cursor { bytes: b, at: 0, order };
     let (_, flags) = c.element()?;
     let flag_word =
@@ -205,6 +202,9 @@ fn matrix(b: &[u8], order: Order) -> Result<Entry, String> {
         };
         return Ok(Entry::Other { name, what });
     }
+    if !want(&name) {
+        return Ok(Entry::Other { name, what: "not asked for".into() });
+    }
     let (rty, real) = c.element()?;
     let data = numbers(rty, real, order).map_err(|e| format!("variable '{name}': {e}"))?;
     let count: usize = dims.iter().product();
@@ -215,26 +215,72 @@ fn matrix(b: &[u8], order: Order) -> Result<Entry, String> {
     Ok(Entry::Numeric(MatVariable { name, dims, data }))
 }
 
-/// Every variable of the file's bytes (after the header).
-fn entries(bytes: &[u8], order: Order) -> Result<Vec<Entry>, String> {
-    let mut c = Cursor { bytes, at: 128, order };
+/// One top-level element's variable, from its type and bytes.
+fn top_level(
+    ty: u32,
+    data: &[u8],
+    order: Order,
+    want: &dyn Fn(&str) -> bool,
+) -> Result<Option<Entry>, String> {
+    match ty {
+        MI_MATRIX => matrix(data, order, want).map(Some),
+        MI_COMPRESSED => {
+            let mut plain = Vec::new();
+            flate2::read::ZlibDecoder::new(data)
+                .read_to_end(&mut plain)
+                .map_err(|e| format!("a compressed element does not inflate: {e}"))?;
+            let mut inner = Cursor { bytes: &plain, at: 0, order };
+            let (ity, idata) = inner.element()?;
+            if ity == MI_MATRIX { matrix(idata, order, want).map(Some) } else { Ok(None) }
+        }
+        _ => Ok(None), // other top-level elements carry no variable
+    }
+}
+
+/// Every variable of the file read by `r` from just after its 128-byte header, `len` bytes
+/// long in all. One top-level element is held at a time (its bytes, inflated, and the
+/// numbers of a variable `want` asks for), never the whole file.
+fn entries(
+    r: &mut impl Read,
+    len: u64,
+    order: Order,
+    want: &dyn Fn(&str) -> bool,
+) -> Result<Vec<Entry>, String> {
+    let mut at: u64 = 128;
     let mut out = Vec::new();
-    while !c.done() {
-        let (ty, data) = c.element()?;
-        match ty {
-            MI_MATRIX => out.push(matrix(data, order)?),
-            MI_COMPRESSED => {
-                let mut plain = Vec::new();
-                flate2::read::ZlibDecoder::new(data)
-                    .read_to_end(&mut plain)
-                    .map_err(|e| format!("a compressed element does not inflate: {e}"))?;
-                let mut inner = Cursor { bytes: &plain, at: 0, order };
-                let (ity, idata) = inner.element()?;
-                if ity == MI_MATRIX {
-                    out.push(matrix(idata, order)?);
-                }
-            }
-            _ => {} // other top-level elements carry no variable
+    let word = |b: [u8; 4]| match order {
+        Order::Little => u32::from_le_bytes(b),
+        Order::Big => u32::from_be_bytes(b),
+    };
+    let truncated = |n: u64, at: u64| {
+        format!("truncated: an element needs {n} bytes at offset {at} but the data ends")
+    };
+    while at < len {
+        let mut tag = [0u8; 8];
+        if len - at < 8 {
+            return Err(truncated(8, at));
+        }
+        r.read_exact(&mut tag).map_err(|e| e.to_string())?;
+        at += 8;
+        let first = word(tag[..4].try_into().expect("4 bytes"));
+        if first >> 16 != 0 {
+            continue; // a small element (4 bytes of data in the tag) carries no variable
+        }
+        let n = u64::from(word(tag[4..].try_into().expect("4 bytes")));
+        if n > len - at {
+            return Err(truncated(n, at));
+        }
+        let mut data = vec![0u8; n as usize];
+        r.read_exact(&mut data).map_err(|e| e.to_string())?;
+        at += n;
+        if first != MI_COMPRESSED {
+            let pad = ((8 - n % 8) % 8).min(len - at);
+            std::io::copy(&mut r.by_ref().take(pad), &mut std::io::sink())
+                .map_err(|e| e.to_string())?;
+            at += pad;
+        }
+        if let Some(e) = top_level(first, &data, order, want)? {
+            out.push(e);
         }
     }
     Ok(out)
@@ -263,7 +309,7 @@ fn header_order(bytes: &[u8]) -> Result<Order, String> {
 /// Errors name the file: not a MAT v5 file (v7.3 HDF5 files are recognised and told so),
 /// truncated or corrupt elements.
 pub fn read_mat(path: &Path) -> Result<Vec<MatVariable>, IoError> {
-    Ok(read_entries(path)?
+    Ok(read_entries(path, &|_| true)?
         .into_iter()
         .filter_map(|e| match e {
             Entry::Numeric(v) => Some(v),
@@ -272,10 +318,19 @@ pub fn read_mat(path: &Path) -> Result<Vec<MatVariable>, IoError> {
         .collect())
 }
 
-fn read_entries(path: &Path) -> Result<Vec<Entry>, IoError> {
-    let bytes = std::fs::read(path).map_err(|e| IoError::fs(path, e))?;
-    let order = header_order(&bytes).map_err(|m| IoError::format(path, m))?;
-    entries(&bytes, order).map_err(|m| IoError::format(path, m))
+/// The file's variables, read element by element ([`entries`]); the numbers of those
+/// `want` asks for.
+fn read_entries(path: &Path, want: &dyn Fn(&str) -> bool) -> Result<Vec<Entry>, IoError> {
+    use std::io::{Seek, SeekFrom};
+    let file = std::fs::File::open(path).map_err(|e| IoError::fs(path, e))?;
+    let len = file.metadata().map_err(|e| IoError::fs(path, e))?.len();
+    let mut r = std::io::BufReader::new(file);
+    // The header, and as far as byte 516 for an HDF5 signature after a user block.
+    let mut head = Vec::new();
+    (&mut r).take(516).read_to_end(&mut head).map_err(|e| IoError::fs(path, e))?;
+    let order = header_order(&head).map_err(|m| IoError::format(path, m))?;
+    r.seek(SeekFrom::Start(128)).map_err(|e| IoError::fs(path, e))?;
+    entries(&mut r, len, order, want).map_err(|m| IoError::format(path, m))
 }
 
 /// Read the named variables as vectors of `f64`, in the order asked. Each must be a real
@@ -283,42 +338,47 @@ fn read_entries(path: &Path) -> Result<Vec<Entry>, IoError> {
 /// cell, char or complex array is an error naming the variable and what it is); a missing
 /// name is an error listing the variables present.
 pub fn read_mat_vectors(path: &Path, names: &[&str]) -> Result<Vec<Vec<f64>>, IoError> {
-    let all = read_entries(path)?;
-    let present: Vec<&str> = all.iter().map(Entry::name).collect();
-    names
-        .iter()
-        .map(|&name| {
-            let entry = all.iter().find(|e| e.name() == name).ok_or_else(|| {
-                IoError::format(
-                    path,
-                    format!("missing variable '{name}' (found: {})", present.join(", ")),
-                )
-            })?;
-            match entry {
-                Entry::Other { what, .. } => Err(IoError::format(
+    let mut all = read_entries(path, &|name| names.contains(&name))?;
+    let present: Vec<String> = all.iter().map(|e| e.name().to_string()).collect();
+    let mut out = Vec::with_capacity(names.len());
+    for (j, &name) in names.iter().enumerate() {
+        let at = all.iter().position(|e| e.name() == name).ok_or_else(|| {
+            IoError::format(
+                path,
+                format!("missing variable '{name}' (found: {})", present.join(", ")),
+            )
+        })?;
+        match &mut all[at] {
+            Entry::Other { what, .. } => {
+                return Err(IoError::format(
                     path,
                     format!("variable '{name}' is {what}; expected a real numeric vector"),
-                )),
-                Entry::Numeric(v) if !v.is_vector() => Err(IoError::format(
+                ));
+            }
+            Entry::Numeric(v) if !v.is_vector() => {
+                return Err(IoError::format(
                     path,
                     format!("variable '{name}' is a {} matrix; expected a vector", v.shape()),
-                )),
-                Entry::Numeric(v) => {
-                    if let Some(k) = v.data.iter().position(|x| !x.is_finite()) {
-                        return Err(IoError::format(
-                            path,
-                            format!(
-                                "variable '{name}', element {}: {} is not a finite number",
-                                k + 1,
-                                v.data[k]
-                            ),
-                        ));
-                    }
-                    Ok(v.data.clone())
-                }
+                ));
             }
-        })
-        .collect()
+            Entry::Numeric(v) => {
+                if let Some(k) = v.data.iter().position(|x| !x.is_finite()) {
+                    return Err(IoError::format(
+                        path,
+                        format!(
+                            "variable '{name}', element {}: {} is not a finite number",
+                            k + 1,
+                            v.data[k]
+                        ),
+                    ));
+                }
+                // Moved out, unless the same name is asked for again later.
+                let again = names[j + 1..].contains(&name);
+                out.push(if again { v.data.clone() } else { std::mem::take(&mut v.data) });
+            }
+        }
+    }
+    Ok(out)
 }
 
 #[cfg(test)]
