@@ -1,15 +1,16 @@
 //! The drift stage of `hdw fleet`: fits.parquet → covariate normalisation, Page's CUSUM
 //! per unit and parameter → drift.parquet, alarms.csv, drift.json and the plots.
 
+use super::fleet_drift_table::write_drift_table;
 use super::fleet_plan::Source;
 use super::fleet_spill::Spill;
-use anyhow::{Context, Result, bail};
+use anyhow::{Result, bail};
 use clap::Args;
 use hd_ident::fleet::{
     DriftOptions, Normalise, Normalised, Reason, Sample, UnitSeries, baseline_flags,
     fit_normalisation, median_threshold, test_unit,
 };
-use hd_io::fleet::{FleetCells, FleetColumn, format_day, write_fleet_table_batched};
+use hd_io::fleet::format_day;
 use hd_io::table::Table;
 use serde_json::json;
 use std::collections::{BTreeMap, HashMap};
@@ -54,7 +55,7 @@ pub fn check(a: &DriftArgs) -> Result<()> {
 
 /// Rows of fits.parquet read at a time, at least (whole row groups; each pass streams the
 /// table in such pieces).
-const CHUNK_ROWS: usize = 2048;
+pub(super) const CHUNK_ROWS: usize = 2048;
 
 /// The number of a text or numeric cell.
 fn num_at(t: &Table, name: &str, row: usize) -> f64 {
@@ -152,8 +153,8 @@ fn census(fits: &Path, covariates: &[String]) -> Result<Census> {
 }
 
 /// Where each parameter × unit's estimates sit in the spill (first record, count).
-struct Regions {
-    start: Vec<Vec<usize>>,
+pub(super) struct Regions {
+    pub(super) start: Vec<Vec<usize>>,
     count: Vec<Vec<usize>>,
 }
 
@@ -192,7 +193,7 @@ fn note_code(excluded: Option<f64>, reason: Option<Reason>) -> (f64, f64) {
     }
 }
 
-fn note_text(code: f64, arg: f64, covariates: &[String]) -> Option<String> {
+pub(super) fn note_text(code: f64, arg: f64, covariates: &[String]) -> Option<String> {
     let reason = match code as u8 {
         1 => {
             return Some(format!(
@@ -530,193 +531,4 @@ pub fn run(dir: &Path, src: &Source, a: &DriftArgs) -> Result<()> {
         json_path.display()
     );
     Ok(())
-}
-
-fn col(name: &str, cells: FleetCells, unit: &str, doc: &str) -> FleetColumn {
-    FleetColumn { name: name.into(), cells, unit: unit.into(), doc: doc.into() }
-}
-
-/// drift.parquet: per parameter, its rows in fits.parquet's order (streamed once per
-/// parameter; each chunk's rows read back from the spills).
-#[allow(clippy::too_many_arguments)]
-fn write_drift_table(
-    dir: &Path,
-    fits_path: &Path,
-    units: &[String],
-    names: &[String],
-    regions: &Regions,
-    data: &Spill,
-    results: &Spill,
-    covs: &[String],
-) -> Result<()> {
-    let unit_of: BTreeMap<&str, usize> =
-        units.iter().enumerate().map(|(i, u)| (u.as_str(), i)).collect();
-    let out = dir.join("drift.parquet");
-    let mut failure: Option<anyhow::Error> = None;
-    let res = write_fleet_table_batched(&out, &[], |sink| {
-        for (p, name) in names.iter().enumerate() {
-            let mut cursor = vec![0usize; units.len()];
-            hd_io::fleet::for_each_piece(
-                fits_path,
-                &["log_index", "file", "status", "parameter", "unit_id", "value"],
-                CHUNK_ROWS,
-                |t| {
-                    let cols = match drift_chunk(
-                        t,
-                        p,
-                        name,
-                        &unit_of,
-                        &mut cursor,
-                        regions,
-                        data,
-                        results,
-                        covs,
-                    ) {
-                        Ok(c) => c,
-                        Err(e) => {
-                            failure = Some(e);
-                            return Err(hd_io::IoError::format(fits_path, "spill failed"));
-                        }
-                    };
-                    sink(&cols)
-                },
-            )?;
-        }
-        Ok(())
-    });
-    match (res, failure) {
-        (_, Some(e)) => Err(e),
-        (r, None) => Ok(r?),
-    }
-}
-
-/// The drift rows of one chunk of fits.parquet for parameter `p`.
-#[allow(clippy::too_many_arguments)]
-fn drift_chunk(
-    t: &Table,
-    p: usize,
-    name: &str,
-    unit_of: &BTreeMap<&str, usize>,
-    cursor: &mut [usize],
-    regions: &Regions,
-    data: &Spill,
-    results: &Spill,
-    covs: &[String],
-) -> Result<Vec<FleetColumn>> {
-    let none = Vec::new();
-    let (status, param, unit_id, files) = (
-        t.text("status").unwrap_or(&none),
-        t.text("parameter").unwrap_or(&none),
-        t.text("unit_id").unwrap_or(&none),
-        t.text("file").unwrap_or(&none),
-    );
-    let li = t.num("log_index").context("fits.parquet: no log_index")?;
-    let values = t.num("value").context("fits.parquet: no value")?;
-    // The chunk's rows of the parameter, and each unit's run of records (consecutive).
-    let mut picked: Vec<(usize, usize, usize)> = Vec::new();
-    let mut span: BTreeMap<usize, (usize, usize)> = BTreeMap::new();
-    for r in 0..t.height {
-        if status[r].as_deref() != Some("ok") || param[r].as_deref() != Some(name) {
-            continue;
-        }
-        let Some(&u) = unit_id[r].as_deref().and_then(|n| unit_of.get(n)) else { continue };
-        let pos = regions.start[p][u] + cursor[u];
-        cursor[u] += 1;
-        let e = span.entry(u).or_insert((pos, 0));
-        e.1 += 1;
-        picked.push((r, u, pos));
-    }
-    let mut got: HashMap<usize, (Vec<f64>, Vec<f64>)> = HashMap::new();
-    for (&u, &(first, n)) in &span {
-        got.insert(u, (data.get(first, n)?, results.get(first, n)?));
-    }
-    let (dw, rw) = (data.width(), results.width());
-    let mut c: BTreeMap<&str, Vec<f64>> = BTreeMap::new();
-    let (mut log_index, mut file, mut unit, mut parameter, mut note, mut flagged) =
-        (Vec::new(), Vec::new(), Vec::new(), Vec::new(), Vec::new(), Vec::new());
-    let mut cov_vals: Vec<Vec<f64>> = vec![Vec::new(); covs.len()];
-    for &(r, u, pos) in &picked {
-        let (d, res) = &got[&u];
-        let k = pos - span[&u].0;
-        let d = &d[k * dw..(k + 1) * dw];
-        let x = &res[k * rw..(k + 1) * rw];
-        log_index.push(li[r] as u64);
-        file.push(files.get(r).cloned().flatten());
-        unit.push(Some(units_name(unit_id, r)));
-        parameter.push(Some(name.to_string()));
-        for (key, v) in [
-            ("day", d[1]),
-            ("value", values[r]),
-            ("std_error", d[3]),
-            ("normalised", x[0]),
-            ("level", x[1]),
-            ("change_pct", x[2]),
-            ("z", x[3]),
-            ("cusum_upper", x[4]),
-            ("cusum_lower", x[5]),
-        ] {
-            c.entry(key).or_default().push(v);
-        }
-        flagged.push(x[6] > 0.5);
-        note.push(note_text(x[7], x[8], covs));
-        for (j, v) in d[4..].iter().enumerate() {
-            cov_vals[j].push(*v);
-        }
-    }
-    let mut take = |k: &str| FleetCells::F64(c.remove(k).unwrap_or_default());
-    let mut cols = vec![
-        col("log_index", FleetCells::U64(log_index), "-", "0-based row of the manifest"),
-        col("file", FleetCells::Text(file), "text", "the log file"),
-        col("unit_id", FleetCells::Text(unit), "text", "the unit's identifiers joined by '/'"),
-        col("parameter", FleetCells::Text(parameter), "text", "registry name of the parameter"),
-        col("day", take("day"), "d", "timestamp in days"),
-        col("value", take("value"), "param_unit", "the estimate (fits.parquet)"),
-        col("std_error", take("std_error"), "param_unit", "its standard error"),
-        col(
-            "normalised",
-            take("normalised"),
-            "param_unit",
-            "the estimate moved to the reference covariates (the baseline's mean)",
-        ),
-        col(
-            "level",
-            take("level"),
-            "param_unit",
-            "the unit's baseline level at the reference covariates",
-        ),
-        col(
-            "change_pct",
-            take("change_pct"),
-            "%",
-            "normalised residual: change from the unit's baseline level",
-        ),
-        col(
-            "z",
-            take("z"),
-            "-",
-            "residual over its standard deviation (se, unexplained scatter, normalisation)",
-        ),
-        col("cusum_upper", take("cusum_upper"), "-", "Page's upper CUSUM after this log"),
-        col("cusum_lower", take("cusum_lower"), "-", "Page's lower CUSUM after this log"),
-        col(
-            "flagged",
-            FleetCells::Bool(flagged),
-            "-",
-            "whether the unit's test has alarmed at or before this log",
-        ),
-        col(
-            "note",
-            FleetCells::Text(note),
-            "text",
-            "why the log has no residual (covariate missing, other units, no baseline)",
-        ),
-    ];
-    for (name, v) in covs.iter().zip(cov_vals) {
-        cols.push(col(name, FleetCells::F64(v), "-", "covariate (manifest column)"));
-    }
-    Ok(cols)
-}
-
-fn units_name(unit_id: &[Option<String>], r: usize) -> String {
-    unit_id.get(r).cloned().flatten().unwrap_or_default()
 }

@@ -23,6 +23,7 @@ pub mod fit_input;
 pub mod fit_progress;
 pub mod fleet;
 pub mod fleet_drift;
+mod fleet_drift_table;
 pub mod fleet_drive;
 pub mod fleet_fit;
 pub mod fleet_plan;
