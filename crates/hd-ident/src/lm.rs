@@ -183,17 +183,15 @@ where
     F: Fn(&[f64]) -> Result<(f64, Normal), FitError> + Sync,
 {
     let trial = normal_trial(model);
-    match lm_core_step::<_, fn(&[f64]) -> Result<Vec<f64>, FitError>>(
+    lm_core_step::<_, fn(&[f64]) -> Result<Vec<f64>, FitError>>(
         &trial,
         None,
         Start::At(x0),
         bounds,
         opts,
         None,
-    )? {
-        LmStep::Done(out) => Ok(out),
-        LmStep::Paused(_) => unreachable!("no pause was asked"),
-    }
+    )
+    .map(ran_to_end)
 }
 
 /// A refinement stopped after a given number of iterations, to be resumed exactly where
@@ -275,17 +273,15 @@ where
     F: Fn(&[f64]) -> Result<(f64, Normal), FitError> + Sync,
 {
     let trial = normal_trial(model);
-    match lm_core_step::<_, fn(&[f64]) -> Result<Vec<f64>, FitError>>(
+    lm_core_step::<_, fn(&[f64]) -> Result<Vec<f64>, FitError>>(
         &trial,
         None,
         Start::Resume(Box::new(paused)),
         bounds,
         opts,
         None,
-    )? {
-        LmStep::Done(out) => Ok(out),
-        LmStep::Paused(_) => unreachable!("no pause was asked"),
-    }
+    )
+    .map(ran_to_end)
 }
 
 /// Where [`lm_core`] begins.
@@ -305,8 +301,13 @@ where
     T: Fn(&[f64]) -> Result<Trial, FitError> + Sync,
     F: Fn(&[f64]) -> Result<Vec<f64>, FitError> + Sync,
 {
-    match lm_core_step(model, residuals, Start::At(x0), &[], opts, None)? {
-        LmStep::Done(out) => Ok(out),
+    lm_core_step(model, residuals, Start::At(x0), &[], opts, None).map(ran_to_end)
+}
+
+/// The outcome of a run asked for no pause.
+fn ran_to_end(step: LmStep) -> LmOutcome {
+    match step {
+        LmStep::Done(out) => out,
         LmStep::Paused(_) => unreachable!("no pause was asked"),
     }
 }
