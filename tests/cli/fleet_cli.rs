@@ -33,6 +33,38 @@ fn read(path: &Path) -> Table {
     hd_io::read_table(path).unwrap()
 }
 
+/// The columns of a fleet's fits.parquet the template tests read, and its failed rows.
+struct Fits {
+    height: usize,
+    status: Vec<Option<String>>,
+    error: Vec<Option<String>>,
+    fit: Vec<Option<String>>,
+    param: Vec<Option<String>>,
+    value: Vec<f64>,
+    se: Vec<f64>,
+    li: Vec<f64>,
+    /// Rows whose status is not "ok".
+    failed: Vec<usize>,
+}
+
+fn fits(path: &Path) -> Fits {
+    let t = read(path);
+    let text = |c: &str| t.text(c).unwrap().to_vec();
+    let status = text("status");
+    let failed = (0..t.height).filter(|&r| status[r].as_deref() != Some("ok")).collect();
+    Fits {
+        height: t.height,
+        error: text("error"),
+        fit: text("fit"),
+        param: text("parameter"),
+        value: t.num("value").unwrap().to_vec(),
+        se: t.num("std_error").unwrap().to_vec(),
+        li: t.num("log_index").unwrap().to_vec(),
+        status,
+        failed,
+    }
+}
+
 /// The table without the wall-time column (which differs between runs).
 fn without_time(t: &Table) -> Vec<(String, ColumnData)> {
     t.names
@@ -302,23 +334,14 @@ fn the_hysteresis_template_fits_every_log_with_a_stiffness_law() {
     };
     let first = run("memory", &[]);
     assert!(first.status.success(), "{}", String::from_utf8_lossy(&first.stderr));
-    let t = read(&out.join("fits.parquet"));
-    let (status, error, fit, param) = (
-        t.text("status").unwrap(),
-        t.text("error").unwrap(),
-        t.text("fit").unwrap(),
-        t.text("parameter").unwrap(),
-    );
-    let (value, se, li) =
-        (t.num("value").unwrap(), t.num("std_error").unwrap(), t.num("log_index").unwrap());
-    let failed: Vec<usize> =
-        (0..t.height).filter(|&r| status[r].as_deref() != Some("ok")).collect();
+    let Fits { height, status, error, fit, param, value, se, li, failed } =
+        fits(&out.join("fits.parquet"));
     assert_eq!(failed.len(), 1, "one failed row");
     let e = error[failed[0]].clone().unwrap_or_default();
     assert!(e.contains("other.csv") && e.contains("theta"), "{e}");
     assert_eq!(li[failed[0]] as usize, 10);
     let mut logs_with_c = 0;
-    for r in (0..t.height).filter(|&r| status[r].as_deref() == Some("ok")) {
+    for r in (0..height).filter(|&r| status[r].as_deref() == Some("ok")) {
         assert_eq!(fit[r].as_deref(), Some("hysteresis-memory"));
         if param[r].as_deref() == Some("c") {
             logs_with_c += 1;
@@ -386,22 +409,13 @@ fn the_drive_template_fits_every_log_as_fit_drive_does() {
     };
     let run = args(&dir.join("fit.toml"), &out);
     assert!(run.status.success(), "{}", String::from_utf8_lossy(&run.stderr));
-    let t = read(&out.join("fits.parquet"));
-    let (status, error, fit, param) = (
-        t.text("status").unwrap(),
-        t.text("error").unwrap(),
-        t.text("fit").unwrap(),
-        t.text("parameter").unwrap(),
-    );
-    let (value, se, li) =
-        (t.num("value").unwrap(), t.num("std_error").unwrap(), t.num("log_index").unwrap());
-    let failed: Vec<usize> =
-        (0..t.height).filter(|&r| status[r].as_deref() != Some("ok")).collect();
+    let Fits { height, status, error, fit, param, value, se, li, failed } =
+        fits(&out.join("fits.parquet"));
     assert_eq!(failed.len(), 1);
     assert_eq!(li[failed[0]] as usize, 3);
     let e = error[failed[0]].clone().unwrap_or_default();
     assert!(e.contains("bad.mat") && e.contains("MAT"), "{e}");
-    let masses: Vec<(f64, f64)> = (0..t.height)
+    let masses: Vec<(f64, f64)> = (0..height)
         .filter(|&r| param[r].as_deref() == Some("M"))
         .map(|r| (value[r], se[r]))
         .collect();
@@ -410,7 +424,7 @@ fn the_drive_template_fits_every_log_as_fit_drive_does() {
         assert_eq!(m, masses[0].0, "the same record gives the same mass");
         assert!(s.is_finite() && s > 0.0 && s < 0.01 * m, "M = {m} ± {s}");
     }
-    for r in (0..t.height).filter(|&r| status[r].as_deref() == Some("ok")) {
+    for r in (0..height).filter(|&r| status[r].as_deref() == Some("ok")) {
         assert_eq!(fit[r].as_deref(), Some("drive-coulomb-viscous"));
     }
     assert!(out.join("drift.parquet").exists());
