@@ -5,10 +5,9 @@ from __future__ import annotations
 import json
 import os
 import pathlib
-import subprocess
 from typing import Any, Dict, List, Optional, Sequence
 
-from ._fmu import _hdw_binary
+from ._fmu import _hdw_binary, _run_cli
 
 
 class DesignResult:
@@ -154,10 +153,7 @@ def design(
             args += [flag, os.fspath(path)]
     args += ["--check", str(int(check)), "--seed", str(int(seed)), "--out", os.fspath(out)]
     args += list(options)
-    p = subprocess.run(args, capture_output=True, text=True)
-    if p.returncode != 0:
-        lines = [l for l in p.stderr.strip().splitlines() if l.startswith("error: ")]
-        raise ValueError((lines[-1] if lines else p.stderr.strip()).removeprefix("error: "))
+    p = _run_cli(args)
     return DesignResult(pathlib.Path(out), p.stderr)
 
 

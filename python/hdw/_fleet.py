@@ -5,10 +5,9 @@ from __future__ import annotations
 import json
 import os
 import pathlib
-import subprocess
 from typing import Any, Dict, List, Optional, Sequence
 
-from ._fmu import _hdw_binary
+from ._fmu import _hdw_binary, _run_cli
 
 
 class FleetResult:
@@ -115,10 +114,7 @@ def fleet(
     if threads is not None:
         args += ["--threads", str(threads)]
     args += list(options)
-    p = subprocess.run(args, capture_output=True, text=True)
-    if p.returncode != 0:
-        lines = [l for l in p.stderr.strip().splitlines() if l.startswith("error: ")]
-        raise ValueError((lines[-1] if lines else p.stderr.strip()).removeprefix("error: "))
+    p = _run_cli(args)
     return FleetResult(pathlib.Path(out), p.stderr)
 
 

@@ -7,7 +7,7 @@ import pathlib
 import shutil
 import subprocess
 import tempfile
-from typing import Any, Mapping, Optional
+from typing import Any, List, Mapping, Optional
 
 
 def _toml_value(v: Any) -> str:
@@ -50,6 +50,16 @@ def _hdw_binary(hdw: Optional[str], caller: str = "export_fmu") -> str:
             "`cargo build -p hd-cli` and pass hdw=PATH, set $HDW, or put it on PATH"
         )
     return found
+
+
+def _run_cli(args: List[str]) -> "subprocess.CompletedProcess[str]":
+    """Run the hdw command line ``args``; a refusal raises ValueError with the command's
+    last ``error:`` line (or its whole stderr)."""
+    p = subprocess.run(args, capture_output=True, text=True)
+    if p.returncode != 0:
+        lines = [l for l in p.stderr.strip().splitlines() if l.startswith("error: ")]
+        raise ValueError((lines[-1] if lines else p.stderr.strip()).removeprefix("error: "))
+    return p
 
 
 def export_fmu(
