@@ -87,3 +87,27 @@ fn design_without_a_drive_is_refused() {
     let err = String::from_utf8_lossy(&o.stderr);
     assert!(err.contains("--fit DIR") && err.contains("--params"), "{err}");
 }
+
+/// Limits and sensors no rig has are refused before any work, naming the option (a limit
+/// of 1e-300 V ended in a plotting error and left a half-written folder; a motor encoder of
+/// 0 counts was dropped silently; a negative current noise was recorded as given).
+#[test]
+fn limits_no_rig_has_are_refused_naming_the_option() {
+    let out = scratch("design-limits");
+    let params = repo_path("data/compliant/start.toml");
+    for (args, needle) in [
+        (&["--voltage", "1e-300"][..], "--voltage 1e-300"),
+        (&["--voltage", "1e300"][..], "--voltage 1e300"),
+        (&["--current", "1e-300"][..], "--current 1e-300"),
+        (&["--deflection", "1e-300"][..], "--deflection 1e-300"),
+        (&["--motor-counts", "0"][..], "--motor-counts 0"),
+        (&["--current-noise", "-1"][..], "--current-noise -1"),
+        (&["--current-noise", "0"][..], "--current-noise 0"),
+    ] {
+        let mut a = vec!["design", "--params", params.to_str().unwrap(), "--free", "R,Ke"];
+        a.extend(args);
+        a.extend(["--out", out.to_str().unwrap()]);
+        crate::common::assert_one_line_error(&hdw(&a), &[needle, "expected"]);
+        assert!(!out.join("design.json").exists(), "{needle}");
+    }
+}

@@ -178,8 +178,12 @@ fn configuration_and_record_paths_are_checked_by_type_and_size() {
 /// The shipped compliant configuration with its record in `dir` (a tiny hand-made CSV,
 /// enough for the checks that come before the fit) and `extra` before `[[experiment]]`.
 fn compliant(dir: &Path, extra: &str, current: f64) -> PathBuf {
+    compliant_rows(dir, extra, current, 60)
+}
+
+/// [`compliant`] with a record of `n` rows.
+fn compliant_rows(dir: &Path, extra: &str, current: f64, n: usize) -> PathBuf {
     let csv = dir.join("rec.csv");
-    let n = 40;
     let t: Vec<f64> = (0..n).map(|k| k as f64 * 1e-3).collect();
     let wave = |a: f64| t.iter().map(|t| a * (40.0 * t).sin()).collect::<Vec<f64>>();
     let i: Vec<f64> = wave(1.0).iter().map(|v| current * v).collect();
@@ -224,6 +228,48 @@ fn compliant_numbers_are_checked() {
     refused_at(&cfg, &dir.join("out"), &[], &["c.toml, substeps", "10000"]);
 }
 
+/// A score rule that drops every sample (skip_first beyond the record) is refused: every
+/// score was null and report.md read "NaN %".
+#[test]
+fn a_score_rule_that_leaves_nothing_to_score_is_refused() {
+    let text = emps(&[("rule = \"emps\"", "skip_first = 30000")], "");
+    refused("skip", &text, &["[score] skip_first", "24841"]);
+}
+
+/// A record of a few ticks is refused for its length, not blamed on the gear ratio (a
+/// 12-row record was: "the load encoder moves 0.78 times the motor encoder divided by N").
+#[test]
+fn a_record_of_a_few_samples_is_refused_for_its_length() {
+    let dir = scratch("fdr-short-record");
+    let cfg = compliant_rows(&dir, "", 1.0, 12);
+    refused_at(&cfg, &dir.join("out"), &[], &["rec.csv: 12 samples", "at least 50"]);
+}
+
+/// A position logged with the other sign than the command (position_scale = -1 on EMPS)
+/// fails the controller check: said first, and the failed fit names it (it named no field).
+#[test]
+fn a_flipped_position_names_the_controller_check_and_the_scales() {
+    let dir = scratch("fdr-flipped-position");
+    let cfg = dir.join("flipped.toml");
+    let text = emps(&[("disturbance = ", "position_scale = -1.0\ndisturbance = ")], "");
+    std::fs::write(&cfg, text).unwrap();
+    let out = dir.join("out");
+    let o = hdw(&["fit", "drive", "--config", s(&cfg), "--out", s(&out)]);
+    let err = String::from_utf8_lossy(&o.stderr);
+    let first = err.lines().find(|l| !l.trim().is_empty()).unwrap_or("");
+    assert!(first.starts_with("warning: The controller check fails"), "{err}");
+    for needle in ["of the other sign", "position_scale and command_scale"] {
+        assert!(first.contains(needle), "{first}");
+    }
+    if o.status.success() {
+        let fit: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(out.join("fit.json")).unwrap()).unwrap();
+        assert_eq!(fit["in_doubt"], true, "{fit}");
+    } else {
+        assert!(err.lines().any(|l| l.starts_with("error: The controller check fails")), "{err}");
+    }
+}
+
 #[test]
 fn a_dead_current_sensor_is_named() {
     let dir = scratch("fdr-dead-current");
@@ -265,6 +311,26 @@ fn data_files_of_the_component_fits_are_checked_by_type() {
     let dir = scratch("fdr-fit-files");
     let o = hdw(&["fit", "hysteresis", "/dev/zero", "--out", s(&dir.join("h"))]);
     assert_one_line_error(&o, &["/dev/zero", "not a regular file"]);
+    // A torque that never changes carries nothing to fit (was exit 0 with r2 = -4e24).
+    let flat = dir.join("flat.csv");
+    let rows: String = (0..200)
+        .map(|k| format!("{},{},0.3\n", k as f64 * 1e-3, (k as f64 * 0.05).sin()))
+        .collect();
+    std::fs::write(&flat, format!("t,omega,torque\n{rows}")).unwrap();
+    let o = hdw(&["fit", "friction", "--transient", s(&flat), "--out", s(&dir.join("f"))]);
+    assert_one_line_error(&o, &["flat.csv", "column 'torque' is constant (0.3)"]);
+    // A unit factor of 1e-300 made every torque 0 and a fit "determined" with SE 0.
+    let data = repo_path("data/hysteresis-paper-range.csv");
+    let o = hdw(&[
+        "fit",
+        "hysteresis",
+        s(&data),
+        "--torque-scale",
+        "1e-300",
+        "--out",
+        s(&dir.join("s")),
+    ]);
+    assert_one_line_error(&o, &["--torque-scale 1e-300", "between 1e-12 and 1e12"]);
 }
 
 /// A fit into a folder holding an earlier fit leaves none of the earlier fit's outputs

@@ -273,6 +273,42 @@ fn a_bad_manifest_or_setting_is_one_line() {
     assert_one_line_error(&e, &["column 'value'", "rename it"]);
     let e = hdw(&["synth", "fleet", "--wear", "r9/j1@3", "--out", out.to_str().unwrap()]);
     assert_one_line_error(&e, &["--wear r9/j1@3", "robot 1..4"]);
+    // A text covariate (a date, a name) left nothing to normalise and missed the wear.
+    std::fs::write(
+        &m,
+        "file,robot,joint,date,temperature
+x.csv,r1,j1,2026-01-01,warm
+",
+    )
+    .unwrap();
+    let e = hdw(&[
+        "fleet",
+        "--manifest",
+        m.to_str().unwrap(),
+        "--covariates",
+        "temperature",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_one_line_error(&e, &["covariate column 'temperature' is not numeric", "row 1: 'warm'"]);
+    std::fs::write(
+        &m,
+        "file,robot,joint,date
+",
+    )
+    .unwrap();
+    let e = hdw(&["fleet", "--manifest", m.to_str().unwrap(), "--out", out.to_str().unwrap()]);
+    assert_one_line_error(&e, &["m.csv", "no logs"]);
+    // Sizes a machine cannot hold are refused before any work (were allocation aborts).
+    for (args, needle) in [
+        (&["--duration", "1e9"][..], "samples a log"),
+        (&["--robots", "100000", "--joints", "100000", "--days", "100000"][..], "logs, more than"),
+    ] {
+        let mut a = vec!["synth", "fleet"];
+        a.extend(args);
+        a.extend(["--out", out.to_str().unwrap()]);
+        assert_one_line_error(&hdw(&a), &[needle]);
+    }
     let _ = std::fs::remove_dir_all(dir);
 }
 

@@ -181,3 +181,65 @@ row "a fit into a folder holding an earlier fit's validation plot" i18 "$HDW" fi
 sleep 2
 row "a second fit into a running fit's folder" i19 "$HDW" fit drive --config i18.toml --out i19
 kill -INT %1 2>/dev/null; wait
+
+# Identification (issue #51): the poor groups, one change each.
+exp_key() { # one key = value added to the EMPS [[experiment]] table
+  emps_cfg | sed "s|^disturbance = .*|&\n$1|"; }
+emps_cfg | sed 's/gain = "gtau"/gain = inf/' > j1.toml
+row "fit drive: gain = inf" j1 "$HDW" fit drive --config j1.toml --out j1
+emps_cfg | sed 's/gain = "gtau"/gain = 0/' > j2.toml
+row "fit drive: gain = 0" j2 "$HDW" fit drive --config j2.toml --out j2
+emps_cfg | sed 's/gain = "gtau"/gain = -35.15/' > j3.toml
+row "fit drive: gain = -35.15" j3 "$HDW" fit drive --config j3.toml --out j3
+exp_key 'position_scale = 0.0' > j4.toml
+row "fit drive: position_scale = 0" j4 "$HDW" fit drive --config j4.toml --out j4
+exp_key 'position_scale = -1.0' > j5.toml
+row "fit drive: position_scale = -1" j5 "$HDW" fit drive --config j5.toml --out j5
+exp_key 'command_scale = nan' > j6.toml
+row "fit drive: command_scale = nan" j6 "$HDW" fit drive --config j6.toml --out j6
+{ emps_cfg; printf '\n[params]\nM = nan\n'; } > j7.toml
+row "fit drive: EMPS [params] M = nan" j7 "$HDW" fit drive --config j7.toml --out j7
+emps_cfg | sed 's/kv = "kv"/kv = -1.0/' > j8.toml
+row "fit drive: kv = -1" j8 "$HDW" fit drive --config j8.toml --out j8
+compliant_cfg chirp.csv '[params]\nR = -1.0\n' > j9.toml
+row "fit drive: compliant [params] R = -1" j9 "$HDW" fit drive --config j9.toml --out j9
+compliant_cfg chirp.csv '[params]\nR = nan\n' > j10.toml
+row "fit drive: compliant [params] R = nan" j10 "$HDW" fit drive --config j10.toml --out j10
+compliant_cfg chirp.csv '[bounds]\nR = [1.0, 2.0]\n' > j11.toml
+row "fit drive: compliant [bounds] R = [1, 2] (start 7.5)" j11 "$HDW" fit drive --config j11.toml --out j11
+awk -F, -v OFS=, 'NR==1{print; next} {for(k=2;k<=NF;k++) $k=0; print}' chirp.csv > zeros.csv
+compliant_cfg zeros.csv '' > j12.toml
+row "fit drive: compliant, an all-zero record" j12 "$HDW" fit drive --config j12.toml --out j12
+awk -F, -v OFS=, 'NR==1{for(k=1;k<=NF;k++) if($k=="u") c=k; print; next} {$c=0; print}' chirp.csv > u0.csv
+compliant_cfg u0.csv '' > j13.toml
+row "fit drive: compliant, zero voltage" j13 "$HDW" fit drive --config j13.toml --out j13
+compliant_cfg chirp.csv '' | sed 's|^current = "i"|&\nvoltage_scale = 0.0|' > j14.toml
+row "fit drive: compliant voltage_scale = 0" j14 "$HDW" fit drive --config j14.toml --out j14
+awk -F, -v OFS=, 'NR==1{for(k=1;k<=NF;k++) if($k=="u") c=k; print; next} {$c=$c*1000; print}' chirp.csv > mv.csv
+compliant_cfg mv.csv '' > j15.toml
+row "fit drive: compliant, voltage logged in mV" j15 "$HDW" fit drive --config j15.toml --out j15
+head -13 chirp.csv > rows12.csv
+compliant_cfg rows12.csv '' > j16.toml
+row "fit drive: compliant, a 12-row record" j16 "$HDW" fit drive --config j16.toml --out j16
+{ emps_cfg; emps_cfg | sed -n '/^\[\[experiment\]\]/,/^disturbance/p'; } > j17.toml
+row "fit drive: two experiments named estimation" j17 "$HDW" fit drive --config j17.toml --out j17
+awk -F, -v OFS=, 'NR==1{for(k=1;k<=NF;k++) if($k=="i") c=k; print; next} {$c=$c*1000; print}' chirp.csv > ma.csv
+compliant_cfg ma.csv '' > j18.toml
+row "fit drive: compliant, current logged in mA" j18 "$HDW" fit drive --config j18.toml --out j18
+"$HDW" synth drive --loop-kp 30 --loop-kv 0.5 --loop-reference steps --freq 5 --t-end 1 --motor-counts 65536 --out loop-steps.csv >/dev/null 2>&1
+sed -e "s|\"start.toml\"|\"$REPO/data/compliant/start.toml\"|" -e "s|\"../../out/compliant/loop-steps.csv\"|\"$PWD/loop-steps.csv\"|" \
+    -e 's/^kv = 0.5 /kv = 5.0 /' "$REPO/data/compliant/loop.toml" > j19.toml
+row "fit drive: loop example with kv = 5.0 (truth 0.5)" j19 "$HDW" fit drive --config j19.toml --out j19
+yes 'R = 6.0' | head -c 25000000 > p25.toml
+compliant_cfg chirp.csv '' | sed "s|params_file = .*|params_file = \"$PWD/p25.toml\"|" > j20.toml
+row "fit drive: a 25 MB params_file" j20 "$HDW" fit drive --config j20.toml --out j20
+row "synth drive --sample-period 10" j21 "$HDW" synth drive --sample-period 10 --out j21.csv
+row "synth drive: band wholly above Nyquist" j22 "$HDW" synth drive --freq 5000 --out j22.csv
+row "synth drive --voltage 1e308" j23 "$HDW" synth drive --voltage 1e308 --out j23.csv
+row "synth drive --loop-amplitude 1e308" j24 "$HDW" synth drive --loop-kp 30 --loop-kv 0.5 --loop-amplitude 1e308 --out j24.csv
+row "synth drive --loop-delay 1000000000" j25 "$HDW" synth drive --loop-kp 30 --loop-kv 0.5 --loop-delay 1000000000 --out j25.csv
+row "synth drive --t-end 20000" j26 "$HDW" synth drive --t-end 20000 --out j26.csv
+row "export fmu --lib /dev/zero" j27 "$HDW" export fmu --lib /dev/zero --out j27.fmu
+row "export fmu --lib a folder" j28 "$HDW" export fmu --lib . --out j28.fmu
+echo 'not a library' > notalib.so
+row "export fmu --lib a text file" j29 "$HDW" export fmu --lib notalib.so --out j29.fmu

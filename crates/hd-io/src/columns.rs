@@ -74,7 +74,10 @@ fn refuse_binary(path: &Path) -> Result<(), IoError> {
 pub fn read_frame(path: &Path) -> Result<DataFrame, IoError> {
     match file_kind(path)? {
         FileKind::Parquet => File::open(path).map_err(|e| IoError::fs(path, e)).and_then(|f| {
-            ParquetReader::new(f).finish().map_err(IoError::polars(path, "cannot read Parquet"))
+            let mut reader = ParquetReader::new(f);
+            let schema = reader.schema().map_err(IoError::polars(path, "cannot read Parquet"))?;
+            refuse_decimals(path, &schema)?;
+            reader.finish().map_err(IoError::polars(path, "cannot read Parquet"))
         }),
         FileKind::Mat => Err(IoError::format(
             path,
@@ -99,7 +102,8 @@ pub fn read_frame(path: &Path) -> Result<DataFrame, IoError> {
 /// Read the named columns as `f64`, in the order asked; nothing else in the file is looked
 /// at. A MAT v5 file (`.mat`) gives its variables of those names ([`crate::mat`]). Text cells are trimmed and parsed one by one (integers, decimals and exponents mix
 /// freely; with a tab or semicolon separator a decimal comma `1,5` is accepted too);
-/// Parquet columns of any integer, float or boolean type are cast, and text columns parsed.
+/// Parquet columns of any integer or float type are cast, and text columns parsed (boolean
+/// and decimal columns are refused, naming the column).
 ///
 /// Errors name the file and: a missing column (listing those present); or the column, the
 /// 1-based data row (header and comment lines not counted) and the cell that is empty, not
@@ -330,6 +334,40 @@ fn read_text_columns(path: &Path, names: &[&str]) -> Result<Vec<Vec<f64>>, IoErr
     Ok(out)
 }
 
+/// How an error names a decimal column's values.
+const DECIMALS: &str = "fixed-point decimals";
+
+/// What a Parquet column of type `dtype` holds when it is not numbers a fit can read: a
+/// decimal type (its conversion is not built in, and a measurement is not a decimal) or
+/// true/false values (a torque read as 0/1 fits to nonsense).
+fn not_numbers(dtype: &ArrowDataType) -> Option<&'static str> {
+    match dtype {
+        ArrowDataType::Decimal(..)
+        | ArrowDataType::Decimal32(..)
+        | ArrowDataType::Decimal64(..)
+        | ArrowDataType::Decimal256(..) => Some(DECIMALS),
+        ArrowDataType::Boolean => Some("true/false values"),
+        _ => None,
+    }
+}
+
+/// Refuse a Parquet file with a decimal column before it is read whole (this build reads
+/// no decimal type), naming the column.
+pub fn refuse_decimals(path: &Path, schema: &ArrowSchema) -> Result<(), IoError> {
+    for (name, field) in schema.iter() {
+        if not_numbers(field.dtype()) == Some(DECIMALS) {
+            return Err(IoError::format(
+                path,
+                format!(
+                    "column '{name}' holds {DECIMALS} ({:?}), which hdw does not read: cast it to float64 (or to text)",
+                    field.dtype()
+                ),
+            ));
+        }
+    }
+    Ok(())
+}
+
 /// [`read_columns`] for Parquet: only the asked columns are decoded.
 fn read_parquet_columns(path: &Path, names: &[&str]) -> Result<Vec<Vec<f64>>, IoError> {
     let file = File::open(path).map_err(|e| IoError::fs(path, e))?;
@@ -342,6 +380,17 @@ fn read_parquet_columns(path: &Path, names: &[&str]) -> Result<Vec<Vec<f64>>, Io
             .iter()
             .position(|p| p == name)
             .ok_or_else(|| missing_column(path, name, &present))?;
+        if let Some(field) = schema.get(name)
+            && let Some(what) = not_numbers(field.dtype())
+        {
+            return Err(IoError::format(
+                path,
+                format!(
+                    "column '{name}' holds {what} ({:?}): expected numbers (floating-point or integer; cast the column to float64)",
+                    field.dtype()
+                ),
+            ));
+        }
         projection.push(k);
     }
     projection.sort_unstable();
@@ -367,7 +416,7 @@ fn read_parquet_columns(path: &Path, names: &[&str]) -> Result<Vec<Vec<f64>>, Io
                     })
                     .collect();
             }
-            if !(dtype.is_primitive_numeric() || dtype.is_bool()) {
+            if !dtype.is_primitive_numeric() {
                 return Err(IoError::format(
                     path,
                     format!("column '{name}': expected numbers, found {dtype}"),

@@ -85,6 +85,10 @@ pub fn read_table(path: &Path) -> Result<Table, IoError> {
 
 /// A lazy scan of a Parquet file and the selection of those of `names` it has.
 fn scan_present(path: &Path, names: &[&str]) -> Result<(LazyFrame, Vec<Expr>), IoError> {
+    let file = std::fs::File::open(path).map_err(|e| IoError::fs(path, e))?;
+    let arrow =
+        ParquetReader::new(file).schema().map_err(IoError::polars(path, "cannot read Parquet"))?;
+    crate::columns::refuse_decimals(path, &arrow)?;
     let pl_path = PlRefPath::try_from_path(path)
         .map_err(|e| IoError::format(path, format!("not a usable path: {e}")))?;
     let mut lf = LazyFrame::scan_parquet(pl_path, ScanArgsParquet::default())

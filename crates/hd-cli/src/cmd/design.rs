@@ -119,6 +119,32 @@ fn limits(a: &DesignArgs) -> Result<Limits> {
             bail!("{flag} {}: expected a finite value > 0", num(x));
         }
     }
+    // Each limit within what a rig can mean by it (a limit of 1e-300 V or 1e300 A is a
+    // typing slip, and its design would be all zeros or overflow the simulation).
+    for (flag, x, lo, hi, unit) in [
+        ("--voltage", Some(v), 1e-3, 1e4, "V"),
+        ("--rate", Some(rate), 1.0, 1e7, "Hz"),
+        ("--current", a.current, 1e-6, 1e5, "A"),
+        ("--speed", a.speed, 1e-6, 1e6, "rad/s"),
+        ("--deflection", a.deflection, 1e-12, 1.0, "rad"),
+    ] {
+        if let Some(x) = x.filter(|x| !(lo..=hi).contains(x)) {
+            bail!("{flag} {}: expected a limit from {lo:e} to {hi:e} {unit}", num(x));
+        }
+    }
+    for (flag, c) in [("--motor-counts", a.motor_counts), ("--load-counts", a.load_counts)] {
+        if let Some(c) = c.filter(|c| !(2..=1u64 << 40).contains(c)) {
+            bail!(
+                "{flag} {c}: expected an encoder resolution from 2 to 2^40 counts per revolution"
+            );
+        }
+    }
+    if let Some(x) = a.current_noise.filter(|x| !(x.is_finite() && *x > 0.0 && *x <= 1e3)) {
+        bail!(
+            "--current-noise {}: expected the current sensor's noise, a standard deviation > 0 and at most 1e3 A",
+            num(x)
+        );
+    }
     let n = a.duration * rate;
     if !(20.0..=2e6).contains(&n) {
         bail!(
@@ -212,8 +238,9 @@ pub fn run(a: DesignArgs) -> Result<()> {
     let done = std::sync::atomic::AtomicU64::new(0);
     let outcome = match &a.input {
         Some(path) => {
-            let cols = hd_io::read_columns(path, &["u"])?;
-            hd_ident::design::given(problem, criterion, &cols[0])
+            let cols = hd_io::read_columns(path, &["t", "u"])?;
+            given_rate(path, &cols[0], problem.limits.rate)?;
+            hd_ident::design::given(problem, criterion, &cols[1])
         }
         None => design(problem, criterion, &families, a.evaluations, &|f, _, c| {
             bar.set_position(done.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1);
@@ -225,4 +252,32 @@ pub fn run(a: DesignArgs) -> Result<()> {
     let check =
         if a.check > 0 { Some(super::design_check::check(&a, &loaded, &outcome)?) } else { None };
     super::design_out::write(&a.out, &loaded, &outcome, secs, check.as_ref())
+}
+
+/// An input given with `--input` is played at the design's rate: its time column must step
+/// by 1/`rate` (within 0.1 %) and hold at least 20 samples.
+fn given_rate(path: &std::path::Path, t: &[f64], rate: f64) -> Result<()> {
+    if t.len() < 20 {
+        bail!("{}: {} samples; expected an input of at least 20 samples", path.display(), t.len());
+    }
+    let step = (t[t.len() - 1] - t[0]) / (t.len() - 1) as f64;
+    if !((step * rate - 1.0).abs() <= 1e-3) {
+        bail!(
+            "{}: column 't' steps by {} s on average; expected the design's sample period 1/{} Hz = {} s (give --rate, or resample the input)",
+            path.display(),
+            num(step),
+            num(rate),
+            num(1.0 / rate)
+        );
+    }
+    if let Some(k) = t.windows(2).position(|w| ((w[1] - w[0]) * rate - 1.0).abs() > 1e-3) {
+        bail!(
+            "{}: column 't', row {}: step {} s; expected a uniform sample period of {} s",
+            path.display(),
+            k + 2,
+            num(t[k + 1] - t[k]),
+            num(1.0 / rate)
+        );
+    }
+    Ok(())
 }

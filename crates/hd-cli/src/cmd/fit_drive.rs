@@ -8,7 +8,9 @@ use super::common::{EarlierOutputs, MAX_CONFIG_BYTES, check_data_file, ensure_di
 use super::fit_drive_out::{Outcome, write_outputs};
 use anyhow::{Context, Result, anyhow};
 use clap::Args;
+use hd_ident::drive::compliant::scale_check::{Recorded, command_check};
 use hd_ident::drive::config::{ExperimentConfig, NumberOrVariable};
+use hd_ident::drive::controller::{Controller, Reproduction};
 use hd_ident::drive::{
     DisturbanceCheck, DriveConfig, DriveFit, Experiment, FitSpec, FrictionLaw, IdimFit, fit_drive,
     score_all, settle_units, setup,
@@ -200,6 +202,20 @@ fn rigid(args: &DriveArgs, cfg: DriveConfig, file: String) -> Result<()> {
         None => None,
     };
     let (controller, checks) = setup::controller(&cfg, &file, kp, kv, &experiments)?;
+    // A controller that does not reproduce the recorded command is said first: the fit
+    // simulates it, so a wrong gain, scale or sign bends every parameter (or stops the fit).
+    let doubt = controller_doubt(&controller, &checks, &experiments);
+    for d in &doubt {
+        eprintln!("warning: {d}");
+    }
+    // A law that cannot be fitted names the failed check before its own error.
+    let failed = |law: FrictionLaw, e: anyhow::Error| -> anyhow::Error {
+        if doubt.is_empty() {
+            e.context(format!("{} friction", law.name()))
+        } else {
+            e.context(format!("{} {} friction", doubt.join(" "), law.name()))
+        }
+    };
     if controller.open_loop.is_some() {
         // Where an open-loop fit restarts its segments: the start's own filter.
         let o = cfg.idim();
@@ -262,7 +278,7 @@ fn rigid(args: &DriveArgs, cfg: DriveConfig, file: String) -> Result<()> {
     }
     let mut base_fits = Vec::new();
     for ((fit, secs), spec) in fit_all(&base_specs).into_iter().zip(&base_specs) {
-        base_fits.push((fit.with_context(|| format!("{} friction", spec.law.name()))?, secs));
+        base_fits.push((fit.map_err(|e| failed(spec.law, e.into()))?, secs));
     }
     let lugre: Vec<FrictionLaw> = laws.iter().copied().filter(|l| l.is_lugre()).collect();
     let mut lugre_specs = Vec::new();
@@ -297,7 +313,7 @@ fn rigid(args: &DriveArgs, cfg: DriveConfig, file: String) -> Result<()> {
     let mut lugre_fits = Vec::new();
     for (b, spec) in best.into_iter().zip(&lugre_specs) {
         let (fit, secs) = b.ok_or_else(|| anyhow!("{}: no start", spec.law.name()))?;
-        lugre_fits.push((fit.with_context(|| format!("{} friction", spec.law.name()))?, secs));
+        lugre_fits.push((fit.map_err(|e| failed(spec.law, e.into()))?, secs));
     }
     {
         use super::fit_drive_nested::{Stage, keep_nested};
@@ -336,6 +352,7 @@ fn rigid(args: &DriveArgs, cfg: DriveConfig, file: String) -> Result<()> {
         gain,
         controller,
         checks,
+        doubt,
         disturbance,
         outputs,
         experiments,
@@ -344,4 +361,30 @@ fn rigid(args: &DriveArgs, cfg: DriveConfig, file: String) -> Result<()> {
         fitted,
     };
     write_outputs(&dir, &outcome, &bar)
+}
+
+/// The controller check judged: for each closed-loop record whose recorded command the
+/// configured controller (at its delay) leaves more than the limit of, one sentence naming
+/// the likely gain, scale or sign (hd-ident `command_check`).
+fn controller_doubt(
+    controller: &Controller,
+    checks: &[Reproduction],
+    experiments: &[Experiment],
+) -> Vec<String> {
+    if controller.open_loop.is_some() {
+        return Vec::new();
+    }
+    let percent = checks.iter().find(|c| c.delay == controller.delay).map_or(0.0, |c| c.percent);
+    experiments
+        .iter()
+        .filter_map(|e| {
+            let recorded = Recorded {
+                source: &e.source,
+                command: &e.command,
+                disturbance: Some(&e.disturbance),
+                scales: "position_scale and command_scale",
+            };
+            command_check(controller, &recorded, &e.position, &e.reference, percent, "position")
+        })
+        .collect()
 }

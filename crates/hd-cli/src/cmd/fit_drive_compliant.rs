@@ -210,7 +210,8 @@ pub fn run(args: &DriveArgs, text: &str) -> Result<()> {
     let free = cfg.free(&file, Some(law), directional, load_law, directional_load)?;
     cfg.check_law(&file, law)?;
     for r in records.iter().chain(&validation) {
-        if let Some(why) = hd_ident::drive::compliant::ratio_check::check_ratio(r, n) {
+        use hd_ident::drive::compliant::ratio_check::{check_length, check_ratio};
+        if let Some(why) = check_length(r).or_else(|| check_ratio(r, n)) {
             anyhow::bail!("{why}");
         }
     }
@@ -243,9 +244,13 @@ pub fn run(args: &DriveArgs, text: &str) -> Result<()> {
                     o.name()
                 )
             })?;
-            levels.push(
-                cfg.fit.noise.get(o.name()).copied().unwrap_or_else(|| estimated_noise(meas)),
-            );
+            let given = cfg.fit.noise.get(o.name()).copied();
+            if let Some(level) = given {
+                let rms =
+                    (meas.iter().map(|v| v * v).sum::<f64>() / meas.len().max(1) as f64).sqrt();
+                hd_ident::drive::config::validate::noise_floor(&file, o.name(), level, rms)?;
+            }
+            levels.push(given.unwrap_or_else(|| estimated_noise(meas)));
         }
         outputs.push((o, levels));
     }

@@ -34,6 +34,8 @@ pub struct Outcome {
     pub controller: Controller,
     /// Reproduction of the recorded command per delay.
     pub checks: Vec<Reproduction>,
+    /// Why the fit is in doubt (a controller check that fails), said first; empty when not.
+    pub doubt: Vec<String>,
     /// The units found for each record's disturbance column.
     pub disturbance: Vec<DisturbanceCheck>,
     /// Outputs and noise levels.
@@ -348,6 +350,8 @@ fn write_all(dir: &Path, o: &Outcome, progress: &Progress) -> Result<()> {
             "sentence": d.sentence,
         })).collect::<Vec<_>>(),
         "noise": o.outputs.iter().map(|(k, s)| (k.name().to_string(), json!(s))).collect::<Map<_, _>>(),
+        "in_doubt": !o.doubt.is_empty(),
+        "doubt": o.doubt,
         "best": best.law.name(),
         "parameters": best_json["parameters"],
         "experiments": best_json["experiments"],
@@ -405,6 +409,13 @@ fn write_all(dir: &Path, o: &Outcome, progress: &Progress) -> Result<()> {
     // report.md and the terminal summary
     let mut r = String::new();
     let _ = writeln!(r, "# Drive fit: {}\n", o.config);
+    if !o.doubt.is_empty() {
+        let _ = writeln!(r, "**The fit is in doubt.**\n");
+        for d in &o.doubt {
+            let _ = writeln!(r, "- {d}");
+        }
+        let _ = writeln!(r);
+    }
     if let Some(segment) = o.controller.open_loop {
         let _ = writeln!(r, "## Open loop\n");
         let _ = writeln!(

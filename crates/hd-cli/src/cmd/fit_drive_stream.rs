@@ -308,6 +308,7 @@ mod tests {
             gain: 35.0,
             controller,
             checks: Vec::new(),
+            doubt: Vec::new(),
             disturbance: Vec::new(),
             outputs: vec![(OutputKind::Force, 0.1), (OutputKind::Position, 1e-6)],
             experiments: vec![e],

@@ -59,14 +59,27 @@ pub fn scale(
     flag: &str,
     log: &mut Vec<String>,
 ) -> Result<()> {
-    if !(factor.is_finite() && factor != 0.0) {
-        bail!("{flag} {factor}: expected a finite, non-zero factor (negative flips the sign)");
+    if !(factor.is_finite() && factor != 0.0 && (1e-12..=1e12).contains(&factor.abs())) {
+        bail!(
+            "{flag} {}: expected a finite, non-zero factor between 1e-12 and 1e12 in magnitude (the file's unit to SI; negative flips the sign)",
+            short(factor)
+        );
     }
     if factor != 1.0 {
         col.iter_mut().for_each(|v| *v *= factor);
         log.push(format!("{what} multiplied by {factor:e} ({flag})"));
     }
     Ok(())
+}
+
+/// A number as a person typed it: plain where it is short, in exponent form where plain
+/// digits would run to hundreds (1e-300).
+pub fn short(v: f64) -> String {
+    if v == 0.0 || !v.is_finite() || (1e-4..1e7).contains(&v.abs()) {
+        format!("{v}")
+    } else {
+        format!("{v:e}")
+    }
 }
 
 /// An angle unit of a deflection column: its factor to radians.

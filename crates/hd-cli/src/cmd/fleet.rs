@@ -240,13 +240,12 @@ pub fn run(args: FleetArgs) -> Result<()> {
         bail!("--settle {}: expected a share in [0, 0.95)", args.settle);
     }
     if args.fit == FitKind::Hysteresis {
-        let law = hd_ident::stiffness::Law::parse(&args.law).context("--law")?;
-        if args.law == "all" {
+        if args.law.trim().eq_ignore_ascii_case("all") {
             bail!(
                 "--law all: a fleet fits one law per log; expected memory, maxwell-slip or bouc-wen"
             );
         }
-        let _ = law;
+        hd_ident::stiffness::Law::parse(&args.law).context("--law")?;
         super::fit_input::angle_factor(&args.theta_unit).context("--theta-unit")?;
         if args.elements == 0 {
             bail!("--elements 0: expected at least 1 Maxwell-slip element");
@@ -290,6 +289,7 @@ pub fn run(args: FleetArgs) -> Result<()> {
     }
     super::fleet_drift::check(&args.drift)?;
     let plan = plan(&source)?;
+    baseline_leaves_days(&plan.logs, args.drift.baseline_days)?;
     let dir = super::common::ensure_dir(&dir)?;
     let lock_name = match shard {
         Some((k, n)) => format!(".hdw-fleet-shard-{k}-of-{n}.lock"),
@@ -460,5 +460,32 @@ fn check_shards(files: &[PathBuf]) -> Result<()> {
             missing.join(", ")
         );
     }
+    Ok(())
+}
+
+/// Warn of a baseline that covers every log of every unit: the drift test then has nothing
+/// to watch, and its scale and alarms come from the baseline itself (the fits stand).
+fn baseline_leaves_days(logs: &[LogSpec], baseline_days: f64) -> Result<()> {
+    let mut first: std::collections::HashMap<&str, f64> = std::collections::HashMap::new();
+    for l in logs.iter().filter(|l| l.problem.is_none() && l.day.is_finite()) {
+        let d = first.entry(l.unit.as_str()).or_insert(l.day);
+        *d = d.min(l.day);
+    }
+    let watched = logs
+        .iter()
+        .filter(|l| l.problem.is_none() && l.day.is_finite())
+        .any(|l| l.day >= first[l.unit.as_str()] + baseline_days);
+    if watched || first.is_empty() {
+        return Ok(());
+    }
+    let span = logs
+        .iter()
+        .filter(|l| l.problem.is_none() && l.day.is_finite())
+        .map(|l| l.day - first[l.unit.as_str()])
+        .fold(0.0f64, f64::max);
+    eprintln!(
+        "warning: --baseline-days {baseline_days} covers every log (each unit's logs span at most {span:.1} days from its first): the drift test has no day after the baseline to watch, so an alarm it gives is not wear; for a drift verdict give a baseline shorter than the record, e.g. --baseline-days {:.0}",
+        (span / 3.0).max(1.0).round()
+    );
     Ok(())
 }

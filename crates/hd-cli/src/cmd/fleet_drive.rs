@@ -88,9 +88,10 @@ pub fn fit_drive_log(
     }
     let path =
         std::path::absolute(&log.path).map_err(|e| format!("{}: {e}", log.path.display()))?;
-    if !path.is_file() {
+    if !path.exists() {
         return Err(format!("{}: no such file", log.path.display()));
     }
+    super::common::check_data_file(&path, "log").map_err(|e| format!("{e:#}"))?;
     let text = with_record(config, &path)?;
     let work = Work::new(log.index)?;
     let cfg = work.path().join("fit.toml");

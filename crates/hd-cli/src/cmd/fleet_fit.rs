@@ -168,6 +168,11 @@ pub fn fit_log(log: &LogSpec, t: &Template, fixed: &Fixed) -> LogFit {
     }
     let res = (|| -> Result<Vec<(String, Estimate)>, String> {
         let names: Vec<&str> = t.columns.iter().map(String::as_str).collect();
+        // A folder, a device or a pipe is named as such (read_columns would wait on a pipe
+        // or read /dev/zero without end).
+        if log.path.exists() {
+            super::common::check_data_file(&log.path, "log").map_err(|e| format!("{e:#}"))?;
+        }
         let cols = hd_io::read_columns(&log.path, &names).map_err(|e| chain(&e))?;
         let pick = |own: f64, tpl: f64| if own.is_finite() { own } else { tpl };
         let (ts, ws, qs) = (

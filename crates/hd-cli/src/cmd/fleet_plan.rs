@@ -133,8 +133,23 @@ pub fn plan(src: &Source) -> Result<Plan> {
     let ku: Vec<usize> =
         src.unit.iter().map(|u| col(u, "a unit identifier, --unit")).collect::<Result<_>>()?;
     let kt = col(&src.time, "the timestamp, --time")?;
+    if table.height == 0 {
+        bail!("{what}: no logs (a header and no rows): expected one row per log");
+    }
     for c in &src.covariates {
-        col(c, "a covariate, --covariates")?;
+        let k = col(c, "a covariate, --covariates")?;
+        if let ColumnData::Text(v) = &table.columns[k] {
+            // A covariate is a number (temperature, payload); a text cell that is not one
+            // means the wrong column (a date, a name) and would leave nothing to normalise.
+            if let Some((row, cell)) = v.iter().enumerate().find_map(|(r, x)| {
+                x.as_deref().filter(|x| x.trim().parse::<f64>().is_err()).map(|x| (r, x))
+            }) {
+                bail!(
+                    "{what}: covariate column '{c}' is not numeric (row {}: '{cell}'): expected a number per log (a temperature, a payload), or leave it out of --covariates",
+                    row + 1
+                );
+            }
+        }
     }
     let scale_cols: Vec<Option<usize>> = ["time_scale", "speed_scale", "torque_scale"]
         .iter()
@@ -206,16 +221,20 @@ pub fn plan(src: &Source) -> Result<Plan> {
             by_key.insert((unit.clone(), day.to_bits()), row);
         }
         let mut scales = [f64::NAN; 3];
-        for (s, k) in scales.iter_mut().zip(&scale_cols) {
-            if let Some(k) = k {
-                match &table.columns[*k] {
-                    ColumnData::Num(v) => *s = v[row],
-                    ColumnData::Text(v) => {
-                        *s = v[row]
-                            .as_deref()
-                            .and_then(|x| x.trim().parse().ok())
-                            .unwrap_or(f64::NAN)
-                    }
+        for ((s, k), name) in
+            scales.iter_mut().zip(&scale_cols).zip(["time_scale", "speed_scale", "torque_scale"])
+        {
+            let Some(k) = k else { continue };
+            // An empty cell keeps the template's factor; anything else must be one.
+            let cell = cell_text(&table, *k, row);
+            let Some(text) = cell else { continue };
+            match text.trim().parse::<f64>() {
+                Ok(v) if v.is_finite() && v != 0.0 && (1e-12..=1e12).contains(&v.abs()) => *s = v,
+                _ => {
+                    problem.get_or_insert(format!(
+                        "manifest row {}: column '{name}' is '{text}': expected a finite, non-zero unit factor between 1e-12 and 1e12 in magnitude (or an empty cell for the template's)",
+                        row + 1
+                    ));
                 }
             }
         }

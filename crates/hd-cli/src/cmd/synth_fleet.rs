@@ -117,10 +117,39 @@ fn parse_wear(s: &str, robots: usize, joints: usize) -> Result<Wear> {
     Ok(Wear { robot: r - 1, joint: j - 1, onset })
 }
 
+/// Most logs a synthetic fleet may have (a hundred times the 7 200 of the benchmark's large
+/// fleet).
+const MAX_LOGS: usize = 1_000_000;
+
+/// Most samples one synthetic log may have (as `hdw synth drive`'s record) [–].
+const MAX_LOG_SAMPLES: f64 = 1e7;
+
 /// Run `hdw synth fleet`.
 pub fn run(a: FleetSynthArgs) -> Result<()> {
     if a.robots == 0 || a.joints == 0 || a.days == 0 {
         bail!("--robots, --joints, --days: expected at least 1 each");
+    }
+    let logs = a.robots.saturating_mul(a.joints).saturating_mul(a.days);
+    if logs > MAX_LOGS {
+        bail!(
+            "--robots {} × --joints {} × --days {} give {logs} logs, more than the {MAX_LOGS} a synthetic fleet may have: ask for fewer",
+            a.robots,
+            a.joints,
+            a.days
+        );
+    }
+    for (flag, v) in [("--duration", a.duration), ("--sample-rate", a.sample_rate)] {
+        if !(v.is_finite() && v > 0.0) {
+            bail!("{flag} {v}: expected a finite value > 0");
+        }
+    }
+    let per_log = a.duration * a.sample_rate;
+    if per_log > MAX_LOG_SAMPLES {
+        bail!(
+            "--duration {} s at --sample-rate {} Hz gives {per_log:.3e} samples a log, more than the {MAX_LOG_SAMPLES:e} a log may have: shorten --duration or lower --sample-rate",
+            a.duration,
+            a.sample_rate
+        );
     }
     let start = hd_io::fleet::parse_day(&a.start).map_err(|e| anyhow::anyhow!("--start: {e}"))?;
     let wear =

@@ -26,6 +26,7 @@ impl SteadyData {
             return Err(DataError::ZeroSpeed { row: i + 1 });
         }
         check::varies("omega", &omega)?;
+        check::varies("torque", &torque)?;
         Ok(Self { omega, torque, load: None })
     }
 
@@ -83,6 +84,7 @@ impl TransientData {
         check::column("torque", &torque, "t", n)?;
         check::increasing_time(&t)?;
         check::varies("omega", &omega)?;
+        check::varies("torque", &torque)?;
         Ok(Self { t, omega, torque })
     }
 

@@ -27,6 +27,7 @@ impl HysteresisData {
         check::column("torque", &torque, "t", n)?;
         check::increasing_time(&t)?;
         check::varies("theta", &theta)?;
+        check::varies("torque", &torque)?;
         Ok(Self { t, theta, torque })
     }
 

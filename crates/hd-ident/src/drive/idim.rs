@@ -136,7 +136,7 @@ pub fn idim_ls(
     }
     if n <= p {
         return Err(DriveError::Fit(format!(
-            "IDIM-LS: {n} rows after filtering and decimation; need more than {p}"
+            "IDIM-LS (the inverse-model start): {n} rows after filtering and decimation; need more than {p}: the records are too short for [start] decimate (and the filter's settling), or lower decimate"
         )));
     }
     if !finite {
@@ -150,7 +150,7 @@ pub fn idim_ls(
     let r11 = r.view((0, 0), (p, p)).into_owned();
     let qty = DVector::from_iterator(p, (0..p).map(|i| r[(i, p)]));
     let svd = crate::linear::bounded_svd(r11.clone(), true, true).ok_or_else(|| {
-        DriveError::Fit("IDIM-LS: the least-squares decomposition did not converge".into())
+        DriveError::Fit("IDIM-LS (the inverse-model start): the least-squares decomposition did not converge (check the records' scales: position_scale, command_scale and gain)".into())
     })?;
     let s = &svd.singular_values;
     let condition = s.max() / s.min();

@@ -29,9 +29,12 @@ pub struct Experiment {
     pub speed: Vec<f64>,
 }
 
-/// Largest relative deviation of a sample interval from the mean before the record counts
+/// Largest relative deviation of a sample interval from the typical one before the record counts
 /// as not uniformly sampled.
 const JITTER: f64 = 1e-3;
+
+/// How many of the first intervals give the typical one (their median).
+const TYPICAL: usize = 10_001;
 
 /// The sample period [s] of a time column that increases strictly and uniformly (within
 /// [`JITTER`]); the error names `source`, the row and what `needs` uniform sampling.
@@ -46,14 +49,21 @@ pub fn uniform_period(t: &[f64], source: &str, needs: &str) -> Result<f64, Drive
             t[k]
         )));
     }
-    let h = (t[n - 1] - t[0]) / (n.max(2) - 1) as f64;
-    if let Some(k) = t.windows(2).position(|w| ((w[1] - w[0]) / h - 1.0).abs() > JITTER) {
+    // The row named is the first whose interval departs from the typical one (the median
+    // of the first intervals), so a gap is named where it is, not at row 2 (a gap raises
+    // the mean above every regular interval).
+    let mut first: Vec<f64> = t.windows(2).take(TYPICAL).map(|w| w[1] - w[0]).collect();
+    let mid = first.len() / 2;
+    let typical =
+        if first.is_empty() { 0.0 } else { *first.select_nth_unstable_by(mid, f64::total_cmp).1 };
+    if let Some(k) = t.windows(2).position(|w| ((w[1] - w[0]) / typical - 1.0).abs() > JITTER) {
         return Err(err(format!(
-            "time, row {}: interval {} s differs from the mean sample period {h} s; {needs} needs uniform sampling",
+            "time, row {}: interval {} s differs from the record's sample period {typical} s (a gap, a repeated sample or jitter); {needs} needs uniform sampling",
             k + 2,
             t[k + 1] - t[k]
         )));
     }
+    let h = (t[n - 1] - t[0]) / (n.max(2) - 1) as f64;
     Ok(h)
 }
 

@@ -102,6 +102,17 @@ pub fn noise(
                     "the record's noise level estimates to zero (a constant or piecewise-quadratic signal); give it",
                 ));
             }
+            if given.is_some() {
+                let ms: f64 = experiments
+                    .iter()
+                    .map(|e| {
+                        let y = o.measured(e, gain);
+                        y.iter().map(|v| v * v).sum::<f64>() / y.len().max(1) as f64
+                    })
+                    .sum::<f64>()
+                    / experiments.len() as f64;
+                super::config::validate::noise_floor(file, o.name(), level, ms.sqrt())?;
+            }
             Ok((o, level))
         })
         .collect()

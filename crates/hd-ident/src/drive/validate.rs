@@ -28,6 +28,9 @@ pub const MAX_FILTER_TAPS: usize = 1_000;
 /// Largest Butterworth order of the inverse-model start's filter [–].
 pub const MAX_ORDER: usize = 16;
 
+/// Fewest samples the score rule must leave of each record.
+pub const MIN_SCORED: usize = 10;
+
 /// `"{file}, {key}"`.
 pub(crate) fn at(file: &str, key: &str) -> String {
     format!("{file}, {key}")
@@ -124,15 +127,66 @@ pub fn raw(t: &toml::Table, file: &str) -> Result<(), DriveError> {
     Ok(())
 }
 
-/// A finite scale factor ≠ 0 (negative flips the signal's sign).
+/// Widest factor a unit conversion or a gain may have, either way [–]: 1e12 spans pico to
+/// tera; beyond it the scaled signal overflows or vanishes in the fit's arithmetic (a
+/// `gain = 1e300` gave NaN parameters and exit 0).
+pub const SCALE_RANGE: f64 = 1e12;
+
+/// Largest magnitude of a start value [its unit]: no parameter of a drive in SI units comes
+/// near it, and 1e300 overflows the simulation (the fit then never moved and exit 0).
+pub const MAX_START: f64 = 1e30;
+
+/// A number as an error shows it: plain where that is short, in exponent form where plain
+/// digits would run to hundreds (1e300).
+pub fn short(v: f64) -> String {
+    if v == 0.0 || !v.is_finite() || (1e-4..1e7).contains(&v.abs()) {
+        format!("{v}")
+    } else {
+        format!("{v:e}")
+    }
+}
+
+/// A finite scale factor ≠ 0 within ×[`SCALE_RANGE`] of 1 (negative flips the signal's sign).
 pub(crate) fn scale(file: &str, key: &str, v: f64) -> Result<(), DriveError> {
-    if v.is_finite() && v != 0.0 {
+    if v.is_finite() && v != 0.0 && (1.0 / SCALE_RANGE..=SCALE_RANGE).contains(&v.abs()) {
         return Ok(());
     }
     Err(DriveError::config(
         at(file, key),
         format!(
-            "{v}; expected a finite factor ≠ 0 (the file's unit to the fit's; negative flips the sign)"
+            "{}; expected a finite factor ≠ 0 between {:e} and {SCALE_RANGE:e} in magnitude (the file's unit to the fit's; negative flips the sign)",
+            short(v),
+            1.0 / SCALE_RANGE
+        ),
+    ))
+}
+
+/// Smallest noise level an output may be given, as a share of its signal's RMS [–]: below
+/// it the weights overflow (a noise of 1e-300 gave an infinite BIC and no standard error).
+pub const MIN_NOISE_SHARE: f64 = 1e-12;
+
+/// A given noise level `level` of output `name` against its signal's RMS `rms` (same unit).
+pub fn noise_floor(file: &str, name: &str, level: f64, rms: f64) -> Result<(), DriveError> {
+    if !(rms.is_finite() && rms > 0.0) || level >= MIN_NOISE_SHARE * rms {
+        return Ok(());
+    }
+    Err(DriveError::config(
+        at(file, &format!("[fit] noise.{name}")),
+        format!(
+            "{level:e}; expected the sensor's noise level, at least {MIN_NOISE_SHARE:e} of the signal's RMS ({rms:.4e})"
+        ),
+    ))
+}
+
+/// A start value's magnitude at most [`MAX_START`].
+pub(crate) fn start_magnitude(file: &str, key: &str, v: f64) -> Result<(), DriveError> {
+    if v.abs() <= MAX_START {
+        return Ok(());
+    }
+    Err(DriveError::config(
+        at(file, key),
+        format!(
+            "{v:e}; expected a start of at most {MAX_START:e} in magnitude (check the unit: no drive parameter comes near it)"
         ),
     ))
 }
@@ -143,6 +197,21 @@ pub fn positive(file: &str, key: &str, v: f64, what: &str) -> Result<(), DriveEr
         return Ok(());
     }
     Err(DriveError::config(at(file, key), format!("{v}; expected {what}, a finite value > 0")))
+}
+
+/// A gain > 0 within ×[`SCALE_RANGE`] of 1 (the drive gain, a controller's gain).
+fn bounded_gain(file: &str, key: &str, v: f64, what: &str) -> Result<(), DriveError> {
+    positive(file, key, v, what)?;
+    if (1.0 / SCALE_RANGE..=SCALE_RANGE).contains(&v) {
+        return Ok(());
+    }
+    Err(DriveError::config(
+        at(file, key),
+        format!(
+            "{v:e}; expected {what} between {:e} and {SCALE_RANGE:e} (check its unit)",
+            1.0 / SCALE_RANGE
+        ),
+    ))
 }
 
 /// Every experiment's name non-empty and its own.
@@ -172,7 +241,7 @@ pub(crate) fn names<'a>(
 /// feedback; a record logged with the opposite sign convention is flipped by its scale).
 pub fn gain(file: &str, key: &str, v: f64) -> Result<(), DriveError> {
     if v.is_finite() && v > 0.0 {
-        return Ok(());
+        return bounded_gain(file, key, v, "a controller gain");
     }
     Err(DriveError::config(
         at(file, key),
@@ -271,7 +340,7 @@ pub fn rigid(
     axis: Axis,
 ) -> Result<(), DriveError> {
     if let NumberOrVariable::Number(g) = c.gain {
-        positive(file, "gain", g, &format!("the drive gain [{}]", axis.unit_of("gain")))?;
+        bounded_gain(file, "gain", g, &format!("the drive gain [{}]", axis.unit_of("gain")))?;
     }
     names(file, c.experiment.iter().map(|e| e.name.as_str()))?;
     for e in &c.experiment {
@@ -321,6 +390,7 @@ pub fn rigid(
                 ),
             ));
         }
+        start_magnitude(file, &format!("[params] {name}"), v)?;
     }
     for (name, &[lo, hi]) in &c.bounds {
         of_laws(file, "[bounds]", name, laws)?;
@@ -350,7 +420,9 @@ pub(crate) fn bounds(
         return Err(DriveError::config(
             key,
             format!(
-                "[{lo}, {hi}]; expected [lower, upper] with lower < upper (either may be -inf or inf)"
+                "[{}, {}]; expected [lower, upper] with lower < upper (either may be -inf or inf)",
+                short(lo),
+                short(hi)
             ),
         ));
     }
@@ -359,7 +431,9 @@ pub(crate) fn bounds(
         return Err(DriveError::config(
             key,
             format!(
-                "[{lo}, {hi}]; {name} ({what}) must stay {} [{unit}]: expected a lower bound {}",
+                "[{}, {}]; {name} ({what}) must stay {} [{unit}]: expected a lower bound {}",
+                short(lo),
+                short(hi),
                 limit_text(min, incl),
                 limit_text(min, incl)
             ),
@@ -383,7 +457,10 @@ pub fn inside(
     Err(DriveError::config(
         at(file, &format!("[bounds] {name}")),
         format!(
-            "[{lo}, {hi}] excludes the start {name} = {v} ({source}); widen the bounds or start inside them"
+            "[{}, {}] excludes the start {name} = {} ({source}); widen the bounds or start inside them",
+            short(lo),
+            short(hi),
+            short(v)
         ),
     ))
 }
@@ -391,6 +468,15 @@ pub fn inside(
 /// Checks that need the records: `h` the sample period [s], `rows` the shortest record's
 /// length [samples].
 pub fn with_records(c: &DriveConfig, file: &str, h: f64, rows: usize) -> Result<(), DriveError> {
+    let (first, last) = (c.score.skip_first.unwrap_or(0), c.score.skip_last.unwrap_or(0));
+    if first.saturating_add(last).saturating_add(MIN_SCORED) > rows {
+        return Err(DriveError::config(
+            at(file, "[score] skip_first, skip_last"),
+            format!(
+                "{first} and {last} samples; expected to leave at least {MIN_SCORED} of the shortest record's {rows} samples to score"
+            ),
+        ));
+    }
     let nyquist = 0.5 / h;
     let s = &c.start;
     for (k, v) in [("cutoff_hz", s.cutoff_hz), ("decimate_cutoff_hz", s.decimate_cutoff_hz)] {

@@ -8,7 +8,7 @@ use crate::drive::compliant::config::CompliantConfig;
 use crate::drive::compliant::params::{NAMES, P, ix};
 use crate::drive::config::validate::{
     MAX_DELAY, MAX_ITERATIONS, MAX_SUBSTEPS, at, bounds, delays, gain, inside, names,
-    number_or_name, saturation_and_filter, scale, whole,
+    number_or_name, saturation_and_filter, scale, start_magnitude, whole,
 };
 use crate::drive::config::{DelayChoice, NumberOrVariable};
 use crate::drive::error::DriveError;
@@ -107,6 +107,7 @@ pub fn compliant(c: &CompliantConfig, file: &str) -> Result<(), DriveError> {
                 format!("{v}; expected a finite value{limit} [{unit}] ({what})"),
             ));
         }
+        start_magnitude(file, &format!("[params] {name}"), v)?;
     }
     for (name, &[lo, hi]) in &c.bounds {
         if !NAMES.contains(&name.as_str()) {

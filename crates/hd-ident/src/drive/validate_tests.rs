@@ -244,3 +244,41 @@ fn a_duplicate_key_is_named() {
     let e = CompliantConfig::parse(text, "fit.toml").expect_err("refused").to_string();
     assert!(e.contains("duplicate key") && e.contains("voltage_between"), "{e}");
 }
+
+/// Magnitudes no drive has: a gain, a scale or a start of 1e300 (each gave NaN parameters
+/// and exit 0, or a fit that never moved), a scale of 1e-300; each refused, the number
+/// written short. Unit conversions from pico to tera pass.
+#[test]
+fn magnitudes_beyond_any_drive_are_refused() {
+    for (replace, table, key) in [
+        (("gain = \"gtau\"", "gain = 1e300"), "", "gain: 1e300"),
+        (("gain = \"gtau\"", "gain = 1e-300"), "", "gain: 1e-300"),
+        (("kv = \"kv\"", "kv = 1e300"), "", "[controller] kv: 1e300"),
+        (("disturbance = ", "command_scale = 1e300\ndisturbance = "), "", "command_scale: 1e300"),
+        (
+            ("disturbance = ", "position_scale = -1e-300\ndisturbance = "),
+            "",
+            "position_scale: -1e-300",
+        ),
+        (("axis", "axis"), "[params]\nM = 1e300\n", "[params] M: 1e300"),
+    ] {
+        let e = rigid_error(&rigid(&[replace], table));
+        assert!(e.contains(key), "{key}: {e}");
+        assert!(e.len() < 300, "short: {e}");
+    }
+    for ok in ["position_scale = 1e-9\n", "command_scale = -1e3\n"] {
+        let text = rigid(&[("disturbance = ", &format!("{ok}disturbance = "))], "");
+        DriveConfig::parse(&text, "fit.toml").unwrap();
+    }
+}
+
+/// A given noise level far below the signal (1e-300 gave an infinite BIC and no standard
+/// error) is named; a sensor's level passes.
+#[test]
+fn a_noise_level_below_any_sensor_is_refused() {
+    use super::validate::noise_floor;
+    let e = noise_floor("fit.toml", "force", 1e-300, 54.1).unwrap_err().to_string();
+    assert!(e.contains("[fit] noise.force: 1e-300") && e.contains("RMS"), "{e}");
+    noise_floor("fit.toml", "position", 1e-9, 0.1).unwrap();
+    noise_floor("fit.toml", "position", 1e-9, 0.0).unwrap();
+}

@@ -385,7 +385,19 @@ impl CompliantConfig {
             }
         }
         for n in self.fit.fix.iter().flatten() {
-            free[index(n, file, "[fit] fix")?] = false;
+            let k = index(n, file, "[fit] fix")?;
+            // One parameter both freed by name and fixed is a contradiction, not a choice.
+            if let Some(list) = &self.fit.free
+                && let Some(f) = list.iter().find(|f| index(f, file, "[fit] free").ok() == Some(k))
+            {
+                return Err(DriveError::config(
+                    format!("{file}, [fit] fix '{n}'"),
+                    format!(
+                        "'{f}' is also in [fit] free: expected each parameter in one of the two"
+                    ),
+                ));
+            }
+            free[k] = false;
         }
         if free[ix::MS_N] {
             return Err(DriveError::config(

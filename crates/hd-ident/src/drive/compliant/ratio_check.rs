@@ -24,6 +24,22 @@ pub fn load_slope(rec: &VoltageRecord, n: f64) -> Option<f64> {
     (sxx > 0.0).then(|| sxy / sxx)
 }
 
+/// Fewest samples a record of the compliant drive may have: a few ticks of a voltage test
+/// say nothing of the drive's dynamics, and their encoders move by a count or two, too
+/// little to check the ratio with (the same floor as `hdw synth drive`'s).
+pub const MIN_SAMPLES: usize = 50;
+
+/// None when `rec` has at least [`MIN_SAMPLES`] samples; otherwise why it is refused.
+pub fn check_length(rec: &VoltageRecord) -> Option<String> {
+    let n = rec.len();
+    (n < MIN_SAMPLES).then(|| {
+        format!(
+            "{}: {n} samples; expected a record of at least {MIN_SAMPLES} samples (a voltage test long enough to show the drive's dynamics: usually thousands)",
+            rec.source
+        )
+    })
+}
+
 /// None when the encoders of `rec` agree with ratio `n`; otherwise why not, in one sentence.
 pub fn check_ratio(rec: &VoltageRecord, n: f64) -> Option<String> {
     let slope = load_slope(rec, n)?;

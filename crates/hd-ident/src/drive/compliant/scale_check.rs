@@ -47,8 +47,41 @@ fn likely(g: f64, key: &str) -> String {
     format!("likely {key} = {sign}{:e}{unit}", 1.0 / p)
 }
 
+/// Largest plausible peak of a drive's test voltage [V]: a record whose voltage peaks above
+/// it was likely logged in mV.
+pub const PLAUSIBLE_VOLTAGE: f64 = 1000.0;
+
+/// What a current `g` times the one the start drives from the voltage likely means, given
+/// the record's peak voltage `peak_u` [V]: a current in other units, or a voltage in other
+/// units (which scales the driven current instead). The likelier reading comes first.
+fn likely_current(g: f64, peak_u: f64) -> String {
+    let power = g.abs().log10().round() as i32;
+    if g < 0.0 || power == 0 {
+        return likely(g, "current_scale");
+    }
+    let current = likely(g, "current_scale");
+    let voltage = format!(
+        "voltage_scale = {:e}{}",
+        10f64.powi(power),
+        match power {
+            -3 => " (a voltage logged in mV)",
+            3 => " (a voltage logged in kV)",
+            _ => "",
+        }
+    );
+    if power < 0 && peak_u > PLAUSIBLE_VOLTAGE {
+        format!(
+            "likely {voltage}: the voltage peaks at {peak_u:.4e} V, more than a drive's amplifier gives; or {}",
+            current.trim_start_matches("likely ")
+        )
+    } else {
+        format!("{current}, or {voltage}")
+    }
+}
+
 /// None when the current of `rec` has the scale the drive at `spec.start` gives it from the
-/// voltage (R, Ke); otherwise why not, naming the likely factor. Only for voltage tests.
+/// voltage (R, Ke); otherwise why not, naming the likely factor (of the current or of the
+/// voltage). Only for voltage tests.
 pub fn check_current(spec: &CompliantSpec, rec: &VoltageRecord) -> Option<String> {
     let meas = rec.current.as_deref()?;
     if rec.closed.is_some() {
@@ -59,10 +92,11 @@ pub fn check_current(spec: &CompliantSpec, rec: &VoltageRecord) -> Option<String
     if (1.0 / SCALE_LIMIT..=SCALE_LIMIT).contains(&g) {
         return None;
     }
+    let peak_u = rec.u.iter().fold(0.0f64, |m, v| m.max(v.abs()));
     Some(format!(
         "{}: the logged current is {g:.4} times what the start values (R, Ke) drive from the voltage; expected about 1 (within ×{SCALE_LIMIT}): {}. Every value the fit gives is in doubt until it does.",
         rec.source,
-        likely(g, "current_scale")
+        likely_current(g, peak_u)
     ))
 }
 
@@ -77,28 +111,91 @@ pub fn check_command(
     reference: &[f64],
     percent: f64,
 ) -> Option<String> {
+    let recorded = Recorded {
+        source: &rec.source,
+        command: &rec.u,
+        disturbance: None,
+        scales: "motor_scale (or load_scale), reference_scale and command_scale",
+    };
+    command_check(c, &recorded, q, reference, percent, "encoder")
+}
+
+/// Smallest |correlation| of the recorded command with the re-run one for which a gain or
+/// sign is named: below it the command is not this controller's output at all [–].
+pub const FOLLOWS: f64 = 0.9;
+
+/// The correlation of `a` with `b` [–] (NaN when either is flat).
+fn correlation(a: &[f64], b: &[f64]) -> f64 {
+    let n = a.len().min(b.len()).max(1) as f64;
+    let (ma, mb) = (a.iter().sum::<f64>() / n, b.iter().sum::<f64>() / n);
+    let (mut sab, mut saa, mut sbb) = (0.0, 0.0, 0.0);
+    for (x, y) in a.iter().zip(b) {
+        sab += (x - ma) * (y - mb);
+        saa += (x - ma) * (x - ma);
+        sbb += (y - mb) * (y - mb);
+    }
+    sab / (saa * sbb).sqrt()
+}
+
+/// A logged closed loop as the controller check reads it.
+pub struct Recorded<'a> {
+    /// The record's name (its file).
+    pub source: &'a str,
+    /// The recorded command [command unit].
+    pub command: &'a [f64],
+    /// What is added to the controller's output before it is logged, if anything.
+    pub disturbance: Option<&'a [f64]>,
+    /// The configuration keys that scale the fed-back position, the reference and the
+    /// command, as the sentence names them.
+    pub scales: &'a str,
+}
+
+/// [`check_command`] for any logged loop: `q` the fed-back position (`what` names it in the
+/// sentence), `reference` the reference, `percent` the pooled check at the controller's delay.
+pub fn command_check(
+    c: &Controller,
+    rec: &Recorded<'_>,
+    q: &[f64],
+    reference: &[f64],
+    percent: f64,
+    what: &str,
+) -> Option<String> {
     if percent <= CONTROLLER_LIMIT {
         return None;
     }
     let d = c.delay;
     let start = d + c.speed_filter.len();
-    let n = rec.len();
+    let n = rec.command.len().min(q.len()).min(reference.len());
     if n <= start {
         return None;
     }
-    let rerun: Vec<f64> = (start..n).map(|k| c.clamp(c.law(reference[k - d], q, k - d))).collect();
-    let g = gain(&rec.u[start..], &rerun).unwrap_or(f64::NAN);
-    let factor = if g.is_finite() && !(0.7..1.4).contains(&g) {
+    let added = |k: usize| rec.disturbance.map_or(0.0, |w| w[k]);
+    let rerun: Vec<f64> =
+        (start..n).map(|k| c.clamp(c.law(reference[k - d], q, k - d) + added(k - d))).collect();
+    let g = gain(&rec.command[start..n], &rerun).unwrap_or(f64::NAN);
+    let rho = correlation(&rec.command[start..n], &rerun);
+    let factor = if !(rho.abs() >= FOLLOWS) {
         format!(
-            "the recorded command is {g:.4} times the re-run's: kp or kv about {:.3}× what the configuration says, or {}",
+            "the recorded command hardly follows the re-run one (correlation {rho:.2}): check that the command column is the controller's output, then kp, kv, the speed filter, the delays and the {what}'s sign and scale"
+        )
+    } else if g.is_finite() && g < 0.0 {
+        format!(
+            "the recorded command is {g:.4} times the re-run's, of the other sign: the command counts the other way against the position and the reference; check the signs of {}",
+            rec.scales
+        )
+    } else if g.is_finite() && !(0.7..1.4).contains(&g) {
+        format!(
+            "the recorded command is {g:.4} times the re-run's: kp or kv about {:.3}× what the configuration says, or {}; a {what} with the wrong sign or scale does this too",
             g,
             likely(g, "command_scale")
         )
     } else {
-        "check kp, kv, the speed filter, the saturation, the feedback encoder and the delays".into()
+        format!(
+            "check kp, kv, the speed filter, the saturation, the delays and the {what}'s sign and scale"
+        )
     };
     Some(format!(
-        "The controller check fails on {}: the configured controller re-run on the recorded encoder and reference leaves {percent:.1} % of the recorded command's RMS (expected a few % at most): {factor}. The fit simulates that controller, so every value it gives is in doubt.",
+        "The controller check fails on {}: the configured controller re-run on the recorded {what} and reference leaves {percent:.1} % of the recorded command's RMS (expected a few % at most): {factor}. The fit simulates that controller, so every value it gives is in doubt.",
         rec.source
     ))
 }
@@ -120,5 +217,19 @@ mod tests {
         );
         assert!(likely(-1.0, "current_scale").contains("negative current_scale"));
         assert!(likely(0.1, "command_scale").contains("command_scale = 1e1"));
+    }
+
+    /// A current a thousandth of the driven one names the voltage first when the voltage
+    /// peaks above what an amplifier gives (a voltage in mV), the current first otherwise.
+    #[test]
+    fn a_voltage_in_millivolts_is_named() {
+        let mv = likely_current(1e-3, 12_000.0);
+        assert!(mv.starts_with("likely voltage_scale = 1e-3 (a voltage logged in mV)"), "{mv}");
+        assert!(mv.contains("current_scale = 1e3"), "{mv}");
+        let ka = likely_current(1e-3, 12.0);
+        assert!(ka.starts_with("likely current_scale = 1e3"), "{ka}");
+        assert!(ka.contains("or voltage_scale = 1e-3"), "{ka}");
+        let ma = likely_current(1000.0, 12.0);
+        assert!(ma.starts_with("likely current_scale = 1e-3 (a current logged in mA)"), "{ma}");
     }
 }
