@@ -242,7 +242,13 @@ fn a_score_rule_that_leaves_nothing_to_score_is_refused() {
 fn a_record_of_a_few_samples_is_refused_for_its_length() {
     let dir = scratch("fdr-short-record");
     let cfg = compliant_rows(&dir, "", 1.0, 12);
-    refused_at(&cfg, &dir.join("out"), &[], &["rec.csv: 12 samples", "at least 50"]);
+    let out = dir.join("out");
+    let o = hdw(&["fit", "drive", "--config", s(&cfg), "--out", s(&out)]);
+    assert!(!o.status.success());
+    let err = String::from_utf8_lossy(&o.stderr);
+    let line = err.lines().find(|l| l.starts_with("error:")).unwrap_or("");
+    assert!(line.contains("rec.csv: 12 samples") && line.contains("at least 50"), "{err}");
+    assert!(!err.contains("gear ratio") && !out.join("fit.json").exists(), "{err}");
 }
 
 /// A position logged with the other sign than the command (position_scale = -1 on EMPS)
@@ -265,6 +271,7 @@ fn a_flipped_position_names_the_controller_check_and_the_scales() {
         let fit: serde_json::Value =
             serde_json::from_str(&std::fs::read_to_string(out.join("fit.json")).unwrap()).unwrap();
         assert_eq!(fit["in_doubt"], true, "{fit}");
+        assert_eq!(fit["laws"][0]["parameters"]["M"]["in_doubt"], true, "{fit}");
     } else {
         assert!(err.lines().any(|l| l.starts_with("error: The controller check fails")), "{err}");
     }

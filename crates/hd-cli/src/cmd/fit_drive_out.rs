@@ -101,7 +101,8 @@ fn law_json(
     for (k, n) in fit.names.iter().enumerate() {
         params.insert(
             n.to_string(),
-            json!({"value": fit.values[k], "std_error": fit.std_errors[k], "free": fit.free[k], "unit": o.axis.unit_of(n)}),
+            json!({"value": fit.values[k], "std_error": fit.std_errors[k], "free": fit.free[k], "unit": o.axis.unit_of(n),
+                   "in_doubt": fit.free[k] && !o.doubt.is_empty()}),
         );
     }
     let free: Vec<&str> = fit.names.iter().zip(&fit.free).filter(|x| *x.1).map(|x| *x.0).collect();
@@ -512,6 +513,7 @@ fn write_all(dir: &Path, o: &Outcome, progress: &Progress) -> Result<()> {
         for (j, n) in fit.names.iter().enumerate() {
             let se = match (fit.free[j], fit.std_errors[j]) {
                 (false, _) => "fixed".to_string(),
+                (true, Some(s)) if !o.doubt.is_empty() => format!("{s:.4} (in doubt)"),
                 (true, Some(s)) => format!("{s:.4}"),
                 (true, None) => "not determined".to_string(),
             };

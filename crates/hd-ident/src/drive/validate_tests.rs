@@ -276,7 +276,7 @@ fn magnitudes_beyond_any_drive_are_refused() {
 /// error) is named; a sensor's level passes.
 #[test]
 fn a_noise_level_below_any_sensor_is_refused() {
-    use super::validate::noise_floor;
+    use crate::drive::config::validate::noise_floor;
     let e = noise_floor("fit.toml", "force", 1e-300, 54.1).unwrap_err().to_string();
     assert!(e.contains("[fit] noise.force: 1e-300") && e.contains("RMS"), "{e}");
     noise_floor("fit.toml", "position", 1e-9, 0.1).unwrap();
