@@ -329,6 +329,7 @@ pub fn fit_separable<P: Separable>(problem: &P, fixed: &Fixed) -> Result<Separab
         loop_energy: Vec::new(),
         refinement_starts: Vec::new(),
         refinement_ends: Vec::new(),
+        nested: None,
     };
     Ok(SeparableFit {
         report,

@@ -283,5 +283,6 @@ fn combine(
         loop_energy: Vec::new(),
         refinement_starts: Vec::new(),
         refinement_ends: Vec::new(),
+        nested: None,
     }
 }

@@ -175,6 +175,11 @@ pub struct FitReport {
     /// squares and iterations, or why it was stopped early), in `refinement_starts` order.
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub refinement_ends: Vec<String>,
+    /// The nested law's own fit, where a richer law started from it (the asymmetric
+    /// friction fit: the symmetric law, levels equal on both sides, with the same offset),
+    /// so the two laws can be compared on one record (RMS, BIC) from one run.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub nested: Option<Box<FitReport>>,
 }
 
 impl FitReport {

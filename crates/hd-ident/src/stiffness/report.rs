@@ -107,6 +107,7 @@ pub(crate) fn build(entries: Vec<Entry>, y: &[f64], fitted: &[f64], work: Work) 
         loop_energy: Vec::new(),
         refinement_starts: Vec::new(),
         refinement_ends: Vec::new(),
+        nested: None,
     }
 }
 

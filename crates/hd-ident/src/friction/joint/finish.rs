@@ -145,6 +145,7 @@ pub(super) fn finish(
             })
             .collect(),
         refinement_ends: ends,
+        nested: None,
     };
     Ok(SeparableFit {
         report,

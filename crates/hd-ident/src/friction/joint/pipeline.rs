@@ -98,6 +98,8 @@ struct Nested {
     bias: f64,
     rss: f64,
     on_bound: Vec<&'static str>,
+    /// Its report, carried into the richer fit's (`FitReport::nested`).
+    report: crate::report::FitReport,
 }
 
 /// [`fit_joint`] with explicit settings.
@@ -350,7 +352,7 @@ pub fn fit_joint_with(
             "warning: the best start's refinement stopped on its iteration budget ({MAX_ITERATIONS}) before converging; the optimum may lie further on (try --fix on a poorly determined parameter)"
         ));
     }
-    finish(
+    let mut fit = finish(
         &problem,
         &best.values,
         started,
@@ -361,6 +363,35 @@ pub fn fit_joint_with(
         &best.termination,
         &starts,
         ends,
+    )?;
+    if let Some(n) = nested {
+        fit.report.remarks.push(nested_comparison(&fit.report, &n.report));
+        fit.report.nested = Some(Box::new(n.report));
+    }
+    Ok(fit)
+}
+
+/// Bayesian information criterion of a least-squares fit: n·ln(RSS/n) + k·ln n, with n
+/// samples, k = n − dof free parameters and RSS = n·rms² [–].
+fn bic(r: &crate::report::FitReport) -> f64 {
+    let n = r.samples as f64;
+    let k = r.samples.saturating_sub(r.dof) as f64;
+    n * (r.rms * r.rms).ln() + k * n.ln()
+}
+
+/// The richer law against the nested one it started from, in one sentence.
+fn nested_comparison(rich: &crate::report::FitReport, nested: &crate::report::FitReport) -> String {
+    let delta = bic(nested) - bic(rich);
+    let verdict = if delta > 10.0 {
+        "the direction-dependent levels are strongly supported"
+    } else if delta > 2.0 {
+        "the direction-dependent levels are supported"
+    } else {
+        "the record does not support direction-dependent levels: prefer the symmetric law"
+    };
+    format!(
+        "nested symmetric law (levels equal on both sides, same offset; fit.json `nested`): RMS {:.6e} against {:.6e}; BIC(symmetric) − BIC(asymmetric) = {delta:.1}: {verdict}",
+        nested.rms, rich.rms
     )
 }
 
@@ -388,7 +419,7 @@ fn nested_fit(
         .filter(|(n, e)| n == "Tc" && e.value == 0.0 && !e.fixed)
         .flat_map(|_| ["Tc", "Tc_neg"])
         .collect();
-    Some(Nested { values, bias, rss, on_bound })
+    Some(Nested { values, bias, rss, on_bound, report: fit.report })
 }
 
 /// The part of the first measured torque that is not bristle torque at `v` [N·m].
