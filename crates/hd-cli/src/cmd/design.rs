@@ -261,7 +261,8 @@ fn given_rate(path: &std::path::Path, t: &[f64], rate: f64) -> Result<()> {
         bail!("{}: {} samples; expected an input of at least 20 samples", path.display(), t.len());
     }
     let step = (t[t.len() - 1] - t[0]) / (t.len() - 1) as f64;
-    if !((step * rate - 1.0).abs() <= 1e-3) {
+    let off = (step * rate - 1.0).abs();
+    if off.is_nan() || off > 1e-3 {
         bail!(
             "{}: column 't' steps by {} s on average; expected the design's sample period 1/{} Hz = {} s (give --rate, or resample the input)",
             path.display(),

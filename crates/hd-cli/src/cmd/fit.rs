@@ -120,6 +120,8 @@ pub struct FrictionArgs {
     pub transient_columns: String,
     /// Fit separate Coulomb and static levels for negative speeds (Tc_neg, Ts_neg; Tc, Ts then
     /// mean positive speeds) and a constant torque offset of the measurement (offset [N·m]).
+    /// The symmetric law with the same offset is fitted first (the richer fit starts from it)
+    /// and reported too: fit.json `nested`, and a remark comparing the two by BIC.
     #[arg(long)]
     pub asymmetric: bool,
     /// Fit a constant torque offset of the measurement (offset [N·m]), e.g. a sensor bias.

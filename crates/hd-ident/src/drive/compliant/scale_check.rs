@@ -174,7 +174,7 @@ pub fn command_check(
         (start..n).map(|k| c.clamp(c.law(reference[k - d], q, k - d) + added(k - d))).collect();
     let g = gain(&rec.command[start..n], &rerun).unwrap_or(f64::NAN);
     let rho = correlation(&rec.command[start..n], &rerun);
-    let factor = if !(rho.abs() >= FOLLOWS) {
+    let factor = if rho.is_nan() || rho.abs() < FOLLOWS {
         format!(
             "the recorded command hardly follows the re-run one (correlation {rho:.2}): check that the command column is the controller's output, then kp, kv, the speed filter, the delays and the {what}'s sign and scale"
         )
