@@ -62,7 +62,7 @@ pub fn scale(
     if !(factor.is_finite() && factor != 0.0 && (1e-12..=1e12).contains(&factor.abs())) {
         bail!(
             "{flag} {}: expected a finite, non-zero factor between 1e-12 and 1e12 in magnitude (the file's unit to SI; negative flips the sign)",
-            short(factor)
+            hd_model::error::num(factor)
         );
     }
     if factor != 1.0 {
@@ -70,16 +70,6 @@ pub fn scale(
         log.push(format!("{what} multiplied by {factor:e} ({flag})"));
     }
     Ok(())
-}
-
-/// A number as a person typed it: plain where it is short, in exponent form where plain
-/// digits would run to hundreds (1e-300).
-pub fn short(v: f64) -> String {
-    if v == 0.0 || !v.is_finite() || (1e-4..1e7).contains(&v.abs()) {
-        format!("{v}")
-    } else {
-        format!("{v:e}")
-    }
 }
 
 /// An angle unit of a deflection column: its factor to radians.

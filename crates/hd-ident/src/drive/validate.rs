@@ -136,16 +136,6 @@ pub const SCALE_RANGE: f64 = 1e12;
 /// near it, and 1e300 overflows the simulation (the fit then never moved and exit 0).
 pub const MAX_START: f64 = 1e30;
 
-/// A number as an error shows it: plain where that is short, in exponent form where plain
-/// digits would run to hundreds (1e300).
-pub fn short(v: f64) -> String {
-    if v == 0.0 || !v.is_finite() || (1e-4..1e7).contains(&v.abs()) {
-        format!("{v}")
-    } else {
-        format!("{v:e}")
-    }
-}
-
 /// A finite scale factor ≠ 0 within ×[`SCALE_RANGE`] of 1 (negative flips the signal's sign).
 pub(crate) fn scale(file: &str, key: &str, v: f64) -> Result<(), DriveError> {
     if v.is_finite() && v != 0.0 && (1.0 / SCALE_RANGE..=SCALE_RANGE).contains(&v.abs()) {
@@ -155,7 +145,7 @@ pub(crate) fn scale(file: &str, key: &str, v: f64) -> Result<(), DriveError> {
         at(file, key),
         format!(
             "{}; expected a finite factor ≠ 0 between {:e} and {SCALE_RANGE:e} in magnitude (the file's unit to the fit's; negative flips the sign)",
-            short(v),
+            hd_model::error::num(v),
             1.0 / SCALE_RANGE
         ),
     ))
@@ -421,8 +411,8 @@ pub(crate) fn bounds(
             key,
             format!(
                 "[{}, {}]; expected [lower, upper] with lower < upper (either may be -inf or inf)",
-                short(lo),
-                short(hi)
+                hd_model::error::num(lo),
+                hd_model::error::num(hi)
             ),
         ));
     }
@@ -432,8 +422,8 @@ pub(crate) fn bounds(
             key,
             format!(
                 "[{}, {}]; {name} ({what}) must stay {} [{unit}]: expected a lower bound {}",
-                short(lo),
-                short(hi),
+                hd_model::error::num(lo),
+                hd_model::error::num(hi),
                 limit_text(min, incl),
                 limit_text(min, incl)
             ),
@@ -458,9 +448,9 @@ pub fn inside(
         at(file, &format!("[bounds] {name}")),
         format!(
             "[{}, {}] excludes the start {name} = {} ({source}); widen the bounds or start inside them",
-            short(lo),
-            short(hi),
-            short(v)
+            hd_model::error::num(lo),
+            hd_model::error::num(hi),
+            hd_model::error::num(v)
         ),
     ))
 }
