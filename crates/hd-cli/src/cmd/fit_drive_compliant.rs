@@ -164,7 +164,8 @@ pub fn run(args: &DriveArgs, text: &str) -> Result<()> {
     let first_file = base.join(&cfg.experiment[0].file);
     let (records, validation, controller) =
         super::fit_drive_compliant_loop::attach(&cfg, &file, &first_file, loaded, validation)?;
-    for r in &records {
+    // The validation record is simulated from rest too, so it gets the same note.
+    for r in records.iter().chain(&validation) {
         if let Some(note) = moving_at_start(r) {
             eprintln!("note: {note}");
         }
