@@ -279,6 +279,12 @@ pub fn run(dir: &Path, src: &Source, a: &DriftArgs) -> Result<()> {
         }
         a.params.clone()
     };
+    if c.counts.is_empty() {
+        bail!(
+            "{}: no log was fitted (every row failed; its `error` column says why, e.g. a template that does not fit these logs); nothing to test for drift",
+            fits_path.display()
+        );
+    }
     if names.is_empty() {
         bail!(
             "{}: no parameter is determined in most logs; nothing to test for drift",
