@@ -277,6 +277,16 @@ fn a_flipped_position_names_the_controller_check_and_the_scales() {
     }
 }
 
+/// A transmission spelt otherwise is named, not the keys of the kind it meant.
+#[test]
+fn a_transmission_spelt_otherwise_is_named() {
+    let dir = scratch("fdr-transmission");
+    let cfg = compliant(&dir, "", 1.0);
+    let text = std::fs::read_to_string(&cfg).unwrap();
+    std::fs::write(&cfg, text.replacen("\"compliant\"", "\"Compliant\"", 1)).unwrap();
+    refused_at(&cfg, &dir.join("out"), &[], &["c.toml, transmission: 'Compliant'", "lower case"]);
+}
+
 #[test]
 fn a_dead_current_sensor_is_named() {
     let dir = scratch("fdr-dead-current");

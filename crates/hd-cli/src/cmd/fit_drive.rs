@@ -6,7 +6,7 @@
 
 use super::common::{EarlierOutputs, MAX_CONFIG_BYTES, check_data_file, ensure_dir};
 use super::fit_drive_out::{Outcome, write_outputs};
-use anyhow::{Context, Result, anyhow};
+use anyhow::{Context, Result, anyhow, bail};
 use clap::Args;
 use hd_ident::drive::compliant::scale_check::{Recorded, command_check};
 use hd_ident::drive::config::{ExperimentConfig, NumberOrVariable};
@@ -139,7 +139,13 @@ pub fn run(args: DriveArgs) -> Result<()> {
     let text = hd_model::text_file::read_text(&args.config, "configuration", MAX_CONFIG_BYTES)
         .map_err(anyhow::Error::msg)?;
     // `transmission = "compliant"`: the compliant drive under voltage tests.
-    let compliant = hd_ident::drive::config::transmission_of(&text).as_deref() == Some("compliant");
+    let transmission = hd_ident::drive::config::transmission_of(&text);
+    // Named first: a value of another spelling would have the file read as the other kind
+    // and refused for a key of the kind it meant ("unknown field 'current'").
+    if let Some(t) = transmission.as_deref().filter(|t| !matches!(*t, "rigid" | "compliant")) {
+        bail!("{file}, transmission: '{t}'; expected \"rigid\" or \"compliant\" (lower case)");
+    }
+    let compliant = transmission.as_deref() == Some("compliant");
     let cfg = if compliant {
         files::check_compliant(&args, &text)?;
         None
