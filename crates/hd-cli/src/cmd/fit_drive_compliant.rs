@@ -138,8 +138,20 @@ fn base_params(cfg: &CompliantConfig, base: &Path) -> Result<Base> {
         friction_velocity = hd_model::params_file::friction_velocity_from_toml(&text, &name)?;
     }
     let mut out = [0.0; P];
+    let source = cfg.params_file.as_ref().map(|f| base.join(f).display().to_string());
     for (k, n) in NAMES.iter().enumerate() {
         out[k] = p.get(n)?;
+        // A start no drive has (1e300) overflows the simulation; [params] are checked when
+        // parsed, the params file's values here.
+        if let Some(src) = &source
+            && out[k].abs() > hd_ident::drive::config::validate::MAX_START
+        {
+            anyhow::bail!(
+                "params file {src}: {n} = {}; expected a start of at most {:e} in magnitude (check the unit: no drive parameter comes near it)",
+                hd_model::error::num(out[k]),
+                hd_ident::drive::config::validate::MAX_START
+            );
+        }
     }
     on_law(&mut out, law);
     let sets_negative = p.tc_neg.is_some() || p.ts_neg.is_some();
