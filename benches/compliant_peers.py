@@ -34,13 +34,14 @@ import argparse
 import json
 import os
 import platform
-import resource
 import subprocess
 import sys
 import time
 import tomllib
 
 HERE = os.path.dirname(os.path.abspath(__file__))
+sys.path.insert(0, os.path.join(HERE, "peers"))
+from common import child_cpu  # noqa: E402
 REPO = os.path.dirname(HERE)
 PEER = os.path.join(HERE, "peers", "compliant_fit.py")
 START = os.path.join(REPO, "data", "compliant", "start.toml")
@@ -69,11 +70,6 @@ free = [{free}]
 noise = {{ motor = {motor}, load = {load} }}
 """
 OPTIMUM_STAGES = ("motor and load passes", "full fits")
-
-
-def child_cpu() -> float:
-    r = resource.getrusage(resource.RUSAGE_CHILDREN)
-    return r.ru_utime + r.ru_stime
 
 
 def run_hdw(hdw: str, config: str, out: str, reps: int) -> dict:

@@ -36,13 +36,13 @@ import argparse
 import json
 import os
 import platform
-import resource
 import subprocess
 import sys
 import time
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.join(HERE, "peers"))
+from common import child_cpu  # noqa: E402
 REPO = os.path.dirname(HERE)
 WORK = os.path.join(REPO, "target", "fit-peers")
 
@@ -82,12 +82,6 @@ TRIBOMETER_SECONDS = 0.5  # all six LuGre parameters
 JOINT_SECONDS = 0.15  # each ~25k-sample fit
 
 SHOWN = ["Tc", "Ts", "ws", "sigma0", "sigma1", "sigma2", "Tc_neg", "Ts_neg", "offset"]
-
-
-def child_cpu() -> float:
-    """CPU time [s] (user + system) of every finished child process so far."""
-    r = resource.getrusage(resource.RUSAGE_CHILDREN)
-    return r.ru_utime + r.ru_stime
 
 
 def run_hdw(hdw: str, args: list[str], out: str, reps: int) -> dict:

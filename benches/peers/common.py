@@ -1,9 +1,11 @@
-"""Small helpers shared by benches/peers.py and benches/memory.py: paths, timing, tables."""
+"""Small helpers shared by the benchmark scripts (peers.py, memory.py, fit_peers.py,
+compliant_peers.py): paths, timing, tables."""
 
 from __future__ import annotations
 
 import math
 import os
+import resource
 import subprocess
 import sys
 import time
@@ -27,6 +29,12 @@ def build_bench_case() -> str:
     subprocess.run(["cargo", "build", "--release", "-q", "-p", "hd-model", "--example",
                     "bench_case"], cwd=REPO, check=True)
     return os.path.join(REPO, "target", "release", "examples", "bench_case")
+
+
+def child_cpu() -> float:
+    """CPU time [s] (user + system) of every finished child process so far."""
+    r = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return r.ru_utime + r.ru_stime
 
 
 def best_of(fn, reps: int, slow: float = 10.0):

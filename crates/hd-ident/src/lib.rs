@@ -22,6 +22,7 @@
 //!
 //! [`FadingMemory::step_linear`]: hd_model::laws::stiffness::FadingMemory::step_linear
 
+pub mod criteria;
 pub mod data;
 pub mod datasheet;
 pub mod derivative;

@@ -51,6 +51,14 @@ pub fn data_context(path: &Path, roles: &[&str], names: &[String]) -> String {
     format!("{} (columns {})", path.display(), map.join(", "))
 }
 
+/// Whether `factor` can be a unit factor: finite, non-zero and within ×1e12 of 1 either way
+/// (hd-ident's `SCALE_RANGE`, the drive fits' limit; beyond it a signal overflows or
+/// vanishes in the fit's arithmetic).
+pub fn usable_factor(factor: f64) -> bool {
+    use hd_ident::drive::config::validate::SCALE_RANGE;
+    factor.is_finite() && factor != 0.0 && (1.0 / SCALE_RANGE..=SCALE_RANGE).contains(&factor.abs())
+}
+
 /// Multiply `col` by `factor` (a conversion to SI), recording it.
 pub fn scale(
     col: &mut [f64],
@@ -59,7 +67,7 @@ pub fn scale(
     flag: &str,
     log: &mut Vec<String>,
 ) -> Result<()> {
-    if !(factor.is_finite() && factor != 0.0 && (1e-12..=1e12).contains(&factor.abs())) {
+    if !usable_factor(factor) {
         bail!(
             "{flag} {}: expected a finite, non-zero factor between 1e-12 and 1e12 in magnitude (the file's unit to SI; negative flips the sign)",
             hd_model::error::num(factor)

@@ -229,8 +229,11 @@ pub fn run(args: FleetArgs) -> Result<()> {
         ("--speed-scale", args.speed_scale),
         ("--torque-scale", args.torque_scale),
     ] {
-        if !(v.is_finite() && v != 0.0) {
-            bail!("{name} {v}: expected a finite, non-zero factor");
+        if !super::fit_input::usable_factor(v) {
+            bail!(
+                "{name} {}: expected a finite, non-zero factor between 1e-12 and 1e12 in magnitude",
+                hd_model::error::num(v)
+            );
         }
     }
     if !(args.plateau_tolerance > 0.0 && args.plateau_tolerance < 0.5) {

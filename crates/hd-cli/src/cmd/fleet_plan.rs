@@ -229,7 +229,7 @@ pub fn plan(src: &Source) -> Result<Plan> {
             let cell = cell_text(&table, *k, row);
             let Some(text) = cell else { continue };
             match text.trim().parse::<f64>() {
-                Ok(v) if v.is_finite() && v != 0.0 && (1e-12..=1e12).contains(&v.abs()) => *s = v,
+                Ok(v) if super::fit_input::usable_factor(v) => *s = v,
                 _ => {
                     problem.get_or_insert(format!(
                         "manifest row {}: column '{name}' is '{text}': expected a finite, non-zero unit factor between 1e-12 and 1e12 in magnitude (or an empty cell for the template's)",

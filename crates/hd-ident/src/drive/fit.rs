@@ -338,7 +338,7 @@ pub fn fit_drive(
         .factor(&x)
         .ok_or_else(|| FitError::Optimiser("the fitted drive cannot be simulated".into()))?;
     let k = free_idx.len();
-    let bic = n as f64 * (cost / n as f64).ln() + k as f64 * (n as f64).ln();
+    let bic = crate::criteria::bic(cost, n, k);
     let free_names: Vec<&str> = free_idx.iter().map(|&k| names[k]).collect();
     let free_values: Vec<f64> = free_idx.iter().map(|&k| values[k]).collect();
     let det = determination_r(&r_factor, n, cost, &free_names, &free_values);

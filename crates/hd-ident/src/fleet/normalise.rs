@@ -320,7 +320,7 @@ pub fn fit_normalisation(
         let Some((_, _, rss)) = wls(nb, p, &|r, row| fill_row(d, r, row), &yb, &ones) else {
             continue;
         };
-        let bic = nb as f64 * (rss.max(1e-300) / nb as f64).ln() + p as f64 * (nb as f64).ln();
+        let bic = crate::criteria::bic(rss, nb, p);
         candidates.push(Candidate { name: d.name(), params: p, rss, bic });
         if best.is_none_or(|(_, b)| bic < b) {
             best = Some((k, bic));

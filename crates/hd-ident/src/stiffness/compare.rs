@@ -42,12 +42,7 @@ pub struct Comparison {
     pub samples: usize,
 }
 
-/// (AIC, BIC) of a fit with residual sum of squares `rss` over `n` samples and `p` parameters.
-pub fn criteria(rss: f64, n: usize, p: usize) -> (f64, f64) {
-    let nf = n as f64;
-    let ll = nf * (rss / nf).max(f64::MIN_POSITIVE).ln();
-    (ll + 2.0 * p as f64, ll + p as f64 * nf.ln())
-}
+pub use crate::criteria::criteria;
 
 /// Fit every law to `data` and rank them.
 pub fn compare_laws(data: &HysteresisData, opts: &LawOptions) -> Comparison {

@@ -371,12 +371,11 @@ pub fn fit_joint_with(
     Ok(fit)
 }
 
-/// Bayesian information criterion of a least-squares fit: n·ln(RSS/n) + k·ln n, with n
-/// samples, k = n − dof free parameters and RSS = n·rms² [–].
+/// BIC of a reported fit ([`crate::criteria::bic`]): RSS = n·rms², k = n − dof free
+/// parameters [–].
 fn bic(r: &crate::report::FitReport) -> f64 {
-    let n = r.samples as f64;
-    let k = r.samples.saturating_sub(r.dof) as f64;
-    n * (r.rms * r.rms).ln() + k * n.ln()
+    let n = r.samples;
+    crate::criteria::bic(n as f64 * r.rms * r.rms, n, n.saturating_sub(r.dof))
 }
 
 /// The richer law against the nested one it started from, in one sentence.
