@@ -216,7 +216,7 @@ pub fn check(a: &DesignArgs, loaded: &Loaded, outcome: &Outcome) -> Result<Check
             ..p.spec.clone()
         };
         bar.set_message(format!("({} failed)", failed.len()));
-        match fit_compliant(&spec, &records, &|_, _| {}) {
+        match fit_compliant(&spec, &records, &|_, _, _| {}) {
             Ok(f) => {
                 fits.push((f.values, f.std_errors, f.determined));
                 sentences.push(f.determination.sentences);

@@ -316,10 +316,8 @@ pub fn run(args: &DriveArgs, text: &str) -> Result<()> {
     let dir = ensure_dir(&args.out)?;
     let bar = super::fit_drive::spinner("fitting the compliant drive".into());
     let t0 = Instant::now();
-    let progress = |it: usize, cost: f64| {
-        if cost.is_finite() {
-            bar.set_message(format!("compliant drive: iteration {it}, cost {cost:.6e}"));
-        }
+    let progress = |stage: &str, it: usize, cost: f64| {
+        bar.set_message(super::fit_drive::progress::step_message(stage, it, cost));
     };
     let mut fit = fit_compliant(&spec, &records, &progress)
         .map_err(|e| anyhow::anyhow!("{file}: the compliant fit failed: {e}"))?;

@@ -16,6 +16,17 @@ pub const QUIET_FOR: Duration = Duration::from_secs(2);
 /// Interval between plain progress lines.
 pub const EVERY: Duration = Duration::from_secs(10);
 
+/// The line of one step of a compliant fit: its stage (the motor pass, a load-pass start,
+/// a full fit, a refit of the checks), and the optimiser's iteration and cost [–] where it
+/// has them (a stage that announces itself has no cost yet).
+pub fn step_message(stage: &str, iteration: usize, cost: f64) -> String {
+    if cost.is_finite() {
+        format!("compliant drive: {stage}: iteration {iteration}, cost {cost:.6e}")
+    } else {
+        format!("compliant drive: {stage}")
+    }
+}
+
 /// A fit's progress display: [`Progress::set_message`] from any thread, then
 /// [`Progress::finish_and_clear`].
 pub struct Progress {

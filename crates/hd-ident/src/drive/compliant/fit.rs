@@ -17,6 +17,11 @@ use rayon::prelude::*;
 /// Called after each iteration with (iteration, cost); fits may run in parallel.
 pub type Progress<'a> = &'a (dyn Fn(usize, f64) + Sync);
 
+/// Called as [`super::stages::fit_compliant`] goes with (stage, iteration, cost): the stage
+/// names what runs (the motor pass, one of the load pass's starts, a full fit, a refit of
+/// the checks), the iteration and cost are its optimiser's. Stages may run in parallel.
+pub type Report<'a> = &'a (dyn Fn(&str, usize, f64) + Sync);
+
 /// Largest (fastest rate × substep) the substep count allows [–].
 const RATE_STEP: f64 = 0.1;
 
@@ -392,7 +397,9 @@ pub fn residuals_and_jacobian(
     (r, j)
 }
 
-/// One block of columns on the smallest dual size that holds it.
+/// One block of columns on the smallest dual size that holds it. Six is among the sizes:
+/// eleven or twelve free parameters split over two threads make blocks of six, which an
+/// eight-wide dual would carry with a quarter of its work wasted.
 fn jacobian_block(
     spec: &CompliantSpec,
     p: &[f64; P],
@@ -401,6 +408,7 @@ fn jacobian_block(
 ) -> (Vec<f64>, DMatrix<f64>) {
     match free_idx.len() {
         k if k <= 4 => jacobian::<4>(spec, p, free_idx, records),
+        k if k <= 6 => jacobian::<6>(spec, p, free_idx, records),
         k if k <= 8 => jacobian::<8>(spec, p, free_idx, records),
         k if k <= 12 => jacobian::<12>(spec, p, free_idx, records),
         _ => jacobian::<WIDEST_DUAL>(spec, p, free_idx, records),

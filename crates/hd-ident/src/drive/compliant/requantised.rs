@@ -16,7 +16,7 @@
 //! or more is set by the rounding more than by the record's information: the spread becomes
 //! its standard error, and a sentence says so.
 
-use super::fit::{CompliantFit, CompliantSpec, Signal, fit_stage, simulate_on_zeros};
+use super::fit::{CompliantFit, CompliantSpec, Report, Signal, fit_stage, simulate_on_zeros};
 use super::model::{NAMES, P};
 use super::record::VoltageRecord;
 use crate::drive::lm::LmSettings;
@@ -135,6 +135,7 @@ pub fn rounding_spread(
     spec: &CompliantSpec,
     fit: &CompliantFit,
     records: &[VoltageRecord],
+    report: Report<'_>,
 ) -> Option<[Option<f64>; P]> {
     let quantised =
         |r: &VoltageRecord| lattice(&r.theta_m).is_some() || lattice(&r.theta_l).is_some();
@@ -151,7 +152,6 @@ pub fn rounding_spread(
         ..spec.settings.clone()
     };
     let refit = CompliantSpec { free, start: fit.values, settings, ..spec.clone() };
-    let quiet = |_: usize, _: f64| {};
     let ends: Vec<[f64; P]> = (0..REPLICATES)
         .into_par_iter()
         .filter_map(|j| {
@@ -161,7 +161,8 @@ pub fn rounding_spread(
                 .enumerate()
                 .map(|(k, r)| redrawn(spec, &fit.values, r, k, &mut draws))
                 .collect();
-            let f = fit_stage(&refit, &recs, &quiet).ok()?;
+            let stage = format!("rounding check: refit {} of {REPLICATES}", j + 1);
+            let f = fit_stage(&refit, &recs, &|it, c| report(&stage, it, c)).ok()?;
             Some(f.values)
         })
         .collect();
@@ -184,8 +185,13 @@ pub fn rounding_spread(
 /// Take the rounding spread ([`rounding_spread`]) as the standard error of each parameter
 /// of `fit` where it is [`SPREAD_RATIO`] times the linearised one or more, with one sentence
 /// per parameter so widened.
-pub fn widen_by_rounding(spec: &CompliantSpec, fit: &mut CompliantFit, records: &[VoltageRecord]) {
-    let Some(spread) = rounding_spread(spec, fit, records) else { return };
+pub fn widen_by_rounding(
+    spec: &CompliantSpec,
+    fit: &mut CompliantFit,
+    records: &[VoltageRecord],
+    report: Report<'_>,
+) {
+    let Some(spread) = rounding_spread(spec, fit, records, report) else { return };
     for k in 0..NAMES.len() {
         let (Some(se), Some(s)) = (fit.std_errors[k], spread[k]) else { continue };
         if s < SPREAD_RATIO * se {

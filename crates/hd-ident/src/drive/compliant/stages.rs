@@ -30,7 +30,7 @@
 //!    error says (the cost's valley bends away from the tangent).
 
 use super::determined::{not_determined_by_agreement, refine_fit};
-use super::fit::{CompliantFit, CompliantSpec, Progress, Signal, cost_at, fit_stage};
+use super::fit::{CompliantFit, CompliantSpec, Progress, Report, Signal, cost_at, fit_stage};
 use super::model::{NAMES, P, has_load_law, ix::*};
 use super::record::VoltageRecord;
 use crate::drive::lm::LmSettings;
@@ -75,20 +75,27 @@ fn as_good(best: &CompliantFit, rival: &CompliantFit) -> bool {
     rival.cost - best.cost <= q * best.cost / dof
 }
 
-/// Fit `spec` to `records` (see the module's steps); `progress(iteration, cost)` is called
-/// as the fits go (several may run at once).
+/// Fit `spec` to `records` (see the module's steps); `report(stage, iteration, cost)` is
+/// called as the fits go (several may run at once).
 pub fn fit_compliant(
     spec: &CompliantSpec,
     records: &[VoltageRecord],
-    progress: Progress<'_>,
+    report: Report<'_>,
 ) -> Result<CompliantFit, String> {
     let mut clock = Stages::default();
-    let nested = nested_symmetric(spec, records, progress);
+    let nested = nested_symmetric(spec, records, report);
     clock.lap("symmetric law's fit (nested)", nested.is_some());
-    let starts = staged_starts(spec, records, progress);
+    let starts = staged_starts(spec, records, report);
     clock.lap("motor and load passes", true);
-    let mut fits: Vec<Result<CompliantFit, String>> =
-        starts.par_iter().map(|s| settle(spec, *s, records, progress)).collect();
+    let count = starts.len();
+    let mut fits: Vec<Result<CompliantFit, String>> = starts
+        .par_iter()
+        .enumerate()
+        .map(|(j, s)| {
+            let stage = format!("full fit from start {} of {count}", j + 1);
+            settle(spec, *s, records, &|it, c| report(&stage, it, c))
+        })
+        .collect();
     clock.lap("full fits", true);
     let mut spent: usize = fits.iter().flatten().map(|f| f.iterations).sum();
     let mut failed: usize = fits.iter().flatten().map(|f| f.failed_trials).sum();
@@ -107,7 +114,8 @@ pub fn fit_compliant(
             _ => std::cmp::Ordering::Equal,
         });
         if let Some(Ok(best)) = fits.first() {
-            let again = settle(new, best.values, records, progress);
+            let progress = |it, c| report("best fit again with the residuals' noise levels", it, c);
+            let again = settle(new, best.values, records, &progress);
             if let Ok(f) = &again {
                 spent += f.iterations;
                 failed += f.failed_trials;
@@ -138,9 +146,10 @@ pub fn fit_compliant(
             held.free[k] = false;
             from[k] = used.start[k];
         }
-        let end = settle(&held, held.tied(from), records, progress).and_then(|h| {
+        let progress = |it, c| report("split: the weaker friction law held, then freed", it, c);
+        let end = settle(&held, held.tied(from), records, &progress).and_then(|h| {
             spent += h.iterations;
-            settle(used, h.values, records, progress)
+            settle(used, h.values, records, &progress)
         });
         if let Ok(end) = end {
             spent += end.iterations;
@@ -159,10 +168,11 @@ pub fn fit_compliant(
         let mut at = used.clone();
         at.start = from;
         at.settings.max_iterations = 0;
-        if let Ok(point) = fit_stage(&at, records, progress) {
+        let progress = |it, c| report("full fit from the symmetric law's optimum", it, c);
+        if let Ok(point) = fit_stage(&at, records, &progress) {
             ok.push(point);
         }
-        if let Ok(end) = settle(used, from, records, progress) {
+        if let Ok(end) = settle(used, from, records, &progress) {
             spent += end.iterations;
             failed += end.failed_trials;
             ok.push(end);
@@ -187,7 +197,8 @@ pub fn fit_compliant(
         let mut gap = f64::NAN;
         let best_cost = best.cost;
         let mut kept_held = false;
-        if let Ok(mut alt) = settle(&held, start, records, progress) {
+        let progress = |it, c| report("bounds: refit with the bounded parameters held", it, c);
+        if let Ok(mut alt) = settle(&held, start, records, &progress) {
             spent += alt.iterations;
             failed += alt.failed_trials;
             alt.free = used.free;
@@ -217,7 +228,7 @@ pub fn fit_compliant(
     clock.lap("bounds: held refit", !bounded.is_empty());
     let rivals: Vec<&CompliantFit> = ok.iter().filter(|f| as_good(&best, f)).collect();
     not_determined_by_agreement(&mut best, &rivals);
-    super::requantised::widen_by_rounding(used, &mut best, records);
+    super::requantised::widen_by_rounding(used, &mut best, records, report);
     clock.lap("rounding check (refits of re-rounded records)", true);
     refine_fit(&mut best, spec.n);
     let given = |s: Signal| {
@@ -231,6 +242,7 @@ pub fn fit_compliant(
     let misfit = super::determined::misfit_sentences(&best, given);
     if !misfit.is_empty() {
         let mut doubt = misfit;
+        report("misfit diagnosis: fitting the alternatives", 0, f64::NAN);
         doubt.extend(super::diagnose::diagnose(used, records, &best));
         let d = &mut best.determination;
         d.sentences.retain(|s| !s.starts_with("Every free parameter is determined"));
@@ -275,13 +287,16 @@ impl Stages {
 fn nested_symmetric(
     spec: &CompliantSpec,
     records: &[VoltageRecord],
-    progress: Progress<'_>,
+    report: Report<'_>,
 ) -> Option<CompliantFit> {
     if spec.symmetric_friction || !(spec.free[TC_NEG] || spec.free[TS_NEG]) {
         return None;
     }
     let symmetric = CompliantSpec { symmetric_friction: true, ..spec.clone() };
-    fit_compliant(&symmetric, records, progress).ok()
+    fit_compliant(&symmetric, records, &|stage, it, c| {
+        report(&format!("symmetric law (nested): {stage}"), it, c)
+    })
+    .ok()
 }
 
 /// The free parameters of `fit` that ended on a bound of `spec` (within 1e-9 of it,
@@ -329,7 +344,7 @@ fn reweigh(spec: &CompliantSpec, fits: &[Result<CompliantFit, String>]) -> Optio
 fn staged_starts(
     spec: &CompliantSpec,
     records: &[VoltageRecord],
-    progress: Progress<'_>,
+    report: Report<'_>,
 ) -> Vec<[f64; P]> {
     let has = |s: Signal| spec.outputs.iter().any(|(o, _)| *o == s);
     let first_outputs: Vec<_> =
@@ -348,7 +363,8 @@ fn staged_starts(
     let motor_set: &[usize] =
         if !levels || on_load { &[R, KM, KE, JJ, CJ] } else { &[R, KM, KE, JJ, CJ, TC, TC_NEG] };
     let motor = pass(spec, motor_set, first_outputs, spec.start);
-    let values = fit_stage(&motor, records, progress).map_or(spec.start, |f| f.values);
+    let values = fit_stage(&motor, records, &|it, c| report("motor pass", it, c))
+        .map_or(spec.start, |f| f.values);
     let load_outputs: Vec<_> =
         spec.outputs.iter().filter(|(s, _)| *s == Signal::Load).cloned().collect();
     // Jz, Cz and the stiffness scaled together move the load alike (the load's rates are
@@ -382,12 +398,18 @@ fn staged_starts(
         vec![base.into_iter().chain(gear).chain([TL]).collect()]
     };
     let mut kept: Vec<([f64; P], Option<Vec<f64>>)> = Vec::new();
-    for load_set in &variants {
+    for (v, load_set) in variants.iter().enumerate() {
         let load = pass(spec, load_set, load_outputs.clone(), values);
         if !load.free.iter().any(|&f| f) {
             continue;
         }
-        kept_ends(&load, values, records, &mut kept);
+        let which = if variants.len() > 1 {
+            format!(" {} of {}", v + 1, variants.len())
+        } else {
+            String::new()
+        };
+        let progress = |stage: &str, it, c| report(&format!("load pass{which}, {stage}"), it, c);
+        kept_ends(&load, values, records, &mut kept, &progress);
     }
     if kept.is_empty() {
         return vec![values];
@@ -404,13 +426,13 @@ fn kept_ends(
     values: [f64; P],
     records: &[VoltageRecord],
     kept: &mut Vec<([f64; P], Option<Vec<f64>>)>,
+    report: Report<'_>,
 ) {
     // The catalogue curve scaled whole (its rates with its corner torques: the corners'
     // deflections stay).
     let scaled = [C, MEM_A, BW_ALPHA, MS_K, CAT_K1, CAT_K2, CAT_K3, CAT_T1, CAT_T2];
     let scales: &[f64] =
         if scaled.iter().any(|&k| load.free[k]) { &STIFFNESS_SCALES } else { &[1.0] };
-    let quiet = |_: usize, _: f64| {};
     let mut tried: Vec<(f64, [f64; P])> = scales
         .par_iter()
         .filter_map(|&g| {
@@ -419,7 +441,8 @@ fn kept_ends(
                 start[k] *= g;
             }
             let s = CompliantSpec { start, ..load.clone() };
-            fit_stage(&s, records, &quiet).ok().map(|f| (f.cost, f.values))
+            let stage = format!("start with the stiffness × {g}");
+            fit_stage(&s, records, &|it, c| report(&stage, it, c)).ok().map(|f| (f.cost, f.values))
         })
         .collect();
     tried.sort_by(|a, b| a.0.total_cmp(&b.0));

@@ -374,14 +374,35 @@ fn fit_chirp(t_end: f64, h: f64, f_end: f64) -> super::fit::CompliantFit {
 
 /// Fit `spec` to `rec` and judge it against the `truth`: every output's residual within
 /// 1.2 times its noise, every parameter of `free_idx` reported as determined within 3 of
-/// its standard errors of the truth. Returns the fit.
+/// its standard errors of the truth. The fit's progress names its stages as they run:
+/// with the load encoder beside the motor's or the current, the motor pass and the full
+/// fits (and the load pass's starts, where it has a parameter free), each with its
+/// iterations and costs. Returns the fit.
 pub(super) fn fit_and_judge(
     spec: &CompliantSpec,
     rec: VoltageRecord,
     truth: &[f64; P],
     free_idx: &[usize],
 ) -> super::fit::CompliantFit {
-    let fit = fit_compliant(spec, &[rec], &|_, _| {}).unwrap();
+    let stages = std::sync::Mutex::new(std::collections::BTreeMap::<String, usize>::new());
+    let report = |stage: &str, it: usize, cost: f64| {
+        if cost.is_finite() {
+            let mut s = stages.lock().unwrap();
+            let seen = s.entry(stage.to_string()).or_default();
+            *seen = (*seen).max(it);
+        }
+    };
+    let fit = fit_compliant(spec, &[rec], &report).unwrap();
+    let stages = stages.into_inner().unwrap();
+    println!("stages reported (most iterations): {stages:?}");
+    let staged = spec.outputs.iter().any(|(o, _)| *o == Signal::Load) && spec.outputs.len() > 1;
+    let named = |prefix: &str| stages.keys().any(|k| k.contains(prefix));
+    if staged {
+        for prefix in ["motor pass", "full fit from start 1 of "] {
+            assert!(named(prefix), "no progress from the {prefix}: {stages:?}");
+        }
+    }
+    assert!(stages.values().all(|&it| it >= 1), "{stages:?}");
     println!(
         "{} iterations, {}; cost {:.1} for {} residuals",
         fit.iterations, fit.termination, fit.cost, fit.n

@@ -68,7 +68,7 @@ fn spec_for(truth: &[f64; P], outputs: Vec<(Signal, Vec<f64>)>, between: Between
 }
 
 fn fit(spec: &CompliantSpec, rec: &VoltageRecord) -> CompliantFit {
-    let f = fit_compliant(spec, std::slice::from_ref(rec), &|_, _| {}).unwrap();
+    let f = fit_compliant(spec, std::slice::from_ref(rec), &|_, _, _| {}).unwrap();
     for (o, s, sigma, ratio) in &f.scores[0].outputs {
         println!("{}: rmse {:.3e}, noise {sigma:.3e}, ratio {ratio:.2}", o.name(), s.rmse);
     }
