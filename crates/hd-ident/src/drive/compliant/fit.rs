@@ -4,6 +4,7 @@
 //! numbers, [`crate::drive::dual`]); standard errors, correlations and the combinations the
 //! records leave undetermined ([`crate::drive::identifiability`]).
 
+use super::model::ix::{BW_ALPHA, C, CJ, CZ, JJ, JZ, KE, KM, MEM_A, MS_K, R};
 use super::model::{Compliant, NAMES, P};
 use super::record::{Between, VoltageRecord};
 use super::simulate::{Outputs, on_current_zero, on_encoder_zeros, simulate};
@@ -415,6 +416,19 @@ fn jacobian_block(
     }
 }
 
+/// Parameters fitted as they are, not by their logarithm, even when positive: the
+/// motor's constants, the inertias, the viscous dampings and the gear's stiffness
+/// constants. Each enters the drive's equations of motion as a coefficient, and a record
+/// that sees only a combination of them sees a sum or a ratio: the load's resonance fixes
+/// (c + A·ω²/(B² + ω²))/Jz, the motor's current Ke·ωj/R, the reflected inertia
+/// Jj + Jz/N². Those valleys are flat planes in the parameters themselves and bend in
+/// their logarithms, where the optimiser's steps overshoot them: on a 2 s multisine of the
+/// seed drive the full fit took 34 iterations with these logged and 12 without (same
+/// optimum to 1e-9 of the cost). The friction law's constants keep their logarithms (its
+/// level and bristle stiffness span decades between drives). Their bounds (the user's, by
+/// default start/1000) keep them positive.
+const LINEAR: [usize; 11] = [R, KM, KE, JJ, JZ, CJ, CZ, C, MEM_A, BW_ALPHA, MS_K];
+
 /// One Levenberg–Marquardt fit of `spec` from its start.
 pub(super) fn fit_stage(
     spec: &CompliantSpec,
@@ -425,9 +439,12 @@ pub(super) fn fit_stage(
         (0..NAMES.len()).filter(|&k| spec.free[k] && !spec.follows(k)).collect();
     // Parameters that are positive at the start and bounded below by zero are fitted by
     // their logarithm (relative steps: a step cannot reach zero or below, and a parameter
-    // the record barely sees drifts by factors, not into the bound); others as they are.
-    let logged: Vec<bool> =
-        free_idx.iter().map(|&k| spec.start[k] > 0.0 && spec.lower[k] >= 0.0).collect();
+    // the record barely sees drifts by factors, not into the bound), except the
+    // [`LINEAR`] ones; others as they are.
+    let logged: Vec<bool> = free_idx
+        .iter()
+        .map(|&k| spec.start[k] > 0.0 && spec.lower[k] >= 0.0 && !LINEAR.contains(&k))
+        .collect();
     let full = |x: &[f64]| {
         let mut p = spec.start;
         for (slot, &k) in free_idx.iter().enumerate() {

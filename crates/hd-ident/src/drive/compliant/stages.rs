@@ -49,6 +49,14 @@ const LOAD_COST_FACTOR: f64 = 2.0;
 /// slip make its cost ridged) would otherwise spend the full fit's budget there.
 const PASS_ITERATIONS: usize = 100;
 
+/// Relative cost change per iteration below which a motor or load pass stops [–]. A pass
+/// only chooses the full fits' starts: a cost change of 1e-5 of a pass's ~10⁴ noise-weighted
+/// squares is a fraction of one, a move of the order of a standard error, which the full fit
+/// takes in its first iteration, while a pass held by a motor or load that its other half
+/// mis-states crawls on for tens of iterations at that rate (a 50:1 drive with a stiff gear:
+/// 100 iterations on each of five starts, half of the whole fit's time).
+const PASS_COST_TOLERANCE: f64 = 1e-5;
+
 /// RMS difference of two load-pass results' load residuals, as a share of the noise, below
 /// which they count as one start [–].
 const SAME_PREDICTION: f64 = 0.02;
@@ -362,7 +370,7 @@ fn staged_starts(
     let on_load = spec.friction_velocity == hd_model::FrictionVelocity::Load;
     let motor_set: &[usize] =
         if !levels || on_load { &[R, KM, KE, JJ, CJ] } else { &[R, KM, KE, JJ, CJ, TC, TC_NEG] };
-    let motor = pass(spec, motor_set, first_outputs, spec.start);
+    let motor = start_pass(spec, motor_set, first_outputs, spec.start);
     let values = fit_stage(&motor, records, &|it, c| report("motor pass", it, c))
         .map_or(spec.start, |f| f.values);
     let load_outputs: Vec<_> =
@@ -399,7 +407,7 @@ fn staged_starts(
     };
     let mut kept: Vec<([f64; P], Option<Vec<f64>>)> = Vec::new();
     for (v, load_set) in variants.iter().enumerate() {
-        let load = pass(spec, load_set, load_outputs.clone(), values);
+        let load = start_pass(spec, load_set, load_outputs.clone(), values);
         if !load.free.iter().any(|&f| f) {
             continue;
         }
@@ -470,6 +478,18 @@ fn kept_ends(
     }
 }
 
+/// [`pass`] as the motor and load passes run it: stopping at [`PASS_COST_TOLERANCE`].
+fn start_pass(
+    spec: &CompliantSpec,
+    which: &[usize],
+    outputs: Vec<(Signal, Vec<f64>)>,
+    start: [f64; P],
+) -> CompliantSpec {
+    let mut s = pass(spec, which, outputs, start);
+    s.settings.cost_tolerance = s.settings.cost_tolerance.max(PASS_COST_TOLERANCE);
+    s
+}
+
 /// `spec` with only `which` (where `spec` frees them) free, comparing `outputs`, from `start`.
 pub(super) fn pass(
     spec: &CompliantSpec,
@@ -520,22 +540,35 @@ pub fn settle(
         return Ok(first);
     }
     let mut free = spec.free;
-    let mut again = first.values;
     for &k in &unseen {
         free[k] = false;
-        again[k] = spec.start[k];
     }
-    let mut fit =
-        fit_stage(&CompliantSpec { free, start: again, ..spec.clone() }, records, progress)?;
+    // Held at the user's start value; where the drive cannot be simulated there with the
+    // rest at the first fit's values (a stiff gear's resonance past the integrator's
+    // reach), at the first fit's own value, which the record does not prefer either; where
+    // that fails too, the first fit stands.
+    let refit = |at: &[f64; P]| {
+        let mut again = first.values;
+        for &k in &unseen {
+            again[k] = at[k];
+        }
+        fit_stage(&CompliantSpec { free, start: again, ..spec.clone() }, records, progress)
+            .ok()
+            .map(|f| (f, again))
+    };
+    let Some((mut fit, again)) = refit(&spec.start).or_else(|| refit(&first.values)) else {
+        return Ok(first);
+    };
     fit.iterations += first.iterations;
     fit.failed_trials += first.failed_trials;
     fit.free = spec.free;
     let held: Vec<String> = unseen
         .iter()
         .map(|&k| {
+            let whose = if again[k] == spec.start[k] { "its start value" } else { "the value the fit reached" };
             format!(
-                "{} is held at its start value {:.4e}: the record leaves a combination of it with other parameters undetermined (below).",
-                NAMES[k], spec.start[k]
+                "{} is held at {whose} {:.4e}: the record leaves a combination of it with other parameters undetermined (below).",
+                NAMES[k], again[k]
             )
         })
         .collect();
