@@ -50,12 +50,14 @@ const LOAD_COST_FACTOR: f64 = 2.0;
 const PASS_ITERATIONS: usize = 100;
 
 /// Relative cost change per iteration below which a motor or load pass stops [–]. A pass
-/// only chooses the full fits' starts: a cost change of 1e-5 of a pass's ~10⁴ noise-weighted
-/// squares is a fraction of one, a move of the order of a standard error, which the full fit
-/// takes in its first iteration, while a pass held by a motor or load that its other half
-/// mis-states crawls on for tens of iterations at that rate (a 50:1 drive with a stiff gear:
-/// 100 iterations on each of five starts, half of the whole fit's time).
-const PASS_COST_TOLERANCE: f64 = 1e-5;
+/// only chooses the full fits' starts, and its ends are told apart by their load predictions
+/// ([`SAME_PREDICTION`]): a change of 1e-6 of a pass's noise-weighted cost (~10⁴ squares) is
+/// a few hundredths of one, a move of the prediction far below that resolution. A pass held
+/// by a motor or load its other half mis-states crawls on at such rates: on a 50:1 drive
+/// with a stiff gear, 100 iterations on each of five starts, with 1e-8 (the full fit's).
+/// Looser, at 1e-5, ends that would have met stayed apart and ran as five full fits
+/// instead of three.
+const PASS_COST_TOLERANCE: f64 = 1e-6;
 
 /// RMS difference of two load-pass results' load residuals, as a share of the noise, below
 /// which they count as one start [–].
