@@ -9,6 +9,7 @@
 //!    ringing makes this cost many-valleyed in the resonance frequency, so it starts from
 //!    the spring and memory stiffness scaled by [`STIFFNESS_SCALES`] (in parallel); ends
 //!    that predict the same load motion count once.
+//!    Both passes integrate at half the full fit's substeps ([`pass_substeps`]).
 //! 3. **Full fits** from the load pass's better starts, each [`settle`]d: a free parameter
 //!    the records leave undetermined (no standard error) is held at its start value and the
 //!    rest fitted again.
@@ -372,6 +373,8 @@ fn staged_starts(
     let on_load = spec.friction_velocity == hd_model::FrictionVelocity::Load;
     let motor_set: &[usize] =
         if !levels || on_load { &[R, KM, KE, JJ, CJ] } else { &[R, KM, KE, JJ, CJ, TC, TC_NEG] };
+    let coarse = CompliantSpec { substeps: pass_substeps(spec, records), ..spec.clone() };
+    let spec = &coarse;
     let motor = start_pass(spec, motor_set, first_outputs, spec.start);
     let values = fit_stage(&motor, records, &|it, c| report("motor pass", it, c))
         .map_or(spec.start, |f| f.values);
@@ -478,6 +481,25 @@ fn kept_ends(
             kept.push((v, r));
         }
     }
+}
+
+/// Largest (fastest rate × substep) of the motor and load passes [–]: three times the full
+/// fit's `RATE_STEP` (0.1), still a sixth of where the Runge–Kutta step's stability ends
+/// (2.8).
+const PASS_RATE_STEP: f64 = 0.3;
+
+/// Substeps per sample of the motor and load passes: half the full fit's (rounded up), not
+/// below [`PASS_RATE_STEP`]'s floor at the start values nor above the full fit's. The passes
+/// only choose the full fits' starts, which then run at the full count: halving the substep
+/// multiplies the integration error's cost by about 2^5.4 ≈ 40 ([`super::accuracy`]), from
+/// below one to tens of noise-weighted squares, against the passes' 10⁴ and more, and halves
+/// their time.
+fn pass_substeps(spec: &CompliantSpec, records: &[VoltageRecord]) -> usize {
+    let h = records.iter().map(|r| r.h).fold(f64::INFINITY, f64::min);
+    let rate = spec.drive(spec.start).fastest_rate();
+    let floor = (rate * h / PASS_RATE_STEP).ceil();
+    let floor = if floor.is_finite() { floor.max(1.0) as usize } else { spec.substeps };
+    spec.substeps.div_ceil(2).max(floor).min(spec.substeps).max(1)
 }
 
 /// [`pass`] as the motor and load passes run it: stopping at [`PASS_COST_TOLERANCE`].
