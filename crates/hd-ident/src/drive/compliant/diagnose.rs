@@ -16,8 +16,8 @@
 
 use super::fit::{CompliantFit, CompliantSpec, Signal, fit_stage};
 use super::model::ix::*;
+use super::passes::pass;
 use super::record::{Between, VoltageRecord};
-use super::stages::pass;
 use rayon::prelude::*;
 
 /// An alternative is named when its pass's cost is below this share of the configuration's

@@ -15,6 +15,7 @@ pub mod fit;
 pub mod loop_config;
 pub mod model;
 pub mod params;
+pub mod passes;
 pub mod ratio_check;
 pub mod record;
 pub mod requantised;
