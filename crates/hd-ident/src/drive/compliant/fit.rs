@@ -24,7 +24,7 @@ pub type Progress<'a> = &'a (dyn Fn(usize, f64) + Sync);
 pub type Report<'a> = &'a (dyn Fn(&str, usize, f64) + Sync);
 
 /// Largest (fastest rate × substep) the substep count allows [–].
-const RATE_STEP: f64 = 0.1;
+pub(super) const RATE_STEP: f64 = 0.1;
 
 /// Long-run variance ratio from which a sentence says an output's residuals are
 /// correlated [–].

@@ -168,9 +168,9 @@ fn kept_ends(
 }
 
 /// Largest (fastest rate × substep) of the motor and load passes [–]: three times the full
-/// fit's `RATE_STEP` (0.1), still a sixth of where the Runge–Kutta step's stability ends
-/// (2.8).
-const PASS_RATE_STEP: f64 = 0.3;
+/// fit's [`super::fit::RATE_STEP`], still about a ninth of where the Runge–Kutta step's
+/// stability ends (2.8).
+const PASS_RATE_STEP: f64 = 3.0 * super::fit::RATE_STEP;
 
 /// Substeps per sample of the motor and load passes: half the full fit's (rounded up), not
 /// below [`PASS_RATE_STEP`]'s floor at the start values nor above the full fit's. The passes
