@@ -62,6 +62,8 @@ def design(
     current: Optional[float] = None,
     speed: Optional[float] = None,
     deflection: Optional[float] = None,
+    torque: Optional[float] = None,
+    load_angle: Optional[float] = None,
     duration: float = 2.0,
     rate: Optional[float] = None,
     motor_counts: Optional[int] = None,
@@ -81,7 +83,8 @@ def design(
     parameters the unknowns) or a params file (``params`` with ``free``), and the rig's
     limits, it searches the input families for the record that maximises the information
     on what is undetermined, scales each candidate to the largest amplitude whose simulated
-    voltage, current, motor speed and gear deflection stay within the limits, and predicts
+    voltage, current, motor speed, gear deflection, transmitted torque and load travel stay
+    within the limits, and predicts
     every parameter's standard error beside the default chirp's and multisine's. With
     ``check=N`` it synthesises N records of the design with fresh noise and refits them.
 
@@ -101,6 +104,9 @@ def design(
         current: peak current [A].
         speed: peak motor speed [rad/s].
         deflection: peak gear deflection [rad].
+        torque: peak torque the gear transmits [N·m].
+        load_angle: the load's range of travel, its largest excursion from the starting
+            angle either way [rad].
         duration: record length [s].
         rate: sample rate [Hz] (default: the fitted records', else 1000).
         motor_counts: motor encoder counts per revolution (default: the fit's noise level).
@@ -139,6 +145,8 @@ def design(
         ("--current", current),
         ("--speed", speed),
         ("--deflection", deflection),
+        ("--torque", torque),
+        ("--load-angle", load_angle),
         ("--rate", rate),
         ("--current-noise", current_noise),
     ]:

@@ -24,8 +24,8 @@ records' information is the prior. Criteria: targeted (default with --fit: the v
 prior's weakest directions), d (log det over every free parameter), a (relative variances of\n\
 --a-params). Families: chirp, multisine (16 log-spaced lines, amplitude ∝ f^tilt, Schroeder phases),\n\
 ramp (triangles with dwell at zero), mix (a multisine then ramps); each candidate is scaled to the\n\
-largest amplitude whose simulated peak voltage, current, motor speed and gear deflection stay within\n\
-the limits, and a few family parameters are searched by Nelder–Mead.\n\n\
+largest amplitude whose simulated peak voltage, current, motor speed, gear deflection, transmitted\n\
+torque and load travel stay within the limits, and a few family parameters are searched by Nelder–Mead.\n\n\
 Writes input.csv and input.parquet (t [s], u [V]), design.json, report.md and plots. --check N\n\
 synthesises N records of the design (and of the fitted records) with fresh noise as hdw synth drive\n\
 does, refits each from perturbed starts, and compares the spread with the predicted standard errors.\n\n\
@@ -66,6 +66,13 @@ pub struct DesignArgs {
     /// Peak gear deflection [rad].
     #[arg(long)]
     pub deflection: Option<f64>,
+    /// Peak torque the gear transmits [N·m] (its spring and memory, at the load side).
+    #[arg(long)]
+    pub torque: Option<f64>,
+    /// The load's range of travel: its largest excursion from the starting angle, either
+    /// way [rad].
+    #[arg(long)]
+    pub load_angle: Option<f64>,
     /// Record length [s].
     #[arg(long, default_value_t = 2.0)]
     pub duration: f64,
@@ -114,6 +121,8 @@ fn limits(a: &DesignArgs) -> Result<Limits> {
         ("--current", a.current),
         ("--speed", a.speed),
         ("--deflection", a.deflection),
+        ("--torque", a.torque),
+        ("--load-angle", a.load_angle),
     ] {
         if let Some(x) = x.filter(|x| !(x.is_finite() && *x > 0.0)) {
             bail!("{flag} {}: expected a finite value > 0", num(x));
@@ -127,6 +136,8 @@ fn limits(a: &DesignArgs) -> Result<Limits> {
         ("--current", a.current, 1e-6, 1e5, "A"),
         ("--speed", a.speed, 1e-6, 1e6, "rad/s"),
         ("--deflection", a.deflection, 1e-12, 1.0, "rad"),
+        ("--torque", a.torque, 1e-9, 1e7, "N·m"),
+        ("--load-angle", a.load_angle, 1e-9, 1e6, "rad"),
     ] {
         if let Some(x) = x.filter(|x| !(lo..=hi).contains(x)) {
             bail!("{flag} {}: expected a limit from {lo:e} to {hi:e} {unit}", num(x));
@@ -158,6 +169,8 @@ fn limits(a: &DesignArgs) -> Result<Limits> {
         current: a.current,
         speed: a.speed,
         deflection: a.deflection,
+        torque: a.torque,
+        load_angle: a.load_angle,
         duration: a.duration,
         rate,
     })

@@ -40,7 +40,8 @@ fn peaks_json(e: &Evaluated, loaded: &Loaded) -> Value {
         .collect();
     json!({"peaks": rows, "binds": e.scaled.binds, "within": e.scaled.within, "amplitude_V": e.scaled.amplitude,
            "peak_current_A": e.scaled.peaks.current, "peak_speed_rad_s": e.scaled.peaks.speed,
-           "peak_deflection_rad": e.scaled.peaks.deflection})
+           "peak_deflection_rad": e.scaled.peaks.deflection, "peak_torque_Nm": e.scaled.peaks.torque,
+           "peak_load_angle_rad": e.scaled.peaks.load_angle})
 }
 
 /// One input's predictions: alone and with the prior.
@@ -233,7 +234,8 @@ pub fn write(
     let mut doc = json!({
         "criterion": o.criterion.name(),
         "limits": {"voltage_V": p.limits.voltage, "current_A": p.limits.current, "speed_rad_s": p.limits.speed,
-                   "deflection_rad": p.limits.deflection, "duration_s": p.limits.duration, "rate_Hz": rate},
+                   "deflection_rad": p.limits.deflection, "torque_Nm": p.limits.torque,
+                   "load_angle_rad": p.limits.load_angle, "duration_s": p.limits.duration, "rate_Hz": rate},
         "noise": {"motor_rad": p.noise.motor, "load_rad": p.noise.load, "current_A": p.noise.current},
         "free": names,
         "input": best.design.describe(),
@@ -364,6 +366,17 @@ pub fn write(
         t.clone(),
         norm(&r.deflection, l.deflection),
     ));
+    // The transmitted torque and the load's travel are drawn where they are limited.
+    if l.torque.is_some() {
+        resp.push(Series::new(lab("torque", l.torque), t.clone(), norm(&r.torque, l.torque)));
+    }
+    if l.load_angle.is_some() {
+        resp.push(Series::new(
+            lab("load angle", l.load_angle),
+            t.clone(),
+            norm(&r.load, l.load_angle),
+        ));
+    }
     line_plot(
         &dir.join("response.svg"),
         "Simulated response against the limits",

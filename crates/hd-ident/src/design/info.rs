@@ -21,6 +21,11 @@ pub struct Limits {
     pub speed: Option<f64>,
     /// Peak gear deflection [rad].
     pub deflection: Option<f64>,
+    /// Peak torque the gear transmits [N·m].
+    pub torque: Option<f64>,
+    /// Largest excursion of the load from its starting angle, either way [rad] (a rig's
+    /// range of travel).
+    pub load_angle: Option<f64>,
     /// Record length [s].
     pub duration: f64,
     /// Sample rate [Hz].
@@ -45,6 +50,10 @@ pub struct Peaks {
     pub speed: f64,
     /// |θ| [rad].
     pub deflection: f64,
+    /// |τ| transmitted by the gear [N·m].
+    pub torque: f64,
+    /// |θz − θz(0)| [rad].
+    pub load_angle: f64,
 }
 
 impl Peaks {
@@ -55,6 +64,8 @@ impl Peaks {
             ("current", self.current, l.current, "A"),
             ("speed", self.speed, l.speed, "rad/s"),
             ("deflection", self.deflection, l.deflection, "rad"),
+            ("torque", self.torque, l.torque, "N·m"),
+            ("load angle", self.load_angle, l.load_angle, "rad"),
         ] {
             if let Some(lim) = lim {
                 v.push((name, peak, lim, unit));
@@ -112,6 +123,8 @@ pub struct Response {
     pub speed: Vec<f64>,
     /// Gear deflection [rad].
     pub deflection: Vec<f64>,
+    /// Torque the gear transmits [N·m].
+    pub torque: Vec<f64>,
     /// Load angle from its start [rad].
     pub load: Vec<f64>,
 }
@@ -181,17 +194,22 @@ impl Problem {
             Peaks { voltage: u.iter().fold(0.0f64, |a, v| a.max(v.abs())), ..Default::default() };
         let mut r = Response::default();
         let n = u.len();
-        let track = |y: &State<f64>, i: f64, pk: &mut Peaks| {
+        // The load angle θz = θj/N − θ, from its start (the rest state's θz is 0).
+        let track = |y: &State<f64>, i: f64, tau: f64, pk: &mut Peaks| {
             pk.current = pk.current.max(i.abs());
             pk.speed = pk.speed.max(y.omega_j.abs());
             pk.deflection = pk.deflection.max(y.theta.abs());
+            pk.torque = pk.torque.max(tau.abs());
+            pk.load_angle = pk.load_angle.max((y.theta_j / d.n - y.theta).abs());
         };
         for k in 0..n {
             let i = d.current(rec.voltage_at_current(k, spec.between), y.omega_j);
-            track(&y, i, &mut pk);
+            let tau = d.gear_torque(&y, &slips);
+            track(&y, i, tau, &mut pk);
             r.current.push(i);
             r.speed.push(y.omega_j);
             r.deflection.push(y.theta);
+            r.torque.push(tau);
             r.load.push(y.theta_j / d.n - y.theta);
             if k + 1 == n {
                 break;
@@ -200,7 +218,7 @@ impl Problem {
                 let at = |f: f64| rec.voltage(k, (j as f64 + f) / m as f64, spec.between);
                 y = d.step(&y, &mut slips, [at(0.0), at(0.5), at(1.0)], step);
                 let i = d.current(at(1.0), y.omega_j);
-                track(&y, i, &mut pk);
+                track(&y, i, d.gear_torque(&y, &slips), &mut pk);
             }
         }
         (pk, r)
@@ -265,7 +283,8 @@ pub struct Scaled {
     pub peaks: Peaks,
     /// Its simulated response.
     pub response: Response,
-    /// The limit that binds (`voltage`, `current`, `speed` or `deflection`).
+    /// The limit that binds (`voltage`, `current`, `speed`, `deflection`, `torque` or
+    /// `load angle`).
     pub binds: &'static str,
     /// Whether every peak is within its limit.
     pub within: bool,

@@ -6,9 +6,10 @@
 //! noise-free record of it, JᵀJ with each output divided by its noise ([`info`]). The
 //! input families ([`input`]) are multisines, chirps, slow ramps with dwell and their
 //! concatenation; each candidate is scaled to the largest amplitude whose simulated peaks
-//! (voltage, current, motor speed, gear deflection) stay within the limits; a few family
-//! parameters are searched by Nelder–Mead ([`search`]) on a D-, A- or targeted criterion
-//! of the prior (the fitted records') plus the candidate's information ([`criterion`]).
+//! (voltage, current, motor speed, gear deflection, transmitted torque, load travel) stay
+//! within the limits; a few family parameters are searched by Nelder–Mead ([`search`]) on a
+//! D-, A- or targeted criterion of the prior (the fitted records') plus the candidate's
+//! information ([`criterion`]).
 //!
 //! Main items: [`Problem`], [`Limits`], [`Criterion`], [`Family`], [`design`], [`Outcome`].
 

@@ -54,7 +54,16 @@ fn problem(free: &[usize], limits: Limits) -> Problem {
 }
 
 fn limits(duration: f64) -> Limits {
-    Limits { voltage: 12.0, current: None, speed: None, deflection: None, duration, rate: 1000.0 }
+    Limits {
+        voltage: 12.0,
+        current: None,
+        speed: None,
+        deflection: None,
+        torque: None,
+        load_angle: None,
+        duration,
+        rate: 1000.0,
+    }
 }
 
 #[test]
@@ -195,4 +204,41 @@ fn search_improves_on_its_start() {
     let o = optimise(&pr, Family::Chirp, &crit, 14, &|_, _| {});
     assert!(o.best.cost <= first.cost, "{} {}", o.best.cost, first.cost);
     assert!(o.best.scaled.within && o.evaluations <= 16);
+}
+
+/// The transmitted torque is the spring's c·θ + b·θ² + a·θ³ where the gear has no memory
+/// (to rounding), and a torque or load-travel limit binds where set below what 12 V
+/// reaches, the load's excursion measured from where it started.
+#[test]
+fn torque_and_load_travel_limits_bind() {
+    let free = [ix::R, ix::KE, ix::JZ];
+    let mut l = limits(0.3);
+    let mut pr0 = problem(&free, l.clone());
+    pr0.values[ix::MEM_A] = 0.0;
+    let shape = Design::single(Segment::Ramp { f: 5.0, dwell: 0.2 }).shape(l.samples(), 1000.0);
+    let free_run = pr0.scaled(&shape);
+    assert_eq!(free_run.binds, "voltage");
+    let v = &pr0.values;
+    let r = &free_run.response;
+    let tmax = free_run.peaks.torque;
+    assert!(tmax > 0.0);
+    for (tau, th) in r.torque.iter().zip(&r.deflection) {
+        let spring = v[ix::C] * th + v[ix::B] * th * th + v[ix::A] * th * th * th;
+        assert!((tau - spring).abs() <= 1e-12 * tmax, "{tau} {spring}");
+    }
+    let travel = r.load.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+    assert!(travel > 0.0 && travel <= free_run.peaks.load_angle);
+    l.torque = Some(0.4 * tmax);
+    let pr = Problem { limits: l.clone(), ..pr0.clone() };
+    let s = pr.scaled(&shape);
+    assert_eq!(s.binds, "torque");
+    assert!(s.within && s.peaks.torque > 0.97 * 0.4 * tmax, "{:?}", s.peaks);
+    l.torque = None;
+    l.load_angle = Some(0.3 * free_run.peaks.load_angle);
+    let pr = Problem { limits: l.clone(), ..pr0 };
+    let s = pr.scaled(&shape);
+    assert_eq!(s.binds, "load angle");
+    let lim = l.load_angle.unwrap();
+    assert!(s.within && s.peaks.load_angle > 0.97 * lim, "{:?}", s.peaks);
+    assert!(s.peaks.voltage < 12.0);
 }

@@ -384,6 +384,24 @@ impl<T: Scalar> Compliant<T> {
         }
     }
 
+    /// The torque the gear transmits [N·m] in state `y`, the slip elements (if any) at
+    /// offsets `o`: its spring, memory, Bouc–Wen, slip and catalogue parts (not the
+    /// friction), as it acts on the load and, divided by N, against the motor.
+    #[inline(always)]
+    pub fn gear_torque(&self, y: &State<T>, o: &[T]) -> T {
+        let mut tb = self.spring(y.theta) + y.z;
+        if self.p[ix::BW_ALPHA].re() != 0.0 {
+            tb = tb + self.p[ix::BW_ALPHA] * y.h;
+        }
+        if !o.is_empty() {
+            tb = tb + self.slip_torque(y.theta, o);
+        }
+        if let Some(curve) = &self.catalogue {
+            tb = tb + self.catalogue_torque(curve, y.theta);
+        }
+        tb
+    }
+
     /// The state's rates at voltage `u` [V], the slip elements (if any) at offsets `o`.
     #[inline]
     pub fn rates(&self, y: &State<T>, u: f64, o: &[T]) -> State<T> {
@@ -393,16 +411,7 @@ impl<T: Scalar> Compliant<T> {
         let theta_dot = y.omega_j * inv_n - y.omega_z;
         let v = self.sliding_speed(y);
         let bouc_wen = p[BW_ALPHA].re() != 0.0;
-        let mut tb = self.spring(y.theta) + y.z;
-        if bouc_wen {
-            tb = tb + p[BW_ALPHA] * y.h;
-        }
-        if !o.is_empty() {
-            tb = tb + self.slip_torque(y.theta, o);
-        }
-        if let Some(curve) = &self.catalogue {
-            tb = tb + self.catalogue_torque(curve, y.theta);
-        }
+        let tb = self.gear_torque(y, o);
         let g = self.level(v);
         let s_rate = v - v.abs() * y.w / g;
         let tf = y.w + p[SIGMA1] * s_rate + p[SIGMA2] * v;
