@@ -62,6 +62,7 @@ def design(
     current: Optional[float] = None,
     speed: Optional[float] = None,
     deflection: Optional[float] = None,
+    load_speed: Optional[float] = None,
     torque: Optional[float] = None,
     load_angle: Optional[float] = None,
     duration: float = 2.0,
@@ -103,6 +104,7 @@ def design(
         voltage: peak voltage [V] (default: the fitted records' peak, else 12).
         current: peak current [A].
         speed: peak motor speed [rad/s].
+        load_speed: peak load speed [rad/s].
         deflection: peak gear deflection [rad].
         torque: peak torque the gear transmits [N·m].
         load_angle: the load's range of travel, its largest excursion from the starting
@@ -145,6 +147,7 @@ def design(
         ("--current", current),
         ("--speed", speed),
         ("--deflection", deflection),
+        ("--load-speed", load_speed),
         ("--torque", torque),
         ("--load-angle", load_angle),
         ("--rate", rate),

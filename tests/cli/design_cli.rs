@@ -103,6 +103,9 @@ fn limits_no_rig_has_are_refused_naming_the_option() {
         (&["--motor-counts", "0"][..], "--motor-counts 0"),
         (&["--current-noise", "-1"][..], "--current-noise -1"),
         (&["--current-noise", "0"][..], "--current-noise 0"),
+        (&["--torque", "0"][..], "--torque 0"),
+        (&["--load-angle", "-0.1"][..], "--load-angle -0.1"),
+        (&["--load-angle", "1e-300"][..], "--load-angle 1e-300"),
     ] {
         let mut a = vec!["design", "--params", params.to_str().unwrap(), "--free", "R,Ke"];
         a.extend(args);
@@ -110,4 +113,24 @@ fn limits_no_rig_has_are_refused_naming_the_option() {
         crate::common::assert_one_line_error(&hdw(&a), &[needle, "expected"]);
         assert!(!out.join("design.json").exists(), "{needle}");
     }
+}
+
+/// A tight range of travel is the limit that binds: every designed input keeps the load
+/// within it, and design.json reports the peak excursion and the transmitted torque.
+#[test]
+fn a_short_range_of_travel_binds() {
+    let (_, d) = design_from_start(
+        "design-travel",
+        "--free R,Ke,Jj,Cj --duration 0.2 --evaluations 6 --family chirp,ramp --load-angle 5e-4",
+    );
+    assert_eq!(d["design"]["binds"], "load angle", "{}", d["design"]);
+    let peaks = d["design"]["peaks"].as_array().unwrap();
+    let travel = peaks.iter().find(|p| p["quantity"] == "load angle").expect("load angle peak");
+    let peak = travel["peak"].as_f64().unwrap();
+    // Binding: the peak sits just under the limit (each rescaling aims 0.5 % below it; the
+    // response is nonlinear in the amplitude, so allow a few per cent).
+    assert!(peak <= 5e-4 * (1.0 + 1e-9) && peak > 5e-4 * 0.9, "{travel}");
+    assert!(d["design"]["amplitude_V"].as_f64().unwrap() < 12.0, "{}", d["design"]);
+    assert_eq!(d["limits"]["load_angle_rad"], 5e-4, "{}", d["limits"]);
+    assert!(d["design"]["peak_torque_Nm"].as_f64().unwrap() > 0.0, "{}", d["design"]);
 }

@@ -105,6 +105,21 @@ def test_design_from_params_meets_its_limits(tmp_path):
     assert_ses_positive(r)
 
 
+def test_torque_and_travel_limits_reach_the_cli(tmp_path):
+    r = hdw.design(params=START, free=["R", "Ke", "Jj", "Cj"], duration=0.2, evaluations=6,
+                   family=["chirp", "ramp"], torque=0.5, load_angle=5e-4, out=tmp_path / "py",
+                   hdw=HDW)
+    run_cli("design", "--params", START, "--free", "R,Ke,Jj,Cj", "--duration", "0.2",
+            "--evaluations", "6", "--family", "chirp,ramp", "--torque", "0.5",
+            "--load-angle", "5e-4", "--out", tmp_path / "cli")
+    assert_same_as_cli(r, tmp_path / "cli")
+    assert r.report["limits"]["torque_Nm"] == 0.5
+    assert r.report["limits"]["load_angle_rad"] == 5e-4
+    assert r.report["design"]["peak_torque_Nm"] <= 0.5 * (1 + 1e-9)
+    assert r.report["design"]["peak_load_angle_rad"] <= 5e-4 * (1 + 1e-9)
+    assert r.report["design"]["binds"] in ("torque", "load angle")
+
+
 def test_design_check_refits(tmp_path):
     r = hdw.design(params=START, free=["R", "Ke", "Cj"], duration=0.2, evaluations=4,
                    family=["chirp"], check=2, out=tmp_path / "d", hdw=HDW)

@@ -24,8 +24,8 @@ records' information is the prior. Criteria: targeted (default with --fit: the v
 prior's weakest directions), d (log det over every free parameter), a (relative variances of\n\
 --a-params). Families: chirp, multisine (16 log-spaced lines, amplitude ∝ f^tilt, Schroeder phases),\n\
 ramp (triangles with dwell at zero), mix (a multisine then ramps); each candidate is scaled to the\n\
-largest amplitude whose simulated peak voltage, current, motor speed, gear deflection, transmitted\n\
-torque and load travel stay within the limits, and a few family parameters are searched by Nelder–Mead.\n\n\
+largest amplitude whose simulated peak voltage, current, motor and load speed, gear deflection,\n\
+transmitted torque and load travel stay within the limits, and a few family parameters are searched by Nelder–Mead.\n\n\
 Writes input.csv and input.parquet (t [s], u [V]), design.json, report.md and plots. --check N\n\
 synthesises N records of the design (and of the fitted records) with fresh noise as hdw synth drive\n\
 does, refits each from perturbed starts, and compares the spread with the predicted standard errors.\n\n\
@@ -63,6 +63,9 @@ pub struct DesignArgs {
     /// Peak motor speed [rad/s].
     #[arg(long)]
     pub speed: Option<f64>,
+    /// Peak load speed [rad/s].
+    #[arg(long)]
+    pub load_speed: Option<f64>,
     /// Peak gear deflection [rad].
     #[arg(long)]
     pub deflection: Option<f64>,
@@ -121,6 +124,7 @@ fn limits(a: &DesignArgs) -> Result<Limits> {
         ("--current", a.current),
         ("--speed", a.speed),
         ("--deflection", a.deflection),
+        ("--load-speed", a.load_speed),
         ("--torque", a.torque),
         ("--load-angle", a.load_angle),
     ] {
@@ -136,6 +140,7 @@ fn limits(a: &DesignArgs) -> Result<Limits> {
         ("--current", a.current, 1e-6, 1e5, "A"),
         ("--speed", a.speed, 1e-6, 1e6, "rad/s"),
         ("--deflection", a.deflection, 1e-12, 1.0, "rad"),
+        ("--load-speed", a.load_speed, 1e-9, 1e6, "rad/s"),
         ("--torque", a.torque, 1e-9, 1e7, "N·m"),
         ("--load-angle", a.load_angle, 1e-9, 1e6, "rad"),
     ] {
@@ -165,10 +170,12 @@ fn limits(a: &DesignArgs) -> Result<Limits> {
         );
     }
     Ok(Limits {
+        reference: None,
         voltage: v,
         current: a.current,
         speed: a.speed,
         deflection: a.deflection,
+        load_speed: a.load_speed,
         torque: a.torque,
         load_angle: a.load_angle,
         duration: a.duration,

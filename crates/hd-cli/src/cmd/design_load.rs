@@ -241,7 +241,15 @@ pub fn from_fit(
     let prior = prior_information(&spec, &values, &free_idx, &records);
     let records: Vec<VoltageRecord> = records;
     Ok(Loaded {
-        problem: Problem { spec, values, free: free_idx, noise: new_noise, prior, limits },
+        problem: Problem {
+            spec,
+            values,
+            free: free_idx,
+            noise: new_noise,
+            prior,
+            limits,
+            closed: None,
+        },
         records,
         params_file,
         fitted_se: Some(fitted_se),
@@ -286,7 +294,15 @@ pub fn from_params(
         current: Some(noise.current_noise.unwrap_or(0.01)),
     };
     Ok(Loaded {
-        problem: Problem { spec, values, free: free_idx, noise: new_noise, prior, limits },
+        problem: Problem {
+            spec,
+            values,
+            free: free_idx,
+            noise: new_noise,
+            prior,
+            limits,
+            closed: None,
+        },
         records: Vec::new(),
         params_file: path.to_path_buf(),
         fitted_se: None,

@@ -40,6 +40,7 @@ fn peaks_json(e: &Evaluated, loaded: &Loaded) -> Value {
         .collect();
     json!({"peaks": rows, "binds": e.scaled.binds, "within": e.scaled.within, "amplitude_V": e.scaled.amplitude,
            "peak_current_A": e.scaled.peaks.current, "peak_speed_rad_s": e.scaled.peaks.speed,
+           "peak_load_speed_rad_s": e.scaled.peaks.load_speed,
            "peak_deflection_rad": e.scaled.peaks.deflection, "peak_torque_Nm": e.scaled.peaks.torque,
            "peak_load_angle_rad": e.scaled.peaks.load_angle})
 }
@@ -234,6 +235,7 @@ pub fn write(
     let mut doc = json!({
         "criterion": o.criterion.name(),
         "limits": {"voltage_V": p.limits.voltage, "current_A": p.limits.current, "speed_rad_s": p.limits.speed,
+                   "load_speed_rad_s": p.limits.load_speed,
                    "deflection_rad": p.limits.deflection, "torque_Nm": p.limits.torque,
                    "load_angle_rad": p.limits.load_angle, "duration_s": p.limits.duration, "rate_Hz": rate},
         "noise": {"motor_rad": p.noise.motor, "load_rad": p.noise.load, "current_A": p.noise.current},
@@ -366,7 +368,14 @@ pub fn write(
         t.clone(),
         norm(&r.deflection, l.deflection),
     ));
-    // The transmitted torque and the load's travel are drawn where they are limited.
+    // The load speed, the transmitted torque and the load's travel are drawn where limited.
+    if l.load_speed.is_some() {
+        resp.push(Series::new(
+            lab("load speed", l.load_speed),
+            t.clone(),
+            norm(&r.load_speed, l.load_speed),
+        ));
+    }
     if l.torque.is_some() {
         resp.push(Series::new(lab("torque", l.torque), t.clone(), norm(&r.torque, l.torque)));
     }

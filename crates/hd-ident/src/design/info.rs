@@ -5,6 +5,7 @@
 //! the parameters' logarithms (relative changes), as the fit steps them. The input is
 //! scaled to the largest amplitude whose simulated peaks stay within the rig's limits.
 
+use super::closed::Loop;
 use crate::drive::compliant::fit::{CompliantSpec, residuals_and_jacobian, simulate_on_zeros};
 use crate::drive::compliant::model::{P, State};
 use crate::drive::compliant::{CurrentSampled, Signal, VoltageRecord};
@@ -13,12 +14,17 @@ use nalgebra::DMatrix;
 /// The rig's limits. `None`: not limited.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Limits {
+    /// Peak position reference of a closed-loop design [rad, on the fed-back encoder];
+    /// None for a voltage test. Some exactly when the problem has a loop.
+    pub reference: Option<f64>,
     /// Peak voltage [V].
     pub voltage: f64,
     /// Peak armature current [A].
     pub current: Option<f64>,
     /// Peak motor speed [rad/s].
     pub speed: Option<f64>,
+    /// Peak load speed [rad/s].
+    pub load_speed: Option<f64>,
     /// Peak gear deflection [rad].
     pub deflection: Option<f64>,
     /// Peak torque the gear transmits [N·m].
@@ -42,12 +48,16 @@ impl Limits {
 /// The simulated peaks of a run (over every Runge–Kutta substep).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Peaks {
+    /// |r| of a closed-loop design's reference [rad] (0 for a voltage test).
+    pub reference: f64,
     /// |u| [V].
     pub voltage: f64,
     /// |i| [A].
     pub current: f64,
     /// |ωj| [rad/s].
     pub speed: f64,
+    /// |ωz| [rad/s].
+    pub load_speed: f64,
     /// |θ| [rad].
     pub deflection: f64,
     /// |τ| transmitted by the gear [N·m].
@@ -59,10 +69,15 @@ pub struct Peaks {
 impl Peaks {
     /// (name, peak, limit, unit) of every limited quantity.
     pub fn against(&self, l: &Limits) -> Vec<(&'static str, f64, f64, &'static str)> {
-        let mut v = vec![("voltage", self.voltage, l.voltage, "V")];
+        let mut v = Vec::new();
+        if let Some(r) = l.reference {
+            v.push(("reference", self.reference, r, "rad"));
+        }
+        v.push(("voltage", self.voltage, l.voltage, "V"));
         for (name, peak, lim, unit) in [
             ("current", self.current, l.current, "A"),
             ("speed", self.speed, l.speed, "rad/s"),
+            ("load speed", self.load_speed, l.load_speed, "rad/s"),
             ("deflection", self.deflection, l.deflection, "rad"),
             ("torque", self.torque, l.torque, "N·m"),
             ("load angle", self.load_angle, l.load_angle, "rad"),
@@ -112,15 +127,22 @@ pub struct Problem {
     pub prior: DMatrix<f64>,
     /// The rig's limits.
     pub limits: Limits,
+    /// The loop of a closed-loop design (the input is then its position reference); None
+    /// for a voltage test.
+    pub closed: Option<Loop>,
 }
 
 /// The simulated response of a run, sampled at the record's samples.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Response {
+    /// Voltage across the motor [V].
+    pub voltage: Vec<f64>,
     /// Current [A].
     pub current: Vec<f64>,
     /// Motor speed [rad/s].
     pub speed: Vec<f64>,
+    /// Load speed [rad/s].
+    pub load_speed: Vec<f64>,
     /// Gear deflection [rad].
     pub deflection: Vec<f64>,
     /// Torque the gear transmits [N·m].
@@ -137,6 +159,9 @@ impl Problem {
         if let Some(c) = self.noise.current {
             outputs.push((Signal::Current, vec![c]));
         }
+        if let Some(l) = &self.closed {
+            outputs.push((Signal::Command, vec![l.command_noise]));
+        }
         CompliantSpec { noise_estimated: vec![false; outputs.len()], outputs, ..self.spec.clone() }
     }
 
@@ -148,11 +173,16 @@ impl Problem {
             .collect()
     }
 
-    /// A record of voltage `u` at the limits' rate, its outputs the drive's own (noise-free).
+    /// A record of input `u` (voltage [V], or a closed loop's reference [rad]) at the
+    /// limits' rate, its outputs the drive's own (noise-free); in closed loop its command
+    /// column is the simulated command.
     pub fn record(&self, u: &[f64]) -> VoltageRecord {
         let mut rec = self.blank(u);
         let spec = CompliantSpec { current_offset: false, ..self.record_spec() };
         let (sim, _, _) = simulate_on_zeros(&spec, &spec.drive(self.values), &rec);
+        if rec.closed.is_some() {
+            rec.u = sim.command;
+        }
         rec.theta_m = sim.theta_m;
         rec.theta_l = sim.theta_l;
         if rec.current.is_some() {
@@ -161,8 +191,9 @@ impl Problem {
         rec
     }
 
-    /// A record of voltage `u` at the limits' rate with zero outputs.
-    fn blank(&self, u: &[f64]) -> VoltageRecord {
+    /// A record of input `u` at the limits' rate with zero outputs (in closed loop, `u`
+    /// is the reference and the command column zero).
+    pub(crate) fn blank(&self, u: &[f64]) -> VoltageRecord {
         let n = u.len();
         let h = 1.0 / self.limits.rate;
         let zeros = vec![0.0; n];
@@ -171,18 +202,22 @@ impl Problem {
             source: "design".into(),
             h,
             t: (0..n).map(|k| k as f64 * h).collect(),
-            u: u.to_vec(),
+            u: if self.closed.is_some() { zeros.clone() } else { u.to_vec() },
             theta_m: zeros.clone(),
             theta_l: zeros.clone(),
             current: self.noise.current.map(|_| zeros),
-            closed: None,
+            closed: self.closed.as_ref().map(|l| l.closed(u)),
             current_sampled: CurrentSampled::After,
         }
     }
 
-    /// Peaks and response of the drive under voltage `u` (over every substep), stepped as
-    /// the fit's simulation steps it.
+    /// Peaks and response of the drive under input `u` (over every substep), stepped as
+    /// the fit's simulation steps it: a voltage, or in closed loop the reference
+    /// ([`super::closed::response`]).
     pub fn response(&self, u: &[f64]) -> (Peaks, Response) {
+        if let Some(l) = &self.closed {
+            return super::closed::response(self, l, u);
+        }
         let spec = &self.spec;
         let d = spec.drive(self.values);
         let rec = self.blank(u);
@@ -198,6 +233,7 @@ impl Problem {
         let track = |y: &State<f64>, i: f64, tau: f64, pk: &mut Peaks| {
             pk.current = pk.current.max(i.abs());
             pk.speed = pk.speed.max(y.omega_j.abs());
+            pk.load_speed = pk.load_speed.max(y.omega_z.abs());
             pk.deflection = pk.deflection.max(y.theta.abs());
             pk.torque = pk.torque.max(tau.abs());
             pk.load_angle = pk.load_angle.max((y.theta_j / d.n - y.theta).abs());
@@ -206,8 +242,10 @@ impl Problem {
             let i = d.current(rec.voltage_at_current(k, spec.between), y.omega_j);
             let tau = d.gear_torque(&y, &slips);
             track(&y, i, tau, &mut pk);
+            r.voltage.push(u[k]);
             r.current.push(i);
             r.speed.push(y.omega_j);
+            r.load_speed.push(y.omega_z);
             r.deflection.push(y.theta);
             r.torque.push(tau);
             r.load.push(y.theta_j / d.n - y.theta);
@@ -229,7 +267,12 @@ impl Problem {
     /// response being close to proportional above the friction). Returns the input, its
     /// peaks and the quantity that binds.
     pub fn scaled(&self, shape: &[f64]) -> Scaled {
-        let mut a = self.limits.voltage;
+        // The amplitude's own limit: the reference's in closed loop, else the voltage's.
+        let (lead, limit) = match self.limits.reference {
+            Some(r) => ("reference", r),
+            None => ("voltage", self.limits.voltage),
+        };
+        let mut a = limit;
         let mut tries = 0;
         loop {
             let u: Vec<f64> = shape.iter().map(|v| v * a).collect();
@@ -237,10 +280,9 @@ impl Problem {
             let (worst, ratio) = peaks.worst(&self.limits);
             tries += 1;
             if ratio <= 1.0 + 1e-9 || tries >= 12 || !ratio.is_finite() {
-                let binds = if (peaks.voltage / self.limits.voltage - 1.0).abs() < 1e-9
-                    && ratio <= 1.0 + 1e-9
-                {
-                    "voltage"
+                let own = if lead == "reference" { peaks.reference } else { peaks.voltage };
+                let binds = if (own / limit - 1.0).abs() < 1e-9 && ratio <= 1.0 + 1e-9 {
+                    lead
                 } else {
                     worst
                 };
@@ -277,18 +319,18 @@ impl Problem {
 /// An input scaled to the limits.
 #[derive(Clone, Debug)]
 pub struct Scaled {
-    /// The voltage [V] at the record's samples.
+    /// The input at the record's samples: voltage [V], or a closed loop's reference [rad].
     pub u: Vec<f64>,
     /// Its simulated peaks.
     pub peaks: Peaks,
     /// Its simulated response.
     pub response: Response,
-    /// The limit that binds (`voltage`, `current`, `speed`, `deflection`, `torque` or
-    /// `load angle`).
+    /// The limit that binds (`reference`, `voltage`, `current`, `speed`, `load speed`,
+    /// `deflection`, `torque` or `load angle`).
     pub binds: &'static str,
     /// Whether every peak is within its limit.
     pub within: bool,
-    /// The shape's amplitude [V].
+    /// The shape's amplitude [V, or rad of a reference].
     pub amplitude: f64,
 }
 

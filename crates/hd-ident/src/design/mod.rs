@@ -11,8 +11,12 @@
 //! D-, A- or targeted criterion of the prior (the fitted records') plus the candidate's
 //! information ([`criterion`]).
 //!
+//! A drive logged in its own loop is designed for through its position reference
+//! ([`closed`]).
+//!
 //! Main items: [`Problem`], [`Limits`], [`Criterion`], [`Family`], [`design`], [`Outcome`].
 
+pub mod closed;
 pub mod criterion;
 pub mod info;
 pub mod input;
@@ -21,6 +25,7 @@ pub mod search;
 #[cfg(test)]
 mod tests;
 
+pub use closed::{Loop, command_noise};
 pub use criterion::{Criterion, Prediction, direction_variance, predict, weakest};
 pub use info::{Limits, Noise, Peaks, Problem, Response, Scaled, prior_information};
 pub use input::{Design, Family, Piece, Segment};
@@ -100,7 +105,7 @@ pub fn targeted(problem: &Problem) -> Criterion {
     Criterion::Targeted(weakest(&problem.prior).0)
 }
 
-/// A given input `u` [V] judged for `problem` as it is (not rescaled): its peaks against
+/// A given input `u` [V, or rad of a closed loop's reference] judged for `problem` as it is (not rescaled): its peaks against
 /// the limits, its information, and the defaults beside it.
 pub fn given(problem: &Problem, criterion: Criterion, u: &[f64]) -> Outcome {
     let (dirs, eig) = weakest(&problem.prior);
@@ -113,7 +118,7 @@ pub fn given(problem: &Problem, criterion: Criterion, u: &[f64]) -> Outcome {
         response,
         binds: worst,
         within: ratio <= 1.0 + 1e-9,
-        amplitude: peaks.voltage,
+        amplitude: if problem.closed.is_some() { peaks.reference } else { peaks.voltage },
     };
     let k = problem.free.len();
     let info = problem.information(u).unwrap_or_else(|| DMatrix::zeros(k, k));

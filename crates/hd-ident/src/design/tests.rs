@@ -50,15 +50,18 @@ fn problem(free: &[usize], limits: Limits) -> Problem {
         noise: Noise { motor: 4.43e-4, load: 1.73e-6, current: Some(0.01) },
         prior: DMatrix::zeros(k, k),
         limits,
+        closed: None,
     }
 }
 
 fn limits(duration: f64) -> Limits {
     Limits {
+        reference: None,
         voltage: 12.0,
         current: None,
         speed: None,
         deflection: None,
+        load_speed: None,
         torque: None,
         load_angle: None,
         duration,
@@ -208,9 +211,10 @@ fn search_improves_on_its_start() {
 
 /// The transmitted torque is the spring's c·θ + b·θ² + a·θ³ where the gear has no memory
 /// (to rounding), and a torque or load-travel limit binds where set below what 12 V
-/// reaches, the load's excursion measured from where it started.
+/// reaches, the load's excursion measured from where it started; the load speed is the
+/// angle's rate, and its limit binds too.
 #[test]
-fn torque_and_load_travel_limits_bind() {
+fn torque_load_travel_and_load_speed_limits_bind() {
     let free = [ix::R, ix::KE, ix::JZ];
     let mut l = limits(0.3);
     let mut pr0 = problem(&free, l.clone());
@@ -241,4 +245,20 @@ fn torque_and_load_travel_limits_bind() {
     let lim = l.load_angle.unwrap();
     assert!(s.within && s.peaks.load_angle > 0.97 * lim, "{:?}", s.peaks);
     assert!(s.peaks.voltage < 12.0);
+    // The load speed is the rate of the load angle: its trapezoidal integral over the
+    // samples follows the angle to the rule's error.
+    let h = 1.0 / l.rate;
+    let mut integral = 0.0;
+    let mut worst = 0.0f64;
+    for k in 1..r.load.len() {
+        integral += 0.5 * h * (r.load_speed[k - 1] + r.load_speed[k]);
+        worst = worst.max((integral - r.load[k]).abs());
+    }
+    assert!(worst <= 1e-3 * travel, "{worst} {travel}");
+    l.load_angle = None;
+    l.load_speed = Some(0.5 * free_run.peaks.load_speed);
+    let pr = Problem { limits: l.clone(), ..pr.clone() };
+    let s = pr.scaled(&shape);
+    assert_eq!(s.binds, "load speed");
+    assert!(s.within && s.peaks.load_speed > 0.97 * 0.5 * free_run.peaks.load_speed);
 }

@@ -138,6 +138,18 @@ pub fn simulate_loop<T: Scalar>(
     cl: &ClosedLoop,
     substeps: usize,
 ) -> Outputs<T> {
+    simulate_loop_observed(d, rec, cl, substeps, &mut |_, _, _| {})
+}
+
+/// [`simulate_loop`], calling `observe(state, slips, command)` at each sample (with the
+/// command that then starts to act) and after every substep (with the command held).
+pub fn simulate_loop_observed<T: Scalar>(
+    d: &Compliant<T>,
+    rec: &VoltageRecord,
+    cl: &ClosedLoop,
+    substeps: usize,
+    observe: &mut dyn FnMut(&State<T>, &[T], T),
+) -> Outputs<T> {
     let n = rec.len();
     let m = substeps.max(1);
     let step = rec.h / m as f64;
@@ -173,6 +185,7 @@ pub fn simulate_loop<T: Scalar>(
             Amplifier::Current => driving,
         });
         out.command.push(command);
+        observe(&y, &slips, command);
         if k + 1 == n {
             break;
         }
@@ -180,6 +193,7 @@ pub fn simulate_loop<T: Scalar>(
             let next = d.step_by(&y, |s, _| rates_held(d, s, &slips, command, cl.amplifier), step);
             d.commit(&y, &next, &mut slips);
             y = next;
+            observe(&y, &slips, command);
         }
     }
     out
