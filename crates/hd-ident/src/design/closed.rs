@@ -88,7 +88,7 @@ pub fn response(p: &Problem, l: &Loop, r: &[f64]) -> (Peaks, Response) {
         pk.torque = pk.torque.max(tau.abs());
         pk.load_angle = pk.load_angle.max(load.abs());
         // Every (1 + m)-th call is a sample's.
-        if calls % (m + 1) == 0 {
+        if calls.is_multiple_of(m + 1) {
             out.voltage.push(volts);
             out.current.push(amps);
             out.speed.push(y.omega_j);

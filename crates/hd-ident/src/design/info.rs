@@ -238,11 +238,11 @@ impl Problem {
             pk.torque = pk.torque.max(tau.abs());
             pk.load_angle = pk.load_angle.max((y.theta_j / d.n - y.theta).abs());
         };
-        for k in 0..n {
+        for (k, &uk) in u.iter().enumerate() {
             let i = d.current(rec.voltage_at_current(k, spec.between), y.omega_j);
             let tau = d.gear_torque(&y, &slips);
             track(&y, i, tau, &mut pk);
-            r.voltage.push(u[k]);
+            r.voltage.push(uk);
             r.current.push(i);
             r.speed.push(y.omega_j);
             r.load_speed.push(y.omega_z);

@@ -141,6 +141,9 @@ pub fn simulate_loop<T: Scalar>(
     simulate_loop_observed(d, rec, cl, substeps, &mut |_, _, _| {})
 }
 
+/// A callback seeing the state, the bristle slips and the command [V] or [A].
+pub type Observer<'a, T> = dyn FnMut(&State<T>, &[T], T) + 'a;
+
 /// [`simulate_loop`], calling `observe(state, slips, command)` at each sample (with the
 /// command that then starts to act) and after every substep (with the command held).
 pub fn simulate_loop_observed<T: Scalar>(
@@ -148,7 +151,7 @@ pub fn simulate_loop_observed<T: Scalar>(
     rec: &VoltageRecord,
     cl: &ClosedLoop,
     substeps: usize,
-    observe: &mut dyn FnMut(&State<T>, &[T], T),
+    observe: &mut Observer<'_, T>,
 ) -> Outputs<T> {
     let n = rec.len();
     let m = substeps.max(1);
