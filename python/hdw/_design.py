@@ -62,6 +62,8 @@ def design(
     current: Optional[float] = None,
     speed: Optional[float] = None,
     deflection: Optional[float] = None,
+    controller: "Optional[os.PathLike[str] | str]" = None,
+    reference: Optional[float] = None,
     load_speed: Optional[float] = None,
     torque: Optional[float] = None,
     load_angle: Optional[float] = None,
@@ -104,6 +106,9 @@ def design(
         voltage: peak voltage [V] (default: the fitted records' peak, else 12).
         current: peak current [A].
         speed: peak motor speed [rad/s].
+        controller: closed loop: a TOML file with the ``[controller]`` the drive runs in
+            (with ``params``); the design is then of the position reference.
+        reference: closed loop: peak position reference [rad, on the fed-back encoder].
         load_speed: peak load speed [rad/s].
         deflection: peak gear deflection [rad].
         torque: peak torque the gear transmits [N·m].
@@ -147,6 +152,7 @@ def design(
         ("--current", current),
         ("--speed", speed),
         ("--deflection", deflection),
+        ("--reference", reference),
         ("--load-speed", load_speed),
         ("--torque", torque),
         ("--load-angle", load_angle),
@@ -159,7 +165,8 @@ def design(
     for flag, n in [("--motor-counts", motor_counts), ("--load-counts", load_counts)]:
         if n is not None:
             args += [flag, str(int(n))]
-    for flag, path in [("--input", input), ("--at", at), ("--truth", truth)]:
+    for flag, path in [("--input", input), ("--at", at), ("--truth", truth),
+                       ("--controller", controller)]:
         if path is not None:
             args += [flag, os.fspath(path)]
     args += ["--check", str(int(check)), "--seed", str(int(seed)), "--out", os.fspath(out)]

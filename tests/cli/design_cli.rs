@@ -134,3 +134,71 @@ fn a_short_range_of_travel_binds() {
     assert_eq!(d["limits"]["load_angle_rad"], 5e-4, "{}", d["limits"]);
     assert!(d["design"]["peak_torque_Nm"].as_f64().unwrap() > 0.0, "{}", d["design"]);
 }
+
+/// In closed loop (`--controller`), the design is of the position reference: input.csv holds
+/// the `reference` column [rad], within `--reference`; design.json names the loop and
+/// keeps every simulated peak within its limit.
+#[test]
+fn a_closed_loop_design_is_of_the_reference() {
+    // The shipped controller with a saturation and a delay (the file's are 0 and none).
+    let ctl = scratch("design-loop-ctl").join("controller.toml");
+    std::fs::create_dir_all(ctl.parent().unwrap()).unwrap();
+    let text = std::fs::read_to_string(repo_path("data/compliant/controller.toml")).unwrap();
+    let text = text.replace("delay = 0 ", "delay = 2 ") + "saturation = 10.0\n";
+    std::fs::write(&ctl, text).unwrap();
+    let (out, d) = design_from_start(
+        "design-loop",
+        &format!(
+            "--controller {} --reference 0.5 --free R,Ke,Jj,Cj --duration 0.2 --evaluations 4 \
+             --family chirp,ramp --voltage 6",
+            ctl.display()
+        ),
+    );
+    assert_eq!(d["input_column"], "reference", "{}", d["input_column"]);
+    assert_eq!(d["input_unit"], "rad");
+    assert_eq!(d["controller"]["kp"], 30.0, "{}", d["controller"]);
+    assert_eq!(d["controller"]["delay"], 2, "{}", d["controller"]);
+    assert_eq!(d["controller"]["saturation"], 10.0, "{}", d["controller"]);
+    assert!(d["controller"]["command_noise"].as_f64().unwrap() > 0.0, "{}", d["controller"]);
+    assert_eq!(d["limits"]["reference_rad"], 0.5);
+    for p in d["design"]["peaks"].as_array().unwrap() {
+        let (pk, lim) = (p["peak"].as_f64().unwrap(), p["limit"].as_f64().unwrap());
+        assert!(pk <= lim * (1.0 + 1e-9), "{p}");
+    }
+    let text = std::fs::read_to_string(out.join("input.csv")).unwrap();
+    assert!(text.lines().next().unwrap().contains("reference"), "{}", text.lines().next().unwrap());
+    let rmax = text
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').nth(1).unwrap().parse::<f64>().unwrap().abs())
+        .fold(0.0, f64::max);
+    assert!(rmax > 0.0 && rmax <= 0.5 * (1.0 + 1e-9), "peak reference {rmax}");
+    assert!(d["design"]["amplitude_rad"].as_f64().unwrap() <= 0.5 * (1.0 + 1e-9));
+    for k in ["R", "Ke", "Jj", "Cj"] {
+        assert!(d["parameters"][k]["design_alone_std_error"].as_f64().unwrap() > 0.0, "{k}");
+    }
+}
+
+/// A reference without a loop, a loop without a reference and a controller file without
+/// its table are refused in one line naming what is missing.
+#[test]
+fn a_loop_needs_both_its_controller_and_its_reference() {
+    let out = scratch("design-loop-refused");
+    let params = repo_path("data/compliant/start.toml");
+    let ctl = repo_path("data/compliant/controller.toml");
+    let no_table = repo_path("data/compliant/start.toml");
+    for (args, needles) in [
+        (vec!["--reference", "0.5"], &["--reference", "needs a loop"][..]),
+        (vec!["--controller", ctl.to_str().unwrap()], &["--reference", "closed-loop"][..]),
+        (
+            vec!["--controller", no_table.to_str().unwrap(), "--reference", "1"],
+            &["[controller]"][..],
+        ),
+    ] {
+        let mut a = vec!["design", "--params", params.to_str().unwrap(), "--free", "R,Ke"];
+        a.extend(args);
+        a.extend(["--out", out.to_str().unwrap()]);
+        crate::common::assert_one_line_error(&hdw(&a), needles);
+        assert!(!out.join("design.json").exists(), "{needles:?}");
+    }
+}

@@ -8,7 +8,7 @@ use super::design_load::{Loaded, NoiseArgs, from_fit, from_params};
 use anyhow::{Result, bail};
 use clap::Args;
 use hd_ident::design::{Criterion, Family, Limits, design, targeted};
-use hd_ident::drive::compliant::NAMES;
+use hd_ident::drive::compliant::{Amplifier, NAMES};
 use hd_model::error::num;
 use indicatif::{ProgressBar, ProgressStyle};
 use std::path::PathBuf;
@@ -54,6 +54,16 @@ pub struct DesignArgs {
     /// Candidates evaluated per family.
     #[arg(long, default_value_t = 40)]
     pub evaluations: usize,
+    /// Closed loop: the `[controller]` (kp and kv, or p and d; saturation, delay in samples,
+    /// speed_filter, feedback, amplifier) the drive runs in, from this TOML file (a fit
+    /// configuration, or a file holding only that table). The design is then of the
+    /// position reference. With --fit, a fit of a closed loop brings its own.
+    #[arg(long, value_name = "FILE.toml", conflicts_with = "fit")]
+    pub controller: Option<PathBuf>,
+    /// Closed loop: peak position reference [rad, on the fed-back encoder] [default: the
+    /// fitted records' peak].
+    #[arg(long)]
+    pub reference: Option<f64>,
     /// Peak voltage [V] [default: the fitted records' peak, else 12].
     #[arg(long)]
     pub voltage: Option<f64>,
@@ -126,6 +136,7 @@ fn limits(a: &DesignArgs) -> Result<Limits> {
         ("--deflection", a.deflection),
         ("--load-speed", a.load_speed),
         ("--torque", a.torque),
+        ("--reference", a.reference),
         ("--load-angle", a.load_angle),
     ] {
         if let Some(x) = x.filter(|x| !(x.is_finite() && *x > 0.0)) {
@@ -142,6 +153,7 @@ fn limits(a: &DesignArgs) -> Result<Limits> {
         ("--deflection", a.deflection, 1e-12, 1.0, "rad"),
         ("--load-speed", a.load_speed, 1e-9, 1e6, "rad/s"),
         ("--torque", a.torque, 1e-9, 1e7, "N·m"),
+        ("--reference", a.reference, 1e-9, 1e6, "rad"),
         ("--load-angle", a.load_angle, 1e-9, 1e6, "rad"),
     ] {
         if let Some(x) = x.filter(|x| !(lo..=hi).contains(x)) {
@@ -170,7 +182,7 @@ fn limits(a: &DesignArgs) -> Result<Limits> {
         );
     }
     Ok(Limits {
-        reference: None,
+        reference: a.reference,
         voltage: v,
         current: a.current,
         speed: a.speed,
@@ -209,7 +221,7 @@ pub fn run(a: DesignArgs) -> Result<()> {
     let t0 = Instant::now();
     let mut loaded: Loaded = match (&a.fit, &a.params) {
         (Some(dir), _) => from_fit(dir, &a.free, a.at.as_deref(), lim, &noise)?,
-        (None, Some(p)) => from_params(p, &a.free, lim, &noise)?,
+        (None, Some(p)) => from_params(p, &a.free, lim, &noise, a.controller.as_deref())?,
         (None, None) => {
             bail!("give --fit DIR (a compliant fit's output folder) or --params FILE with --free")
         }
@@ -223,10 +235,34 @@ pub fn run(a: DesignArgs) -> Result<()> {
             p.spec.substeps =
                 hd_ident::drive::compliant::substeps_for(&p.values, p.spec.n, 1.0 / p.limits.rate);
         }
-        if a.voltage.is_none() {
-            p.limits.voltage =
-                loaded.records.iter().flat_map(|r| r.u.iter()).fold(0.0f64, |m, v| m.max(v.abs()));
+        let peak = |x: &mut dyn Iterator<Item = &f64>| x.fold(0.0f64, |m, v| m.max(v.abs()));
+        let voltage_driven = p.closed.as_ref().is_none_or(|l| l.amplifier == Amplifier::Voltage);
+        if a.voltage.is_none() && voltage_driven {
+            p.limits.voltage = peak(&mut loaded.records.iter().flat_map(|r| r.u.iter()));
         }
+        if a.reference.is_none() && p.closed.is_some() {
+            let refs = loaded.records.iter().filter_map(|r| r.closed.as_ref());
+            p.limits.reference = Some(peak(&mut refs.flat_map(|c| c.reference.iter())));
+        }
+    }
+    if let Some(l) = &loaded.problem.closed {
+        let rate = loaded.problem.limits.rate;
+        if (l.controller.h * rate - 1.0).abs() > 1e-9 {
+            bail!(
+                "--rate {}: the loop's controller runs at {} Hz; a closed-loop design is sampled at the controller's rate",
+                num(rate),
+                num(1.0 / l.controller.h)
+            );
+        }
+    }
+    match (&loaded.problem.closed, loaded.problem.limits.reference) {
+        (Some(_), None) => bail!(
+            "--reference: a closed-loop design needs the reference's peak [rad, on the fed-back encoder]"
+        ),
+        (None, Some(_)) => bail!(
+            "--reference: a position reference needs a loop (--controller FILE.toml, or --fit of a closed-loop fit)"
+        ),
+        _ => {}
     }
     let problem = &loaded.problem;
     let slot = |name: &str| -> Result<usize> {
@@ -258,7 +294,8 @@ pub fn run(a: DesignArgs) -> Result<()> {
     let done = std::sync::atomic::AtomicU64::new(0);
     let outcome = match &a.input {
         Some(path) => {
-            let cols = hd_io::read_columns(path, &["t", "u"])?;
+            let column = if problem.closed.is_some() { "reference" } else { "u" };
+            let cols = hd_io::read_columns(path, &["t", column])?;
             given_rate(path, &cols[0], problem.limits.rate)?;
             hd_ident::design::given(problem, criterion, &cols[1])
         }

@@ -15,8 +15,10 @@ use anyhow::{Context, Result};
 use hd_ident::design::Outcome;
 use hd_ident::drive::compliant::fit::CompliantSpec;
 use hd_ident::drive::compliant::model::P;
-use hd_ident::drive::compliant::{Signal, VoltageRecord, fit_compliant};
+use hd_ident::drive::compliant::synth_loop::run_loop;
+use hd_ident::drive::compliant::{ClosedLoop, Feedback, Signal, VoltageRecord, fit_compliant};
 use hd_ident::synth::{Noise, add_noise};
+use hd_model::control::quantise;
 use hd_model::signals::Sample;
 use hd_model::{Input, Profile, simulate_streaming};
 use indicatif::{ProgressBar, ProgressStyle};
@@ -69,16 +71,9 @@ fn rounded(x: &[f64], counts: u64, seed: u64) -> Vec<f64> {
     encoder(&shifted, counts)
 }
 
-/// Synthesise one record of voltage `u` sampled every `h` [s] by the drive of `params`.
-fn synth(
-    params: &Path,
-    u: &[f64],
-    h: f64,
-    noise: (f64, f64, Option<f64>),
-    seed: u64,
-    name: &str,
-) -> Result<VoltageRecord> {
-    let t_end = (u.len() - 1) as f64 * h;
+/// The simulation of the drive of `params` over `t_end` [s], logged every `h` [s], at rest
+/// under zero voltage (the caller sets the input).
+fn drive_config(params: &Path, t_end: f64, h: f64) -> Result<hd_model::SimConfig> {
     let sim = SimulateArgs {
         model: ModelArgs {
             params: Some(params.to_path_buf()),
@@ -101,7 +96,27 @@ fn synth(
         control: Default::default(),
         out: Default::default(),
     };
-    let mut cfg = super::simulate::config(&sim)?;
+    super::simulate::config(&sim)
+}
+
+/// `i` [A] with Gaussian noise of standard deviation `sd` [A] (None: not logged).
+fn noisy_current(mut i: Vec<f64>, sd: Option<f64>, seed: u64) -> Option<Vec<f64>> {
+    let sd = sd?;
+    let rms = (i.iter().map(|v| v * v).sum::<f64>() / i.len().max(1) as f64).sqrt();
+    add_noise(&mut i, &Noise { relative: sd / rms.max(f64::MIN_POSITIVE), seed });
+    Some(i)
+}
+
+/// Synthesise one record of voltage `u` sampled every `h` [s] by the drive of `params`.
+fn synth(
+    params: &Path,
+    u: &[f64],
+    h: f64,
+    noise: (f64, f64, Option<f64>),
+    seed: u64,
+    name: &str,
+) -> Result<VoltageRecord> {
+    let mut cfg = drive_config(params, (u.len() - 1) as f64 * h, h)?;
     // Held voltage: each sample's value until just before the next (as synth drive holds it).
     let rise = 1e-6 * h;
     let mut pt = Vec::with_capacity(2 * u.len());
@@ -124,15 +139,7 @@ fn synth(
         }),
     )
     .context("the check's record cannot be simulated")?;
-    let [t, uu, mut i, tj, tz] = cols;
-    let current = match noise.2 {
-        Some(sd) => {
-            let rms = (i.iter().map(|v| v * v).sum::<f64>() / i.len().max(1) as f64).sqrt();
-            add_noise(&mut i, &Noise { relative: sd / rms.max(f64::MIN_POSITIVE), seed });
-            Some(i)
-        }
-        None => None,
-    };
+    let [t, uu, i, tj, tz] = cols;
     Ok(VoltageRecord::new(
         name,
         "check",
@@ -140,8 +147,37 @@ fn synth(
         uu,
         rounded(&tj, counts_of(noise.0), seed ^ 0x5151),
         rounded(&tz, counts_of(noise.1), seed ^ 0xA3A3),
-        current,
+        noisy_current(i, noise.2, seed),
     )?)
+}
+
+/// Synthesise one closed-loop record of reference `cl.reference` by the drive of `params`
+/// in `cl`'s loop (hd-model's solver under each sample's held command, the controller
+/// reading the fed-back encoder rounded to its counts, as `hdw synth drive --loop-kp`
+/// does); the other encoder rounds at a random phase.
+fn synth_in_loop(
+    params: &Path,
+    cl: &ClosedLoop,
+    noise: (f64, f64, Option<f64>),
+    seed: u64,
+    name: &str,
+) -> Result<VoltageRecord> {
+    let c = &cl.controller;
+    let cfg = drive_config(params, (cl.reference.len() - 1) as f64 * c.h, c.h)?;
+    let (motor, load) = (counts_of(noise.0), counts_of(noise.1));
+    let fed = if cl.feedback == Feedback::Load { load } else { motor };
+    let run = run_loop(&cfg, c, cl.feedback, cl.amplifier, &cl.reference, fed)
+        .context("the check's closed-loop record cannot be simulated")?;
+    let read = |x: &[f64], counts: u64| -> Vec<f64> {
+        x.iter().map(|v| quantise(*v, std::f64::consts::TAU / counts as f64)).collect()
+    };
+    let (theta_m, theta_l) = match cl.feedback {
+        Feedback::Motor => (read(&run.theta_j, motor), rounded(&run.theta_z, load, seed ^ 0xA3A3)),
+        Feedback::Load => (rounded(&run.theta_j, motor, seed ^ 0x5151), read(&run.theta_z, load)),
+    };
+    let current = noisy_current(run.current, noise.2, seed);
+    let rec = VoltageRecord::new(name, "check", run.t, run.command, theta_m, theta_l, current)?;
+    Ok(rec.in_loop(cl.clone())?)
 }
 
 /// Run the check of `a.check` refits.
@@ -180,22 +216,29 @@ pub fn check(a: &DesignArgs, loaded: &Loaded, outcome: &Outcome) -> Result<Check
                 level(Signal::Load, k).unwrap_or(p.noise.load),
                 level(Signal::Current, k),
             );
-            records.push(synth(&truth_file, &rec.u, rec.h, nz, seed * 7 + k as u64, &rec.name)?);
+            let s = seed * 7 + k as u64;
+            records.push(match &rec.closed {
+                Some(cl) => synth_in_loop(&truth_file, cl, nz, s, &rec.name)?,
+                None => synth(&truth_file, &rec.u, rec.h, nz, s, &rec.name)?,
+            });
             push_noise(Signal::Motor, Some(nz.0));
             push_noise(Signal::Load, Some(nz.1));
             push_noise(Signal::Current, nz.2);
+            if rec.closed.is_some() {
+                push_noise(Signal::Command, level(Signal::Command, k));
+            }
         }
-        records.push(synth(
-            &truth_file,
-            design_u,
-            h,
-            (p.noise.motor, p.noise.load, p.noise.current),
-            seed * 7 + 5,
-            "design",
-        )?);
+        let nz = (p.noise.motor, p.noise.load, p.noise.current);
+        records.push(match &p.closed {
+            Some(l) => synth_in_loop(&truth_file, &l.closed(design_u), nz, seed * 7 + 5, "design")?,
+            None => synth(&truth_file, design_u, h, nz, seed * 7 + 5, "design")?,
+        });
         push_noise(Signal::Motor, Some(p.noise.motor));
         push_noise(Signal::Load, Some(p.noise.load));
         push_noise(Signal::Current, p.noise.current);
+        if let Some(l) = &p.closed {
+            push_noise(Signal::Command, Some(l.command_noise));
+        }
         let mut state = seed ^ 0x9E37_79B9_7F4A_7C15;
         let mut start = truth;
         for &k in &p.free {

@@ -80,8 +80,12 @@ fn free_slots(spec: &CompliantSpec) -> Vec<usize> {
     (0..P).filter(|&k| spec.free[k] && !spec.follows(k)).collect()
 }
 
-/// Read the records of a compliant configuration `config` (voltage tests only).
-fn read_records(config: &Path) -> Result<(CompliantConfig, Vec<VoltageRecord>)> {
+/// A record as read and its reference column (closed loop) [rad].
+type Read = (VoltageRecord, Option<Vec<f64>>);
+
+/// Read the records of a compliant configuration `config` (voltage tests, or closed-loop
+/// records with their reference, read as the fit reads them).
+fn read_records(config: &Path) -> Result<(CompliantConfig, Vec<Read>)> {
     let text = std::fs::read_to_string(config)
         .with_context(|| format!("cannot read the fit's configuration {}", config.display()))?;
     let file = config.display().to_string();
@@ -89,29 +93,7 @@ fn read_records(config: &Path) -> Result<(CompliantConfig, Vec<VoltageRecord>)> 
     let base = config.parent().unwrap_or(Path::new("."));
     let mut out = Vec::new();
     for ec in &cfg.experiment {
-        let Some(v) = &ec.voltage else {
-            bail!(
-                "{file}: [[experiment]] '{}' is a closed-loop record; hdw design plans voltage tests",
-                ec.name
-            )
-        };
-        let path = base.join(&ec.file);
-        let cols =
-            hd_io::read_columns(&path, &[ec.time.as_str(), v.as_str(), &ec.motor, &ec.load])?;
-        let current = match &ec.current {
-            Some(c) => Some(hd_io::read_columns(&path, &[c.as_str()])?.remove(0)),
-            None => None,
-        };
-        let sc = |x: &[f64], s: f64| x.iter().map(|v| v * s).collect::<Vec<f64>>();
-        out.push(VoltageRecord::new(
-            &ec.name,
-            &path.display().to_string(),
-            cols[0].clone(),
-            sc(&cols[1], ec.voltage_scale),
-            sc(&cols[2], ec.motor_scale),
-            sc(&cols[3], ec.load_scale),
-            current.map(|i| sc(&i, ec.current_scale)),
-        )?);
+        out.push(super::fit_drive_compliant::load(ec, &ec.name, &base.join(&ec.file))?);
     }
     Ok((cfg, out))
 }
@@ -148,12 +130,6 @@ pub fn from_fit(
     if doc["transmission"].as_str() != Some("compliant") {
         bail!(
             "{}: not a compliant-drive fit (transmission = \"compliant\"); hdw design plans the compliant drive's voltage tests",
-            json_path.display()
-        );
-    }
-    if !doc["controller"].is_null() {
-        bail!(
-            "{}: a fit of a closed loop; hdw design plans open-loop voltage tests",
             json_path.display()
         );
     }
@@ -196,12 +172,29 @@ pub fn from_fit(
     } else {
         dir.join("..").join(config.file_name().unwrap_or_default())
     };
-    let (cfg, records) = read_records(&config)?;
+    let (cfg, read) = read_records(&config)?;
     spec.current_offset = cfg.fit.current_offset.unwrap_or(true);
     let exps = &doc["experiments"];
     let level = |rec: &str, o: &str| exps[rec][o]["noise"].as_f64();
+    // A fit of a closed loop: its controller, with the delay it chose, on every record.
+    let closed = match (doc["controller"].is_null(), read.first()) {
+        (false, Some((first, _))) => {
+            let noise = level(&first.name, Signal::Command.name()).unwrap_or(f64::NAN);
+            let file = json_path.display().to_string();
+            Some(super::design_loop::from_fit_json(&doc["controller"], &file, first.h, noise)?)
+        }
+        _ => None,
+    };
+    let mut records = Vec::with_capacity(read.len());
+    for (rec, reference) in read {
+        records.push(match (&closed, reference) {
+            (Some(l), Some(r)) => rec.in_loop(l.closed(&r))?,
+            (Some(_), None) => bail!("{}: no reference column for the closed loop", rec.source),
+            (None, _) => rec,
+        });
+    }
     let mut outputs: Vec<(Signal, Vec<f64>)> = Vec::new();
-    for o in [Signal::Motor, Signal::Load, Signal::Current] {
+    for o in [Signal::Motor, Signal::Load, Signal::Current, Signal::Command] {
         let levels: Option<Vec<f64>> = records.iter().map(|r| level(&r.name, o.name())).collect();
         if let Some(l) = levels {
             outputs.push((o, l));
@@ -239,29 +232,22 @@ pub fn from_fit(
     }
     let free_idx = free_slots(&spec);
     let prior = prior_information(&spec, &values, &free_idx, &records);
-    let records: Vec<VoltageRecord> = records;
     Ok(Loaded {
-        problem: Problem {
-            spec,
-            values,
-            free: free_idx,
-            noise: new_noise,
-            prior,
-            limits,
-            closed: None,
-        },
+        problem: Problem { spec, values, free: free_idx, noise: new_noise, prior, limits, closed },
         records,
         params_file,
         fitted_se: Some(fitted_se),
     })
 }
 
-/// Load from a params file `path` with unknowns `free` (registry names).
+/// Load from a params file `path` with unknowns `free` (registry names), in the loop of
+/// the `[controller]` of `controller` if given.
 pub fn from_params(
     path: &Path,
     free: &[String],
     limits: Limits,
     noise: &NoiseArgs,
+    controller: Option<&Path>,
 ) -> Result<Loaded> {
     let (values, n, directional) = read_params(path)?;
     let mut f = [false; P];
@@ -293,16 +279,17 @@ pub fn from_params(
         load: count_noise(noise.load_counts.unwrap_or(1 << 20)),
         current: Some(noise.current_noise.unwrap_or(0.01)),
     };
+    let closed = match controller {
+        Some(c) => Some(super::design_loop::from_file(
+            c,
+            1.0 / limits.rate,
+            new_noise.motor,
+            new_noise.load,
+        )?),
+        None => None,
+    };
     Ok(Loaded {
-        problem: Problem {
-            spec,
-            values,
-            free: free_idx,
-            noise: new_noise,
-            prior,
-            limits,
-            closed: None,
-        },
+        problem: Problem { spec, values, free: free_idx, noise: new_noise, prior, limits, closed },
         records: Vec::new(),
         params_file: path.to_path_buf(),
         fitted_se: None,

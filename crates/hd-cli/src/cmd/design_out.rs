@@ -1,4 +1,5 @@
-//! The outputs of `hdw design`: input.csv and input.parquet (t [s], u [V]), design.json,
+//! The outputs of `hdw design`: input.csv and input.parquet (t [s], u [V], or a closed
+//! loop's reference [rad]), design.json,
 //! report.md and its plots (the input, its spectrum, the simulated response against the
 //! limits, the predicted standard errors beside the defaults').
 
@@ -38,8 +39,10 @@ fn peaks_json(e: &Evaluated, loaded: &Loaded) -> Value {
         .into_iter()
         .map(|(n, pk, lim, unit)| json!({"quantity": n, "peak": pk, "limit": lim, "unit": unit, "ratio": pk / lim}))
         .collect();
-    json!({"peaks": rows, "binds": e.scaled.binds, "within": e.scaled.within, "amplitude_V": e.scaled.amplitude,
-           "peak_current_A": e.scaled.peaks.current, "peak_speed_rad_s": e.scaled.peaks.speed,
+    // The scaled amplitude is the input's: a voltage [V], or a loop's reference [rad].
+    let amplitude = if loaded.problem.closed.is_some() { "amplitude_rad" } else { "amplitude_V" };
+    json!({"peaks": rows, "binds": e.scaled.binds, "within": e.scaled.within, amplitude: e.scaled.amplitude,
+           "peak_reference_rad": e.scaled.peaks.reference, "peak_current_A": e.scaled.peaks.current, "peak_speed_rad_s": e.scaled.peaks.speed,
            "peak_load_speed_rad_s": e.scaled.peaks.load_speed,
            "peak_deflection_rad": e.scaled.peaks.deflection, "peak_torque_Nm": e.scaled.peaks.torque,
            "peak_load_angle_rad": e.scaled.peaks.load_angle})
@@ -121,8 +124,10 @@ pub fn write(
     let best = o.best();
     let rate = p.limits.rate;
     let t: Vec<f64> = (0..best.scaled.u.len()).map(|k| k as f64 / rate).collect();
+    // A closed loop's input is its position reference [rad]; a voltage test's, u [V].
+    let (column, unit) = if p.closed.is_some() { ("reference", "rad") } else { ("u", "V") };
     for f in ["input.csv", "input.parquet"] {
-        hd_io::write_columns(&dir.join(f), &["t", "u"], &[t.clone(), best.scaled.u.clone()])?;
+        hd_io::write_columns(&dir.join(f), &["t", column], &[t.clone(), best.scaled.u.clone()])?;
     }
     let mut judged = vec![judge("design", best, loaded, o)];
     for (name, e) in &o.defaults {
@@ -234,7 +239,13 @@ pub fn write(
         .collect();
     let mut doc = json!({
         "criterion": o.criterion.name(),
-        "limits": {"voltage_V": p.limits.voltage, "current_A": p.limits.current, "speed_rad_s": p.limits.speed,
+        "input_column": column,
+        "input_unit": unit,
+        "controller": p.closed.as_ref().map(|l| json!({"kp": l.controller.kp, "kv": l.controller.kv,
+            "saturation": l.controller.saturation, "delay": l.controller.delay,
+            "speed_filter": l.controller.speed_filter, "feedback": l.feedback.name(),
+            "amplifier": l.amplifier.name(), "command_noise": l.command_noise})),
+        "limits": {"reference_rad": p.limits.reference, "voltage_V": p.limits.voltage, "current_A": p.limits.current, "speed_rad_s": p.limits.speed,
                    "load_speed_rad_s": p.limits.load_speed,
                    "deflection_rad": p.limits.deflection, "torque_Nm": p.limits.torque,
                    "load_angle_rad": p.limits.load_angle, "duration_s": p.limits.duration, "rate_Hz": rate},
@@ -328,8 +339,8 @@ pub fn write(
         &dir.join("input.svg"),
         "Designed input",
         "t [s]",
-        "u [V]",
-        &[Series::new("u", t.clone(), best.scaled.u.clone())],
+        &format!("{column} [{unit}]"),
+        &[Series::new(column, t.clone(), best.scaled.u.clone())],
         false,
     )?;
     let (fs, db) = spectrum(&best.scaled.u, rate);
@@ -342,7 +353,7 @@ pub fn write(
         &dir.join("spectrum.svg"),
         "Input spectra",
         "f [Hz]",
-        "|U| [dB re 1 V]",
+        &format!("|{column}| [dB re 1 {unit}]"),
         &spec,
         true,
     )?;
@@ -351,8 +362,18 @@ pub fn write(
     let mut resp = vec![Series::new(
         "u / limit",
         t.clone(),
-        best.scaled.u.iter().map(|v| v / l.voltage).collect(),
+        r.voltage.iter().map(|v| v / l.voltage).collect(),
     )];
+    if let Some(lim) = l.reference {
+        resp.insert(
+            0,
+            Series::new(
+                "reference / limit",
+                t.clone(),
+                best.scaled.u.iter().map(|v| v / lim).collect(),
+            ),
+        );
+    }
     let norm = |x: &[f64], lim: Option<f64>| -> Vec<f64> {
         let s = lim
             .unwrap_or_else(|| x.iter().fold(0.0f64, |m, v| m.max(v.abs())).max(f64::MIN_POSITIVE));

@@ -35,7 +35,7 @@ const MAX_ITERATIONS: usize = 300;
 
 /// Read one record with `ec`'s mapping from `path`: a voltage test, or a closed-loop record
 /// (its `u` the recorded command) with its reference [rad].
-fn load(
+pub(crate) fn load(
     ec: &VoltageExperimentConfig,
     name: &str,
     path: &Path,

@@ -7,6 +7,7 @@ pub mod datasheet;
 pub mod design;
 pub mod design_check;
 pub mod design_load;
+pub mod design_loop;
 pub mod design_out;
 pub mod envelope;
 pub mod explore;

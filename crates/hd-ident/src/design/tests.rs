@@ -262,3 +262,113 @@ fn torque_load_travel_and_load_speed_limits_bind() {
     assert_eq!(s.binds, "load speed");
     assert!(s.within && s.peaks.load_speed > 0.97 * 0.5 * free_run.peaks.load_speed);
 }
+
+/// The seed drive in a motor-encoder loop with a voltage amplifier (kp 30 1/s, kv 0.5
+/// V·s/rad, one sample's delay), its reference limited to `reference` [rad].
+fn in_loop(free: &[usize], duration: f64, reference: f64) -> Problem {
+    let controller = crate::drive::controller::Controller {
+        kp: 30.0,
+        kv: 0.5,
+        saturation: f64::INFINITY,
+        delay: 1,
+        speed_filter: vec![1.0],
+        h: 1e-3,
+        open_loop: None,
+    };
+    let l = Limits { reference: Some(reference), ..limits(duration) };
+    let mut pr = problem(free, l);
+    let command_noise = command_noise(&controller, pr.noise.motor);
+    pr.closed = Some(Loop {
+        controller,
+        feedback: crate::drive::compliant::Feedback::Motor,
+        amplifier: crate::drive::compliant::Amplifier::Voltage,
+        command_noise,
+    });
+    pr
+}
+
+/// The command noise of the cascade law on white encoder noise σ is its closed form: with
+/// the one-tap speed filter, u_k = −kv·(kp + 1/h)·q_k + kv/h·q_(k−1), so
+/// σ_u = σ·kv·√((kp + 1/h)² + 1/h²).
+#[test]
+fn command_noise_is_the_laws_closed_form() {
+    let pr = in_loop(&[ix::R], 0.2, 0.5);
+    let l = pr.closed.as_ref().unwrap();
+    let c = &l.controller;
+    let sigma = pr.noise.motor;
+    let exact = sigma * c.kv * ((c.kp + 1.0 / c.h).powi(2) + 1.0 / (c.h * c.h)).sqrt();
+    let rel = (l.command_noise / exact - 1.0).abs();
+    assert!(rel < 2e-2, "{} {exact} ({rel:e})", l.command_noise);
+}
+
+/// In closed loop the input is the reference: a ramp reference scaled to its own limit
+/// binds there, the voltage reported is the command the loop computed (its record's
+/// command column, sample by sample), and a voltage limit below that peak binds instead.
+#[test]
+fn a_loop_design_scales_its_reference() {
+    let pr = in_loop(&[ix::R, ix::KE, ix::JJ], 0.3, 0.5);
+    let shape =
+        Design::single(Segment::Ramp { f: 3.0, dwell: 0.2 }).shape(pr.limits.samples(), 1000.0);
+    let s = pr.scaled(&shape);
+    assert_eq!(s.binds, "reference", "{:?}", s.peaks);
+    assert!((s.peaks.reference - 0.5).abs() < 1e-12 && s.within);
+    let rec = pr.record(&s.u);
+    assert_eq!(rec.u.len(), s.response.voltage.len());
+    for (a, b) in rec.u.iter().zip(&s.response.voltage) {
+        assert!((a - b).abs() <= 1e-12 * s.peaks.voltage.max(1.0), "{a} {b}");
+    }
+    assert!(s.peaks.voltage > 0.0);
+    let l = Limits { voltage: 0.5 * s.peaks.voltage, ..pr.limits.clone() };
+    let q = Problem { limits: l, ..pr.clone() };
+    let t = q.scaled(&shape);
+    assert_eq!(t.binds, "voltage");
+    assert!(t.within && t.peaks.voltage > 0.97 * 0.5 * s.peaks.voltage && t.amplitude < 0.5);
+}
+
+/// The information of a loop record (motor and load encoders, current and the command, the
+/// fed-back encoder's zero not fitted) equals central differences of its simulated outputs.
+#[test]
+fn loop_information_matches_central_differences() {
+    let free = [ix::R, ix::KE, ix::JJ, ix::CJ, ix::JZ];
+    let pr = in_loop(&free, 0.3, 0.5);
+    let r: Vec<f64> = Design::single(Segment::Chirp { f0: 1.0, f1: 20.0 })
+        .shape(pr.limits.samples(), 1000.0)
+        .iter()
+        .map(|v| 0.5 * v)
+        .collect();
+    let info = pr.information(&r).unwrap();
+    let cn = pr.closed.as_ref().unwrap().command_noise;
+    let outputs = |values: [f64; P]| -> Vec<f64> {
+        let q = Problem { values, ..pr.clone() };
+        let rec = q.record(&r);
+        let m = rec.theta_l.iter().sum::<f64>() / rec.theta_l.len() as f64;
+        let mut out: Vec<f64> = rec.theta_m.iter().map(|v| v / pr.noise.motor).collect();
+        out.extend(rec.theta_l.iter().map(|v| (v - m) / pr.noise.load));
+        out.extend(rec.current.unwrap().iter().map(|v| v / pr.noise.current.unwrap()));
+        out.extend(rec.u.iter().map(|v| v / cn));
+        out
+    };
+    let cols: Vec<Vec<f64>> = free
+        .iter()
+        .map(|&k| {
+            let h = 1e-5;
+            let at = |s: f64| {
+                let mut v = pr.values;
+                v[k] *= (s * h).exp();
+                v = pr.spec.tied(v);
+                outputs(v)
+            };
+            let (a, b) = (at(1.0), at(-1.0));
+            a.iter().zip(&b).map(|(x, y)| (x - y) / (2.0 * h)).collect()
+        })
+        .collect();
+    let mut worst = 0.0f64;
+    for i in 0..free.len() {
+        for j in 0..free.len() {
+            let fd: f64 = cols[i].iter().zip(&cols[j]).map(|(a, b)| a * b).sum();
+            let scale = (info[(i, i)] * info[(j, j)]).sqrt();
+            worst = worst.max((info[(i, j)] - fd).abs() / scale);
+        }
+    }
+    assert!(worst < 1e-7, "{worst:e}");
+}
