@@ -15,7 +15,7 @@ class DesignResult:
 
     Attributes:
         input: input.parquet, the designed input ready for the rig, as a polars DataFrame
-            (``t`` [s], ``u`` [V]).
+            (``t`` [s], ``u`` [V]; in closed loop ``t``, ``reference`` [rad]).
         report: design.json as a dict: ``criterion``, ``limits``, ``noise``, ``free``,
             ``design`` (the peaks against the limits and which one binds), ``parameters``
             (per parameter its value and the absolute standard errors and predicted
@@ -119,7 +119,8 @@ def design(
         motor_counts: motor encoder counts per revolution (default: the fit's noise level).
         load_counts: load encoder counts per revolution (default: the fit's noise level).
         current_noise: the current's noise, standard deviation [A].
-        input: judge this input (CSV or Parquet, ``t`` and ``u``) instead of searching.
+        input: judge this input (CSV or Parquet, ``t`` and ``u``, or ``reference`` in closed
+            loop) instead of searching.
         at: with ``fit``, predict at this params file's values instead of the fitted ones.
         check: refit check: synthesise and fit this many records.
         truth: the params file the check synthesises from (default: the designed-for drive).

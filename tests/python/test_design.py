@@ -144,3 +144,15 @@ def test_a_bad_setting_is_a_value_error(tmp_path):
         hdw.design(params=START, free=["R"], family=["sine"], out=tmp_path / "o", hdw=HDW)
     with pytest.raises(ValueError, match="--fit DIR"):
         hdw.design(out=tmp_path / "o", hdw=HDW)
+
+
+def test_a_closed_loop_design_from_python(tmp_path):
+    ctl = ROOT / "data" / "compliant" / "controller.toml"
+    r = hdw.design(params=START, free=["R", "Ke", "Jj"], duration=0.2, evaluations=4,
+                   family=["chirp"], controller=ctl, reference=0.5, out=tmp_path / "py",
+                   hdw=HDW)
+    assert r.input.columns == ["t", "reference"]
+    assert r.report["controller"]["kp"] == 30.0
+    assert 0 < r.input["reference"].abs().max() <= 0.5 * (1 + 1e-9)
+    with pytest.raises(ValueError, match="--reference"):
+        hdw.design(params=START, free=["R"], reference=0.5, out=tmp_path / "bad", hdw=HDW)

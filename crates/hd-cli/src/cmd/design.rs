@@ -26,7 +26,9 @@ prior's weakest directions), d (log det over every free parameter), a (relative 
 ramp (triangles with dwell at zero), mix (a multisine then ramps); each candidate is scaled to the\n\
 largest amplitude whose simulated peak voltage, current, motor and load speed, gear deflection,\n\
 transmitted torque and load travel stay within the limits, and a few family parameters are searched by Nelder–Mead.\n\n\
-Writes input.csv and input.parquet (t [s], u [V]), design.json, report.md and plots. --check N\n\
+In closed loop (--controller FILE.toml, or --fit of a closed-loop fit) the input is the position\n\
+reference [rad, on the fed-back encoder] through that controller, scaled also to --reference.\n\n\
+Writes input.csv and input.parquet (t [s], u [V]; in closed loop t, reference [rad]), design.json, report.md and plots. --check N\n\
 synthesises N records of the design (and of the fitted records) with fresh noise as hdw synth drive\n\
 does, refits each from perturbed starts, and compares the spread with the predicted standard errors.\n\n\
 Example:\n  hdw design --params data/compliant/start.toml --free R,Ke,Jj,Cj --duration 0.1 --evaluations 6 --family chirp --out out/design-demo"
@@ -101,7 +103,8 @@ pub struct DesignArgs {
     /// Current noise, standard deviation [A] [default: the fit's level, else 0.01].
     #[arg(long)]
     pub current_noise: Option<f64>,
-    /// Evaluate this input (CSV or Parquet, columns t [s] and u [V], at the design's rate)
+    /// Evaluate this input (CSV or Parquet, columns t [s] and u [V], or in closed loop
+    /// reference [rad], at the design's rate)
     /// instead of searching: its predicted SEs and peaks, as given (not rescaled).
     #[arg(long, value_name = "FILE")]
     pub input: Option<PathBuf>,
