@@ -173,6 +173,11 @@ fn a_closed_loop_design_is_of_the_reference() {
         .map(|l| l.split(',').nth(1).unwrap().parse::<f64>().unwrap().abs())
         .fold(0.0, f64::max);
     assert!(rmax > 0.0 && rmax <= 0.5 * (1.0 + 1e-9), "peak reference {rmax}");
+    // It fades in and out: no step into the loop at either end.
+    let rows: Vec<&str> = text.lines().skip(1).collect();
+    for row in [rows[0], rows[rows.len() - 1]] {
+        assert_eq!(row.split(',').nth(1).unwrap().parse::<f64>().unwrap(), 0.0, "{row}");
+    }
     assert!(d["design"]["amplitude_rad"].as_f64().unwrap() <= 0.5 * (1.0 + 1e-9));
     for k in ["R", "Ke", "Jj", "Cj"] {
         assert!(d["parameters"][k]["design_alone_std_error"].as_f64().unwrap() > 0.0, "{k}");

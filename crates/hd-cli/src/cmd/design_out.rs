@@ -146,24 +146,27 @@ pub fn write(
         let (before, with) = (has_prior && prior_pred[s].2, judged[0].together[s].2);
         let by_default: Vec<&str> =
             judged[1..].iter().filter(|j| j.together[s].2).map(|j| j.name.as_str()).collect();
+        let corr = match judged[0].strongest[s] {
+            Some((j, r)) if r.abs() >= CORRELATION_LIMIT => {
+                format!("; correlation {r:.4} with {}", names[j])
+            }
+            _ => String::new(),
+        };
         let what = match (before, with) {
-            (true, _) => format!("{n} is determined already"),
+            (true, true) => format!("{n} is determined already"),
+            // More information can still raise a correlation past the fit's limit.
+            (true, false) => format!(
+                "{n} is determined by the fitted records, but not together with the designed record (relative SE {}{corr})",
+                fmt(judged[0].together[s].0)
+            ),
             (false, true) => format!(
                 "{n} becomes determined with the designed record (relative SE {:.2e})",
                 judged[0].together[s].0.unwrap_or(f64::NAN)
             ),
-            (false, false) => {
-                let corr = match judged[0].strongest[s] {
-                    Some((j, r)) if r.abs() >= CORRELATION_LIMIT => {
-                        format!("; correlation {r:.4} with {}", names[j])
-                    }
-                    _ => String::new(),
-                };
-                format!(
-                    "{n} stays undetermined (relative SE {}{corr})",
-                    fmt(judged[0].together[s].0)
-                )
-            }
+            (false, false) => format!(
+                "{n} stays undetermined (relative SE {}{corr})",
+                fmt(judged[0].together[s].0)
+            ),
         };
         let dflt = if by_default.is_empty() {
             "no default input determines it".to_string()

@@ -254,3 +254,19 @@ impl Family {
         }
     }
 }
+
+/// Share of a closed loop's record over which its reference fades in, and again out [–].
+pub const FADE: f64 = 0.05;
+
+/// Fade `u` in and out over `share` of its samples at each end (a raised cosine, 0 at the
+/// first and last sample), so it starts and ends at zero: a position loop's reference then
+/// starts without a step and brings the drive back to where it started.
+pub fn fade(u: &mut [f64], share: f64) {
+    let n = u.len();
+    let m = ((share * n as f64).round() as usize).min(n / 2);
+    for k in 0..m {
+        let w = 0.5 * (1.0 - (std::f64::consts::PI * k as f64 / m as f64).cos());
+        u[k] *= w;
+        u[n - 1 - k] *= w;
+    }
+}

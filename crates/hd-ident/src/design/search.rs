@@ -4,7 +4,7 @@
 
 use super::criterion::Criterion;
 use super::info::{Problem, Scaled};
-use super::input::{Design, Family};
+use super::input::{Design, FADE, Family, fade};
 use nalgebra::DMatrix;
 use rayon::prelude::*;
 
@@ -21,9 +21,13 @@ pub struct Evaluated {
     pub cost: f64,
 }
 
-/// Scale `design` to the limits and judge it by `criterion`.
+/// Scale `design` to the limits (faded in and out first in closed loop, [`fade`]) and judge
+/// it by `criterion`.
 pub fn evaluate(problem: &Problem, design: &Design, criterion: &Criterion) -> Evaluated {
-    let shape = design.shape(problem.limits.samples(), problem.limits.rate);
+    let mut shape = design.shape(problem.limits.samples(), problem.limits.rate);
+    if problem.closed.is_some() {
+        fade(&mut shape, FADE);
+    }
     let scaled = problem.scaled(&shape);
     let k = problem.free.len();
     let (info, cost) = match problem.information(&scaled.u) {

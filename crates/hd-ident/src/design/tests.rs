@@ -372,3 +372,39 @@ fn loop_information_matches_central_differences() {
     }
     assert!(worst < 1e-7, "{worst:e}");
 }
+
+/// The fade is a raised cosine: 0 at both ends, ½ at a quarter of its span, the input
+/// itself beyond it.
+#[test]
+fn the_fade_is_a_raised_cosine() {
+    let mut u = vec![2.0; 101];
+    super::input::fade(&mut u, 0.1);
+    // 10 samples each end: w(k) = (1 − cos(πk/10))/2.
+    assert_eq!((u[0], u[100]), (0.0, 0.0));
+    assert!((u[5] - 1.0).abs() < 1e-12 && (u[95] - 1.0).abs() < 1e-12, "{} {}", u[5], u[95]);
+    assert!(u[10..=90].iter().all(|&v| v == 2.0));
+    assert!(u[..10].windows(2).all(|w| w[0] < w[1]), "{:?}", &u[..10]);
+}
+
+/// A loop's designed reference starts and ends at zero (no step into the position loop),
+/// and a multisine, which starts away from zero, keeps its shape between the fades.
+#[test]
+fn a_loop_reference_starts_and_ends_at_rest() {
+    let pr = in_loop(&[ix::R, ix::KE, ix::JJ], 0.3, 0.5);
+    let d = Design::single(Segment::Multisine { f0: 5.0, f1: 100.0, lines: 8, tilt: 0.0 });
+    let shape = d.shape(pr.limits.samples(), 1000.0);
+    let e = super::search::evaluate(&pr, &d, &Criterion::D);
+    let (u, n) = (&e.scaled.u, e.scaled.u.len());
+    assert_eq!((u[0], u[n - 1]), (0.0, 0.0));
+    let m = (super::input::FADE * n as f64).round() as usize;
+    let a = e.scaled.amplitude;
+    for k in m..n - m {
+        assert!((u[k] - a * shape[k]).abs() <= 1e-12 * a, "{k}");
+    }
+    // Within the fades the reference is the shape attenuated, and the fades had work to do.
+    let ends: Vec<usize> = (0..m).chain(n - m..n).collect();
+    assert!(ends.iter().all(|&k| u[k].abs() <= a * shape[k].abs() * (1.0 + 1e-12)));
+    assert!(ends.iter().any(|&k| shape[k].abs() > 0.1), "the shape is small at its ends");
+    assert!((u[n - 2] / (a * shape[n - 2])).abs() < 0.05, "{} {}", u[n - 2], shape[n - 2]);
+    assert!(e.scaled.peaks.reference <= 0.5 * (1.0 + 1e-9));
+}
