@@ -207,3 +207,70 @@ fn a_loop_needs_both_its_controller_and_its_reference() {
         assert!(!out.join("design.json").exists(), "{needles:?}");
     }
 }
+
+/// `--fit` of a closed-loop fit brings its loop (the controller and the delay its check
+/// chose), and finds the fit's configuration from any working folder: fit.json keeps its
+/// absolute path besides the one the fit was given (a relative path, which from elsewhere
+/// named nothing).
+#[test]
+fn a_loop_fit_designs_its_reference_from_another_folder() {
+    let dir = scratch("design-loop-fit");
+    let cfg_dir = dir.join("cfg");
+    std::fs::create_dir_all(&cfg_dir).unwrap();
+    let steps = cfg_dir.join("steps.csv");
+    hdw_ok(&[
+        "synth",
+        "drive",
+        "--loop-kp",
+        "30",
+        "--loop-kv",
+        "0.5",
+        "--loop-reference",
+        "steps",
+        "--freq",
+        "5",
+        "--t-end",
+        "0.5",
+        "--motor-counts",
+        "65536",
+        "--out",
+        steps.to_str().unwrap(),
+    ]);
+    let start = repo_path("data/compliant/start.toml");
+    let text = std::fs::read_to_string(repo_path("data/compliant/loop.toml"))
+        .unwrap()
+        .replace("\"start.toml\"", &format!("{:?}", start.to_str().unwrap()))
+        .replace("\"../../out/compliant/loop-steps.csv\"", "\"steps.csv\"");
+    std::fs::write(cfg_dir.join("loop.toml"), text).unwrap();
+    let fit = dir.join("out").join("fit");
+    let o = std::process::Command::new(env!("CARGO_BIN_EXE_hdw"))
+        .current_dir(&cfg_dir)
+        .args(["fit", "drive", "--config", "loop.toml", "--out", fit.to_str().unwrap()])
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    // From the test's own folder, where "loop.toml" names nothing.
+    let out = dir.join("design");
+    hdw_ok(&[
+        "design",
+        "--fit",
+        fit.to_str().unwrap(),
+        "--duration",
+        "0.2",
+        "--evaluations",
+        "3",
+        "--family",
+        "chirp",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    let d = json(&out.join("design.json"));
+    let f = json(&fit.join("fit.json"));
+    assert_eq!(d["input_column"], "reference");
+    assert_eq!(d["controller"]["kp"], 30.0);
+    assert_eq!(d["controller"]["delay"], f["controller"]["delay"], "{}", d["controller"]);
+    // The command's noise is the fit's estimate for its record.
+    assert_eq!(d["controller"]["command_noise"], f["experiments"]["steps"]["command"]["noise"]);
+    let peak_ref = d["limits"]["reference_rad"].as_f64().unwrap();
+    assert!(peak_ref > 0.0 && d["design"]["peak_reference_rad"].as_f64().unwrap() <= peak_ref);
+}

@@ -164,13 +164,25 @@ pub fn from_fit(
             _ => hd_model::FrictionVelocity::Motor,
         };
     }
-    // The configuration as the fit was given it (relative to where it ran), else beside the
-    // output folder's parent.
-    let config = PathBuf::from(doc["config"].as_str().unwrap_or(""));
-    let config = if config.is_file() {
-        config
-    } else {
-        dir.join("..").join(config.file_name().unwrap_or_default())
+    // The configuration as the fit was given it (relative to where it ran), else where it
+    // was then (fit.json's absolute path), else beside the output folder's parent.
+    let given = PathBuf::from(doc["config"].as_str().unwrap_or(""));
+    let tried: Vec<PathBuf> = [
+        Some(given.clone()),
+        doc["config_absolute"].as_str().map(PathBuf::from),
+        Some(dir.join("..").join(given.file_name().unwrap_or_default())),
+    ]
+    .into_iter()
+    .flatten()
+    .collect();
+    let Some(config) = tried.iter().find(|p| p.is_file()).cloned() else {
+        let list: Vec<String> = tried.iter().map(|p| p.display().to_string()).collect();
+        bail!(
+            "{}: the fit's configuration '{}' is not found (tried {}); run hdw design from the folder the fit ran in, or keep the configuration and its records where they were",
+            dir.join("fit.json").display(),
+            given.display(),
+            list.join(", ")
+        )
     };
     let (cfg, read) = read_records(&config)?;
     spec.current_offset = cfg.fit.current_offset.unwrap_or(true);

@@ -177,8 +177,11 @@ fn write_all(dir: &Path, o: &Outcome) -> Result<()> {
             )
         })
         .collect();
+    // Where the configuration is wherever one reads fit.json from (hdw design re-reads it).
+    let config_absolute = std::fs::canonicalize(&o.config).ok().map(|p| p.display().to_string());
     let doc = json!({
         "config": o.config,
+        "config_absolute": config_absolute,
         "transmission": "compliant",
         "stiffness": law.name(),
         "N": sp.n,
