@@ -74,6 +74,14 @@ fn design_check_refits() {
         let no_se = p["std_errors"].as_array().unwrap().iter().filter(|s| s.is_null()).count();
         assert_eq!(p["without_std_error_in"], no_se, "{k}");
     }
+    // Each refit's cost against the truth's on its own records: the truth is a point the
+    // fit could reach, so a refit at its optimum is at or below it (these three are).
+    let above = d["check"]["cost_above_truth"].as_array().unwrap();
+    assert_eq!(above.len(), 3, "{}", d["check"]);
+    for a in above {
+        assert!(a.as_f64().unwrap() < 0.5, "a refit stopped above the truth's cost: {a}");
+    }
+    assert_eq!(d["check"]["short_of_optimum"], 0);
     let r = &d["check"]["parameters"]["R"];
     // Three refits of R (truth 7.5 in the start file) land near the truth.
     assert!((r["mean"].as_f64().unwrap() / 7.5 - 1.0).abs() < 0.01, "{r}");

@@ -14,6 +14,7 @@ use super::synth_drive::encoder;
 use anyhow::{Context, Result};
 use hd_ident::design::Outcome;
 use hd_ident::drive::compliant::fit::CompliantSpec;
+use hd_ident::drive::compliant::fit::cost_at;
 use hd_ident::drive::compliant::model::P;
 use hd_ident::drive::compliant::synth_loop::run_loop;
 use hd_ident::drive::compliant::{ClosedLoop, Feedback, Signal, VoltageRecord, fit_compliant};
@@ -29,6 +30,11 @@ use std::time::Instant;
 pub const START_OFFSET: f64 = 0.25;
 
 /// One refit: values, standard errors, determined flags ([`NAMES`](hd_ident::drive::compliant::NAMES) order).
+/// How far above the truth's cost a refit may stop and still count as at its optimum [–]:
+/// half a unit of the noise-weighted sum of squares, far below what moves an estimate by a
+/// standard error (one unit) and far above the fits' own stopping tolerance.
+pub const SHORT_OF_OPTIMUM: f64 = 0.5;
+
 pub type Refit = ([f64; P], [Option<f64>; P], [bool; P]);
 
 /// The refits' results.
@@ -40,6 +46,11 @@ pub struct Check {
     pub fits: Vec<Refit>,
     /// Each refit's verdict in words (the fit's sentences on what the records determine).
     pub sentences: Vec<Vec<String>>,
+    /// Each refit's Σ (residual/noise)² less the truth's on the same records, at the same
+    /// substeps [–] (None where either cannot be evaluated). The truth is a point the fit
+    /// could have reached, so a refit above it by more than [`SHORT_OF_OPTIMUM`] stopped at a
+    /// local optimum: its distance from the truth is the optimiser's, not the noise's.
+    pub above_truth: Vec<Option<f64>>,
     /// Refits that failed, with why.
     pub failed: Vec<String>,
     /// Wall time [s].
@@ -198,6 +209,7 @@ pub fn check(a: &DesignArgs, loaded: &Loaded, outcome: &Outcome) -> Result<Check
     let mut fits = Vec::new();
     let mut sentences = Vec::new();
     let mut failed = Vec::new();
+    let mut above_truth = Vec::new();
     for r in 0..a.check {
         let seed = a.seed.wrapping_mul(1000).wrapping_add(r as u64);
         let mut records = Vec::new();
@@ -261,6 +273,8 @@ pub fn check(a: &DesignArgs, loaded: &Loaded, outcome: &Outcome) -> Result<Check
         bar.set_message(format!("({} failed)", failed.len()));
         match fit_compliant(&spec, &records, &|_, _, _| {}) {
             Ok(f) => {
+                let at = |v: &[f64; P]| cost_at(&spec, v, &records);
+                above_truth.push(at(&f.values).zip(at(&truth)).map(|(a, b)| a - b));
                 fits.push((f.values, f.std_errors, f.determined));
                 sentences.push(f.determination.sentences);
             }
@@ -269,5 +283,5 @@ pub fn check(a: &DesignArgs, loaded: &Loaded, outcome: &Outcome) -> Result<Check
         bar.inc(1);
     }
     bar.finish_and_clear();
-    Ok(Check { truth, fits, sentences, failed, secs: t0.elapsed().as_secs_f64() })
+    Ok(Check { truth, fits, sentences, above_truth, failed, secs: t0.elapsed().as_secs_f64() })
 }

@@ -333,8 +333,26 @@ pub fn write(
                 n = c.fits.len()
             );
         }
+        // Refits that stopped above the truth's cost: local optima of the fit.
+        let short: Vec<f64> = c
+            .above_truth
+            .iter()
+            .flatten()
+            .copied()
+            .filter(|d| *d > super::design_check::SHORT_OF_OPTIMUM)
+            .collect();
+        if !short.is_empty() {
+            let worst = short.iter().fold(0.0f64, |a, &b| a.max(b));
+            let line = format!(
+                "{} of {} refits stopped at a cost above the truth's on their own records (by up to {worst:.3} in Σ(r/σ)²): local optima of the fit, so their distance from the truth is the optimiser's, not the information's, and the spread above counts it.",
+                short.len(),
+                c.fits.len()
+            );
+            eprintln!("  {line}");
+            let _ = writeln!(check_md, "\n{line}");
+        }
         doc["check"] = json!({"refits": c.fits.len(), "failed": c.failed, "wall_time_s": c.secs, "parameters": rows,
-            "verdicts": c.sentences});
+            "verdicts": c.sentences, "cost_above_truth": c.above_truth, "short_of_optimum": short.len()});
     }
     write_json(&dir.join("design.json"), &doc)?;
     // Plots.
