@@ -95,6 +95,32 @@ fn criteria_of_a_known_matrix() {
     assert!((p.correlation[(0, 1)] - rho).abs() < 1e-12);
 }
 
+/// The information of `pr`'s free parameters `free` (log coordinates) from central
+/// differences (step 1e-5 in ln p) of `outputs`, the noise-weighted outputs at a parameter
+/// set: the Gram matrix of the difference columns.
+fn difference_information(
+    pr: &Problem,
+    free: &[usize],
+    outputs: &dyn Fn([f64; P]) -> Vec<f64>,
+) -> DMatrix<f64> {
+    let h = 1e-5;
+    let cols: Vec<Vec<f64>> = free
+        .iter()
+        .map(|&k| {
+            let at = |s: f64| {
+                let mut v = pr.values;
+                v[k] *= (s * h).exp();
+                outputs(pr.spec.tied(v))
+            };
+            let (a, b) = (at(1.0), at(-1.0));
+            a.iter().zip(&b).map(|(x, y)| (x - y) / (2.0 * h)).collect()
+        })
+        .collect();
+    DMatrix::from_fn(free.len(), free.len(), |i, j| {
+        cols[i].iter().zip(&cols[j]).map(|(a, b)| a * b).sum()
+    })
+}
+
 /// JᵀJ from the fit's exact Jacobian equals the one from central differences of the
 /// simulated outputs (each less its mean, as the encoder zeros are fitted; each divided by
 /// its noise), in log coordinates.
@@ -120,24 +146,10 @@ fn information_matches_central_differences() {
         out.extend(rec.current.unwrap().iter().map(|v| v / pr.noise.current.unwrap()));
         out
     };
-    let cols: Vec<Vec<f64>> = free
-        .iter()
-        .map(|&k| {
-            let h = 1e-5;
-            let at = |s: f64| {
-                let mut v = pr.values;
-                v[k] *= (s * h).exp();
-                v = pr.spec.tied(v);
-                outputs(v)
-            };
-            let (a, b) = (at(1.0), at(-1.0));
-            a.iter().zip(&b).map(|(x, y)| (x - y) / (2.0 * h)).collect()
-        })
-        .collect();
+    let fd = difference_information(&pr, &free, &outputs);
     for i in 0..free.len() {
         for j in 0..free.len() {
-            let fd: f64 = cols[i].iter().zip(&cols[j]).map(|(a, b)| a * b).sum();
-            let scale = (info[(i, i)] * info[(j, j)]).sqrt();
+            let (fd, scale) = (fd[(i, j)], (info[(i, i)] * info[(j, j)]).sqrt());
             assert!(
                 (fd - info[(i, j)]).abs() < 1e-5 * scale,
                 "{} {}: exact {} differences {fd}",
@@ -348,26 +360,12 @@ fn loop_information_matches_central_differences() {
         out.extend(rec.u.iter().map(|v| v / cn));
         out
     };
-    let cols: Vec<Vec<f64>> = free
-        .iter()
-        .map(|&k| {
-            let h = 1e-5;
-            let at = |s: f64| {
-                let mut v = pr.values;
-                v[k] *= (s * h).exp();
-                v = pr.spec.tied(v);
-                outputs(v)
-            };
-            let (a, b) = (at(1.0), at(-1.0));
-            a.iter().zip(&b).map(|(x, y)| (x - y) / (2.0 * h)).collect()
-        })
-        .collect();
+    let fd = difference_information(&pr, &free, &outputs);
     let mut worst = 0.0f64;
     for i in 0..free.len() {
         for j in 0..free.len() {
-            let fd: f64 = cols[i].iter().zip(&cols[j]).map(|(a, b)| a * b).sum();
             let scale = (info[(i, i)] * info[(j, j)]).sqrt();
-            worst = worst.max((info[(i, j)] - fd).abs() / scale);
+            worst = worst.max((info[(i, j)] - fd[(i, j)]).abs() / scale);
         }
     }
     assert!(worst < 1e-7, "{worst:e}");
