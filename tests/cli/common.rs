@@ -128,3 +128,12 @@ pub fn simulates(out: &std::path::Path, sim: &std::path::Path) {
     args.push(sim.to_str().unwrap());
     hdw_ok(&args);
 }
+
+/// `hdw synth drive --loop-kp 30 ARGS --out OUT` (ARGS split at whitespace): a closed-loop
+/// record of the seed drive at the docs' position gain; fails the test unless it succeeds.
+pub fn synth_loop(args: &str, out: &Path) -> Output {
+    let mut all = vec!["synth", "drive", "--loop-kp", "30"];
+    all.extend(args.split_whitespace());
+    all.extend(["--out", out.to_str().unwrap()]);
+    hdw_ok(&all)
+}

@@ -226,24 +226,10 @@ fn a_loop_fit_designs_its_reference_from_another_folder() {
     let cfg_dir = dir.join("cfg");
     std::fs::create_dir_all(&cfg_dir).unwrap();
     let steps = cfg_dir.join("steps.csv");
-    hdw_ok(&[
-        "synth",
-        "drive",
-        "--loop-kp",
-        "30",
-        "--loop-kv",
-        "0.5",
-        "--loop-reference",
-        "steps",
-        "--freq",
-        "5",
-        "--t-end",
-        "0.5",
-        "--motor-counts",
-        "65536",
-        "--out",
-        steps.to_str().unwrap(),
-    ]);
+    crate::common::synth_loop(
+        "--loop-kv 0.5 --loop-reference steps --freq 5 --t-end 0.5 --motor-counts 65536",
+        &steps,
+    );
     let start = repo_path("data/compliant/start.toml");
     let text = std::fs::read_to_string(repo_path("data/compliant/loop.toml"))
         .unwrap()

@@ -3,7 +3,7 @@
 //! behind a current amplifier, the record names what it cannot separate; and the one-line
 //! errors of bad closed-loop configurations.
 
-use crate::common::{assert_one_line_error, fit_drive, hdw, hdw_ok, json, ok, scratch, simulates};
+use crate::common::{assert_one_line_error, fit_drive, hdw, json, ok, scratch, simulates};
 use std::path::Path;
 
 /// Motor parameters 20–30 % off, everything else the seed's (the truth of `synth drive`).
@@ -35,26 +35,11 @@ const LOOP_COLUMNS: &str = "reference = \"ref\"\ncommand = \"cmd\"";
 fn a_current_loop_is_fitted_back() {
     let dir = scratch("fit-compliant-loop");
     let rec = dir.join("loop.csv");
-    hdw_ok(&[
-        "synth",
-        "drive",
-        "--loop-kp",
-        "30",
-        "--loop-kv",
-        "0.05",
-        "--loop-amplifier",
-        "current",
-        "--loop-delay",
-        "1",
-        "--freq",
-        "5",
-        "--t-end",
-        "0.6",
-        "--motor-counts",
-        "65536",
-        "--out",
-        rec.to_str().unwrap(),
-    ]);
+    crate::common::synth_loop(
+        "--loop-kv 0.05 --loop-amplifier current --loop-delay 1 --freq 5 --t-end 0.6 \
+         --motor-counts 65536",
+        &rec,
+    );
     start(&dir);
     let cfg = config(
         &dir,
@@ -101,18 +86,7 @@ fn a_current_loop_is_fitted_back() {
 fn bad_closed_loop_configurations_get_one_line_errors() {
     let dir = scratch("fit-compliant-loop-bad");
     let rec = dir.join("loop.csv");
-    hdw_ok(&[
-        "synth",
-        "drive",
-        "--loop-kp",
-        "30",
-        "--loop-kv",
-        "0.5",
-        "--t-end",
-        "0.05",
-        "--out",
-        rec.to_str().unwrap(),
-    ]);
+    crate::common::synth_loop("--loop-kv 0.5 --t-end 0.05", &rec);
     start(&dir);
     let good = "kp = 30.0\nkv = 0.5";
     let cases: [(&str, Option<&str>, &str, &[&str]); 9] = [

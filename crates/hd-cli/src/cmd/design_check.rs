@@ -19,7 +19,6 @@ use hd_ident::drive::compliant::model::P;
 use hd_ident::drive::compliant::synth_loop::run_loop;
 use hd_ident::drive::compliant::{ClosedLoop, Feedback, Signal, VoltageRecord, fit_compliant};
 use hd_ident::synth::{Noise, add_noise};
-use hd_model::control::quantise;
 use hd_model::signals::Sample;
 use hd_model::{Input, Profile, simulate_streaming};
 use indicatif::{ProgressBar, ProgressStyle};
@@ -29,12 +28,12 @@ use std::time::Instant;
 /// Relative offset of the refits' starts from the truth [–].
 pub const START_OFFSET: f64 = 0.25;
 
-/// One refit: values, standard errors, determined flags ([`NAMES`](hd_ident::drive::compliant::NAMES) order).
 /// How far above the truth's cost a refit may stop and still count as at its optimum [–]:
 /// half a unit of the noise-weighted sum of squares, far below what moves an estimate by a
 /// standard error (one unit) and far above the fits' own stopping tolerance.
 pub const SHORT_OF_OPTIMUM: f64 = 0.5;
 
+/// One refit: values, standard errors, determined flags ([`NAMES`](hd_ident::drive::compliant::NAMES) order).
 pub type Refit = ([f64; P], [Option<f64>; P], [bool; P]);
 
 /// The refits' results.
@@ -179,12 +178,14 @@ fn synth_in_loop(
     let fed = if cl.feedback == Feedback::Load { load } else { motor };
     let run = run_loop(&cfg, c, cl.feedback, cl.amplifier, &cl.reference, fed)
         .context("the check's closed-loop record cannot be simulated")?;
-    let read = |x: &[f64], counts: u64| -> Vec<f64> {
-        x.iter().map(|v| quantise(*v, std::f64::consts::TAU / counts as f64)).collect()
-    };
+    // The fed-back encoder as the controller read it; the other at a random phase.
     let (theta_m, theta_l) = match cl.feedback {
-        Feedback::Motor => (read(&run.theta_j, motor), rounded(&run.theta_z, load, seed ^ 0xA3A3)),
-        Feedback::Load => (rounded(&run.theta_j, motor, seed ^ 0x5151), read(&run.theta_z, load)),
+        Feedback::Motor => {
+            (encoder(&run.theta_j, motor), rounded(&run.theta_z, load, seed ^ 0xA3A3))
+        }
+        Feedback::Load => {
+            (rounded(&run.theta_j, motor, seed ^ 0x5151), encoder(&run.theta_z, load))
+        }
     };
     let current = noisy_current(run.current, noise.2, seed);
     let rec = VoltageRecord::new(name, "check", run.t, run.command, theta_m, theta_l, current)?;
