@@ -20,12 +20,19 @@ fixed substep count (4, what hdw chose for this record), one start, single-threa
 (OMP/OPENBLAS/MKL_NUM_THREADS=1; numba is not parallel). Its JIT is compiled on a short
 slice first and timed apart; the fit is timed warm. Each repetition is a fresh process.
 
+With `--sweep` the peer runs at its own best settings instead: every combination of 2, 3 and
+4 substeps, parameters linear with bounds or as logarithms, and ftol = xtol = gtol of 1e-8
+(scipy's default), 1e-6, 1e-4 and 1e-3 is fitted once, and the fastest run that reaches hdw's
+answer (every output at most 1.05 times its noise, every parameter hdw calls determined within
+one of hdw's standard errors of hdw's value) is the one timed, best of `--reps`.
+
 The peer also replays the true drive (hd-model's defaults) against the record's
 theta_j_true / theta_z_true columns (max error in encoder counts) as its check of the
 model before the fit means anything.
 
     target/peers-venv/bin/python benches/compliant_peers.py [--hdw PATH] [--reps 3]
-        [--positive bound|log] [--work DIR] [--json out.json]
+        [--positive bound|log] [--substeps M] [--tol T] [--sweep] [--work DIR]
+        [--json out.json]
 """
 
 from __future__ import annotations
@@ -95,23 +102,27 @@ def run_hdw(hdw: str, config: str, out: str, reps: int) -> dict:
         "rms_over_noise": {k: exp[k]["rmse_over_noise"] for k in ("motor", "load", "current")},
         "noise": {k: exp[k]["noise"] for k in ("motor", "load", "current")},
         "params": {k: v["value"] for k, v in fit["parameters"].items()},
+        "std_errors": {k: v.get("std_error") for k, v in fit["parameters"].items()},
+        "determined": [k for k, v in fit["parameters"].items() if v.get("determined")],
         "termination": fit.get("termination"),
     }
 
 
-def run_peer(record: str, noise: dict, substeps: int, positive: str, reps: int, work: str):
+def run_peer(record: str, noise: dict, substeps: int, positive: str, reps: int, work: str,
+             tol: float = 1e-8, method: str = "trf", truth: bool = True):
     """Best of `reps` peer processes (single BLAS thread); the first also replays the truth."""
     env = dict(os.environ, OPENBLAS_NUM_THREADS="1", OMP_NUM_THREADS="1",
                MKL_NUM_THREADS="1", NUMBA_NUM_THREADS="1")
     runs = []
     for k in range(max(reps, 1)):
-        out = os.path.join(work, f"peer-{positive}-{k}.json")
+        out = os.path.join(work, f"peer-{positive}-{substeps}-{tol:g}-{method}-{k}.json")
         cmd = [sys.executable, PEER, record, "--params", START, "--substeps", str(substeps),
-               "--positive", positive, "--noise-motor", repr(noise["motor"]),
+               "--positive", positive, "--tol", repr(tol), "--method", method,
+               "--noise-motor", repr(noise["motor"]),
                "--noise-load", repr(noise["load"]), "--noise-current", repr(noise["current"]),
                "--motor-counts", str(MOTOR_COUNTS), "--load-counts", str(LOAD_COUNTS),
                "--json", out]
-        if k == 0:
+        if k == 0 and truth:
             cmd += ["--truth", "--truth-substeps", "16"]
         t0, c0 = time.perf_counter(), child_cpu()
         p = subprocess.run(cmd, capture_output=True, text=True, env=env)
@@ -123,11 +134,51 @@ def run_peer(record: str, noise: dict, substeps: int, positive: str, reps: int, 
         r.update(process=wall, process_cpu=cpu)
         runs.append(r)
     best = min(runs, key=lambda r: r["fit_seconds"])
-    best = dict(best, truth_replay=runs[0]["truth_replay"], truth_scores=runs[0]["truth_scores"],
-                fit_walls=[r["fit_seconds"] for r in runs],
+    best = dict(best, truth_replay=runs[0].get("truth_replay"),
+                truth_scores=runs[0].get("truth_scores"), fit_walls=[r["fit_seconds"] for r in runs],
                 jit_best=min(r["jit_seconds"] for r in runs),
                 process_best=min(r["process"] for r in runs))
     return best
+
+
+def qualifies(peer: dict, h: dict, bound: float = 1.05) -> tuple[bool, str]:
+    """Whether a peer run reached hdw's answer: every output at most `bound` times its noise,
+    and every parameter hdw calls determined within one of hdw's standard errors of hdw's
+    value (so both would report the same determined values)."""
+    worst = max(peer["rms_over_noise"].values())
+    if worst > bound:
+        return False, f"residual/noise {worst:.4f} > {bound}"
+    far = []
+    for k in h["determined"]:
+        se = h["std_errors"].get(k)
+        if k in peer["parameters"] and se:
+            d = abs(peer["parameters"][k] - h["params"][k]) / se
+            if d > 1.0:
+                far.append(f"{k} {d:.1f} SE")
+    if far:
+        return False, "off hdw's determined values: " + ", ".join(far)
+    return True, f"residual/noise ≤ {worst:.4f}; determined values within 1 SE"
+
+
+def sweep_peer(record: str, h: dict, work: str) -> dict:
+    """The peer at its own best settings: every substep count, tolerance and parametrisation of
+    the grid, one run each; the fastest run that reaches hdw's answer ([`qualifies`]) is then
+    re-run best of three."""
+    rows = []
+    for m in (2, 3, 4):
+        for positive in ("bound", "log"):
+            for tol in (1e-8, 1e-6, 1e-4, 1e-3):
+                r = run_peer(record, h["noise"], m, positive, 1, work, tol, truth=False)
+                ok, why = qualifies(r, h)
+                rows.append({"substeps": m, "positive": positive, "tol": tol,
+                             "fit_seconds": r["fit_seconds"], "nfev": r["nfev"],
+                             "cost": r["cost"], "qualifies": ok, "why": why})
+                print(f"  peer m={m} {positive:5} tol={tol:g}: {r['fit_seconds']:.2f} s, nfev "
+                      f"{r['nfev']}, cost {r['cost']:.4f}, {why}", flush=True)
+    good = [r for r in rows if r["qualifies"]]
+    if not good:
+        sys.exit("no peer setting of the grid reached hdw's answer")
+    return {"grid": rows, "best": min(good, key=lambda r: r["fit_seconds"])}
 
 
 def main() -> None:
@@ -137,6 +188,10 @@ def main() -> None:
     ap.add_argument("--positive", choices=["bound", "log"], default="bound",
                     help="the peer's free parameters linear with bounds, or as logarithms")
     ap.add_argument("--substeps", type=int, help="the peer's substeps (default: hdw's choice)")
+    ap.add_argument("--tol", type=float, default=1e-8, help="the peer's ftol = xtol = gtol")
+    ap.add_argument("--sweep", action="store_true",
+                    help="choose the peer's substeps, tolerance and parametrisation by a grid "
+                         "(its fastest run that reaches hdw's answer), then time it")
     ap.add_argument("--work", default=os.path.join(REPO, "target", "compliant-peers"))
     ap.add_argument("--json", help="also write every measurement to this file")
     a = ap.parse_args()
@@ -156,8 +211,13 @@ def main() -> None:
     commit = subprocess.run(["git", "log", "-1", "--format=%h %cI"], cwd=REPO,
                             capture_output=True, text=True).stdout.strip()
     h = run_hdw(a.hdw, config, os.path.join(a.work, "hdw-fit"), a.reps)
-    m = a.substeps or h["substeps"]
-    p = run_peer(record, h["noise"], m, a.positive, a.reps, a.work)
+    m, positive, tol, grid = a.substeps or h["substeps"], a.positive, a.tol, None
+    if a.sweep:
+        grid = sweep_peer(record, h, a.work)
+        m, positive, tol = grid["best"]["substeps"], grid["best"]["positive"], grid["best"]["tol"]
+        a.positive = positive
+    p = run_peer(record, h["noise"], m, positive, a.reps, a.work, tol)
+    p["qualifies"] = qualifies(p, h)
     load1 = os.getloadavg()
 
     print(f"{platform.node()}: {os.cpu_count()} cores, load average "
@@ -166,7 +226,8 @@ def main() -> None:
           f"{time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}; main at {commit}; hdw "
           f"{a.hdw}; python {sys.version.split()[0]}, numpy {np.__version__}, scipy "
           f"{scipy.__version__}, numba {numba.__version__}; best of {a.reps}.")
-    print(f"Peer: least_squares trf, x_scale='jac', 2-point, parameters "
+    print(f"Peer: least_squares trf, x_scale='jac', 2-point, ftol = xtol = gtol = {tol:g}"
+          f"{' (chosen by the grid)' if a.sweep else ''}, parameters "
           f"{'linear with bounds' if a.positive == 'bound' else 'as logarithms'}, "
           f"{m} RK4 substeps/sample, one start, single thread (OMP/OPENBLAS/MKL_NUM_THREADS=1)."
           f" hdw: its own passes (motor, load ×5 starts, full fit), {h['substeps']} substeps, "
@@ -182,6 +243,7 @@ def main() -> None:
     ts = p["truth_scores"]
     print(f"  cost of the truth (peer, offsets projected): {ts['cost']:.4f}; residual/noise "
           + ", ".join(f"{k} {v:.4f}" for k, v in ts["rms_over_noise"].items()))
+    print(f"Peer's answer against hdw's: {p['qualifies'][1]}.")
     print()
     print("| | motor r/σ | load r/σ | current r/σ | cost Σr² | nfev / iterations |")
     print("|---|---:|---:|---:|---:|---:|")
@@ -220,7 +282,7 @@ def main() -> None:
     print(f"hdw stages: " + "; ".join(f"{k} {v:.2f} s" for k, v in h["stages"].items()))
     if a.json:
         with open(a.json, "w") as f:
-            json.dump({"hdw": h, "peer": p, "load_before": load0, "load_after": load1}, f,
+            json.dump({"hdw": h, "peer": p, "grid": grid, "load_before": load0, "load_after": load1}, f,
                       indent=1)
 
 

@@ -34,7 +34,8 @@ Parameters: the free ones by name (default the benchmark's 11: R, Ke, Jj, Jz, Cj
 sigma0, Tc, Ts, ws), bounded to [start/1000, start·1000] as hdw's default, either as their
 logarithms (`--positive log`, the default) or linear with those bounds (`--positive bound`).
 Every other parameter and N come from the params TOML (hd-model's defaults where it is
-silent). least_squares(method='trf', x_scale='jac', jac='2-point' by default).
+silent). least_squares(method='trf' or 'dogbox', x_scale='jac', jac='2-point'; ftol = xtol = gtol =
+`--tol`, scipy's default 1e-8).
 
 Timing: numba compiles the simulation on the first 50 samples (the JIT time, reported
 apart); the fit is then timed warm. Prints one JSON object.
@@ -321,6 +322,9 @@ def main() -> None:
     ap.add_argument("--noise-current", type=float,
                     help="[A]; default from the record's third differences")
     ap.add_argument("--max-nfev", type=int, default=2000)
+    ap.add_argument("--tol", type=float, default=1e-8,
+                    help="least_squares ftol = xtol = gtol (scipy's default 1e-8)")
+    ap.add_argument("--method", choices=["trf", "dogbox"], default="trf")
     ap.add_argument("--truth", action="store_true",
                     help="also replay hd-model's defaults against theta_j_true/theta_z_true")
     ap.add_argument("--truth-substeps", default="",
@@ -358,7 +362,8 @@ def main() -> None:
                     "python": sys.version.split()[0], "numpy": np.__version__,
                     "scipy": scipy.__version__, "numba": numba.__version__},
         "record": os.path.abspath(a.record), "samples": prob.n, "residuals": 3 * prob.n,
-        "substeps": a.substeps, "positive": a.positive, "noise": noise, "free": free,
+        "substeps": a.substeps, "positive": a.positive, "tol": a.tol, "method": a.method,
+        "noise": noise, "free": free,
         "N": params["N"], "jit_seconds": jit,
     }
     if a.truth:
@@ -373,8 +378,9 @@ def main() -> None:
         out["start_scores"] = prob.scores(x0)
         prob.nfun = 0
         t0 = time.perf_counter()
-        res = least_squares(prob.fun, x0, jac="2-point", method="trf", x_scale="jac",
-                            bounds=prob.bounds(), max_nfev=a.max_nfev)
+        res = least_squares(prob.fun, x0, jac="2-point", method=a.method, x_scale="jac",
+                            bounds=prob.bounds(), max_nfev=a.max_nfev, ftol=a.tol,
+                            xtol=a.tol, gtol=a.tol)
         wall = time.perf_counter() - t0
         values = prob.values_of(res.x)
         sc = prob.scores(res.x)

@@ -24,19 +24,62 @@ pub fn for_fmu(cfg: &SimConfig) -> SimConfig {
     }
 }
 
-/// The text of `resources/model.toml` for `cfg` (see [`for_fmu`]).
+/// The text of `resources/model.toml` for `cfg` (see [`for_fmu`]), integrated by the
+/// adaptive solver.
 pub fn to_toml(cfg: &SimConfig) -> Result<String, String> {
-    let head = "# The drive of this FMU, as `hdw export fmu` wrote it (hd-model's SimConfig).\n";
-    toml::to_string(&for_fmu(cfg))
-        .map(|body| format!("{head}{body}"))
-        .map_err(|e| format!("cannot write the FMU configuration: {e}"))
+    to_toml_fixed(cfg, None)
 }
 
-/// Read a configuration written by [`to_toml`]; `source` names it in errors.
+/// Name of the table of `resources/model.toml` that holds the FMU's own settings (beside
+/// hd-model's run configuration).
+pub const FMU_TABLE: &str = "fmu";
+
+/// The text of `resources/model.toml` for `cfg`; with `fixed_substeps`, each communication
+/// step is integrated in that many fixed Runge–Kutta substeps
+/// ([`hd_model::solver::fixed_step`]) instead of by the adaptive solver.
+pub fn to_toml_fixed(cfg: &SimConfig, fixed_substeps: Option<u32>) -> Result<String, String> {
+    let head = "# The drive of this FMU, as `hdw export fmu` wrote it (hd-model's SimConfig).\n";
+    let body = toml::to_string(&for_fmu(cfg))
+        .map_err(|e| format!("cannot write the FMU configuration: {e}"))?;
+    let tail = fixed_substeps.map_or(String::new(), |m| {
+        format!(
+            "\n# Each communication step in {m} fixed Runge–Kutta substeps.\n[{FMU_TABLE}]\nfixed_substeps = {m}\n"
+        )
+    });
+    Ok(format!("{head}{body}{tail}"))
+}
+
+/// Read a configuration written by [`to_toml`] (or [`to_toml_fixed`]: its FMU table is
+/// not hd-model's and is read by [`fixed_substeps`]); `source` names it in errors.
 pub fn from_toml(text: &str, source: &str) -> Result<SimConfig, String> {
-    let cfg: SimConfig = toml::from_str(text).map_err(|e| format!("{source}: {e}"))?;
+    let mut table: toml::Table = toml::from_str(text).map_err(|e| format!("{source}: {e}"))?;
+    table.remove(FMU_TABLE);
+    let cfg: SimConfig = table.try_into().map_err(|e| format!("{source}: {e}"))?;
     cfg.validate().map_err(|e| format!("{source}: {e}"))?;
     Ok(cfg)
+}
+
+/// The fixed substeps per communication step that a configuration written by
+/// [`to_toml_fixed`] asks for (None: the adaptive solver); `source` names it in errors.
+pub fn fixed_substeps(text: &str, source: &str) -> Result<Option<u32>, String> {
+    let table: toml::Table = toml::from_str(text).map_err(|e| format!("{source}: {e}"))?;
+    let Some(fmu) = table.get(FMU_TABLE) else { return Ok(None) };
+    let bad = |what: &str| {
+        format!(
+            "{source}: [{FMU_TABLE}] {what}: expected fixed_substeps = a whole number from 1 to 100000"
+        )
+    };
+    let fmu = fmu.as_table().ok_or_else(|| bad("is not a table"))?;
+    if let Some(k) = fmu.keys().find(|k| k.as_str() != "fixed_substeps") {
+        return Err(bad(&format!("has an unknown key `{k}`")));
+    }
+    match fmu.get("fixed_substeps") {
+        None => Ok(None),
+        Some(v) => match v.as_integer() {
+            Some(m @ 1..=100_000) => Ok(Some(m as u32)),
+            _ => Err(bad(&format!("fixed_substeps = {v}"))),
+        },
+    }
 }
 
 /// Read `resources/model.toml` from the FMU's resources folder `dir`.
@@ -79,6 +122,24 @@ mod tests {
         let text = to_toml(&cfg).unwrap();
         let back = from_toml(&text, "model.toml").unwrap();
         assert_eq!(back, for_fmu(&cfg));
+        assert_eq!(fixed_substeps(&text, "model.toml").unwrap(), None);
+    }
+
+    #[test]
+    fn a_fixed_step_survives_the_file_and_a_bad_one_is_named() {
+        let cfg = SimConfig::default();
+        let text = to_toml_fixed(&cfg, Some(8)).unwrap();
+        assert_eq!(from_toml(&text, "model.toml").unwrap(), for_fmu(&cfg));
+        assert_eq!(fixed_substeps(&text, "model.toml").unwrap(), Some(8));
+        for (tail, needle) in [
+            ("[fmu]\nfixed_substeps = 0\n", "fixed_substeps = 0"),
+            ("[fmu]\nfixed_substeps = 2.5\n", "fixed_substeps = 2.5"),
+            ("[fmu]\nsubsteps = 4\n", "unknown key `substeps`"),
+        ] {
+            let text = format!("{}\n{tail}", to_toml(&cfg).unwrap());
+            let e = fixed_substeps(&text, "model.toml").unwrap_err();
+            assert!(e.starts_with("model.toml: [fmu]") && e.contains(needle), "{e}");
+        }
     }
 
     #[test]

@@ -247,8 +247,11 @@ pub fn instantiate(
                 "token {token} does not match this FMU's {expected} (modelDescription.xml and resources/ are from different exports)"
             ));
         }
-        let cfg = crate::config::from_toml(&text, &path.display().to_string())?;
-        Ok(Component { inst: Instance::new(cfg), name: cname.clone(), logger, logging_on })
+        let source = path.display().to_string();
+        let cfg = crate::config::from_toml(&text, &source)?;
+        let fixed = crate::config::fixed_substeps(&text, &source)?;
+        let inst = Instance::new(cfg).with_fixed_substeps(fixed)?;
+        Ok(Component { inst, name: cname.clone(), logger, logging_on })
     });
     match built {
         Ok(Ok(comp)) => register(comp),

@@ -4,6 +4,7 @@
 //! failure; the FMI layers turn it into a status and a log call.
 
 use crate::variables::{Role, VR_T_LOAD, VR_TIME, VR_U, Variable, variables};
+use hd_model::compliant::{FixedDrive, fixed_drive};
 use hd_model::error::SolverError;
 use hd_model::laws::load::LoadTorque;
 use hd_model::signals::Thresholds;
@@ -60,6 +61,11 @@ pub struct Instance {
     h_hint: f64,
     /// Most solver steps one communication step may take [–].
     step_budget: u64,
+    /// Fixed Runge–Kutta substeps per communication step, when the FMU was exported with
+    /// them (`hdw export fmu --fixed-substeps`); None: the adaptive solver.
+    fixed_substeps: Option<u32>,
+    /// The drive as the fixed step integrates it, built with the run.
+    fixed: Option<FixedDrive>,
     /// Life-cycle phase.
     pub phase: Phase,
 }
@@ -80,13 +86,29 @@ impl Instance {
             start_time: 0.0,
             run: None,
             params_changed: false,
+            fixed_substeps: None,
+            fixed: None,
             phase: Phase::Instantiated,
         }
     }
 
+    /// The same instance integrating each communication step in `m` fixed Runge–Kutta
+    /// substeps ([`hd_model::solver::fixed_step`]: what real-time and HIL hosts ask for),
+    /// or by the adaptive solver (None). Refused, naming each setting, when the drive is
+    /// one the fixed-step assembly cannot stand for.
+    pub fn with_fixed_substeps(mut self, m: Option<u32>) -> Result<Self, String> {
+        if let Some(m) = m {
+            fixed_drive(&self.cfg).map_err(|e| format!("fixed_substeps = {m}: {e}"))?;
+        }
+        self.fixed_substeps = m;
+        Ok(self)
+    }
+
     /// Back to the state right after instantiation (start values, at rest).
     pub fn reset(&mut self) {
+        let fixed = self.fixed_substeps;
         *self = Self::new(self.cfg.clone());
+        self.fixed_substeps = fixed;
     }
 
     /// The host's start time [s] (the model's time 0).
@@ -239,7 +261,10 @@ impl Instance {
         }
         self.ensure_run()?;
         self.hold_inputs(h);
-        self.rates = [0.0; 2];
+        let rates = std::mem::take(&mut self.rates);
+        if let Some(m) = self.fixed_substeps {
+            return self.fixed_step(t, h, target, m, rates);
+        }
         let budget = self.step_budget;
         let period = self.sampling_period();
         // The fewest solver steps the step needs: one per sampling instant, and one per
@@ -314,6 +339,37 @@ impl Instance {
         Ok(())
     }
 
+    /// [`Instance::do_step`] in `m` fixed substeps from host time `t` by `h` to the model's
+    /// time `target` [s], the inputs ramped at `rates` (the load torque at its mean over
+    /// the step). A state that is not finite after it (a substep past the method's
+    /// stability) fails the instance, naming the substep.
+    fn fixed_step(
+        &mut self,
+        t: f64,
+        h: f64,
+        target: f64,
+        m: u32,
+        rates: [f64; 2],
+    ) -> Result<(), String> {
+        let (Some(run), Some(fixed)) = (self.run.as_mut(), self.fixed.as_mut()) else {
+            return Err("the run was not assembled".to_string());
+        };
+        let span = target - run.t;
+        let t_load = self.t_load + 0.5 * rates[1] * span;
+        fixed.advance(&mut run.y, span, m as usize, self.u, rates[0], t_load);
+        use hd_model::state::{OMEGA_J, OMEGA_Z, THETA, THETA_J, W, Z};
+        if ![THETA_J, OMEGA_J, THETA, OMEGA_Z, Z, W].iter().all(|&k| run.y[k].is_finite()) {
+            self.phase = Phase::Failed;
+            return Err(format!(
+                "step from t = {t} s by {h} s failed: the state is not finite after {m} fixed substeps of {:.3e} s (past the Runge–Kutta method's stability for this drive); export with more --fixed-substeps or use shorter communication steps",
+                span / f64::from(m)
+            ));
+        }
+        run.t = target;
+        run.stats.steps += u64::from(m);
+        Ok(())
+    }
+
     /// The sampling period of the exported controller when it runs sampled [s].
     fn sampling_period(&self) -> Option<f64> {
         let ctl = self.run.as_ref()?.sys.ctl.as_ref()?;
@@ -335,6 +391,9 @@ impl Instance {
             return Ok(());
         }
         let cfg = self.current_config()?;
+        if self.fixed_substeps.is_some() {
+            self.fixed = Some(fixed_drive(&cfg)?);
+        }
         if fresh {
             self.run = Some(Stepper::new(&cfg).map_err(|e| e.to_string())?);
         } else if let Some(run) = self.run.as_mut() {

@@ -14,8 +14,10 @@
 //! per step.
 
 pub mod closed_loop;
+pub mod compliant;
 pub mod control;
 pub mod cpu;
+pub mod dual;
 pub mod error;
 pub mod fma;
 pub mod interp;

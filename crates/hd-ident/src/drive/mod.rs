@@ -13,7 +13,8 @@ pub mod compliant;
 pub mod config;
 pub mod controller;
 pub mod disturbance;
-pub mod dual;
+/// The dual numbers the fits carry sensitivities on (hd-model's).
+pub use hd_model::dual;
 pub mod error;
 pub mod filter;
 pub mod fit;

@@ -30,6 +30,7 @@ mod dop853;
 mod dopri5;
 mod driver;
 mod events;
+pub mod fixed_step;
 mod hair;
 mod imex;
 mod imex_tables;

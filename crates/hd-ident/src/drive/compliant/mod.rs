@@ -13,8 +13,10 @@ pub mod determined;
 pub mod diagnose;
 pub mod fit;
 pub mod loop_config;
-pub mod model;
-pub mod params;
+/// The drive's generic assembly (hd-model's).
+pub use hd_model::compliant::model;
+/// The drive's parameter vector (hd-model's).
+pub use hd_model::compliant::params;
 pub mod passes;
 pub mod ratio_check;
 pub mod record;
@@ -25,7 +27,8 @@ pub mod sentences;
 pub mod simulate;
 pub mod split;
 pub mod stages;
-pub mod supported;
+/// What the generic assembly can stand for (hd-model's).
+pub use hd_model::compliant::supported;
 pub mod synth_loop;
 pub mod units;
 

@@ -2,7 +2,7 @@
 //! names), which of them each gear law and the load-side friction law own, and how a
 //! vector is put on a law.
 
-use hd_model::HystLaw;
+use crate::HystLaw;
 
 /// Number of parameters of the compliant drive.
 pub const P: usize = 42;

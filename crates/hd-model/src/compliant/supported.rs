@@ -10,9 +10,9 @@
 //! file `hdw simulate` runs differently, so each such setting is refused, named.
 
 use super::model::P;
-use hd_model::laws::catalogue::CatalogueCurve;
-use hd_model::laws::slip_set::MAX_SLIP;
-use hd_model::{HystLaw, Params};
+use crate::laws::catalogue::CatalogueCurve;
+use crate::laws::slip_set::MAX_SLIP;
+use crate::{HystLaw, Params};
 
 /// Each setting of `p` (stiffness law `law`) that the compliant model cannot represent, as
 /// one sentence; empty when it represents them all.
@@ -75,7 +75,7 @@ pub fn unsupported(p: &Params, law: Option<HystLaw>) -> Vec<String> {
 /// simulated with the gear's friction where `fv` puts it, or at all (hd-model's
 /// own check: a present law needs σ0_load and ωs_load above 0, and the gear law elsewhere);
 /// `None` when it can, or when there is none.
-pub fn load_law_problem(start: &[f64; P], fv: hd_model::FrictionVelocity) -> Option<String> {
+pub fn load_law_problem(start: &[f64; P], fv: crate::FrictionVelocity) -> Option<String> {
     use super::model::ix::*;
     let p = Params {
         tc_load: start[TC_L],
@@ -88,7 +88,7 @@ pub fn load_law_problem(start: &[f64; P], fv: hd_model::FrictionVelocity) -> Opt
         sigma2_load: start[SIGMA2_L],
         ..Params::default()
     };
-    hd_model::variant::load_friction_law(&p, fv).err().map(|e| e.to_string())
+    crate::variant::load_friction_law(&p, fv).err().map(|e| e.to_string())
 }
 
 #[cfg(test)]
