@@ -76,6 +76,7 @@ def export_fmu(
     t_end: float = 0.2,
     lib: "Optional[os.PathLike[str] | str]" = None,
     hdw: Optional[str] = None,
+    fixed_substeps: Optional[int] = None,
 ) -> pathlib.Path:
     """Write a co-simulation FMU (FMI 2.0 or 3.0) of the drive, as ``hdw export fmu`` does.
 
@@ -99,6 +100,9 @@ def export_fmu(
         t_end: stop time of the FMU's default experiment [s].
         lib: the FMU binary (hd-fmu's libhd_fmu.so); default: beside the hdw binary.
         hdw: the hdw binary; default ``$HDW`` or ``hdw`` on PATH.
+        fixed_substeps: integrate each communication step in this many fixed Runge–Kutta
+            substeps instead of the adaptive solver (real-time and HIL hosts; open-loop
+            ``full`` drives with L = 0, docs/fmu.md "Fixed step"); default adaptive.
 
     Returns:
         The path of the FMU.
@@ -126,6 +130,12 @@ def export_fmu(
         ]
         if lib is not None:
             args += ["--lib", os.fspath(lib)]
+        if fixed_substeps is not None:
+            if isinstance(fixed_substeps, bool) or not isinstance(fixed_substeps, int) \
+                    or fixed_substeps < 1:
+                raise ValueError(
+                    f"fixed_substeps = {fixed_substeps!r}: expected a whole number >= 1")
+            args += ["--fixed-substeps", str(fixed_substeps)]
         p = subprocess.run(args, capture_output=True, text=True)
     if p.returncode != 0:
         raise ValueError(p.stderr.strip().removeprefix("error: "))

@@ -130,6 +130,20 @@ def test_a_fixed_step_is_refused_for_a_drive_it_cannot_integrate(tmp_path):
     assert not out.exists()
 
 
+def test_python_export_fmu_writes_a_fixed_step_fmu_and_refuses_a_bad_count(tmp_path):
+    """`hdw.export_fmu(fixed_substeps=4)` writes the FMU table the binary reads; a count
+    that is not a whole number >= 1 is refused before hdw runs."""
+    import zipfile
+
+    package = pytest.importorskip("hdw")
+    out = package.export_fmu(tmp_path / "f.fmu", fixed_substeps=4, hdw=HDW)
+    text = zipfile.ZipFile(out).read("resources/model.toml").decode()
+    assert "[fmu]\nfixed_substeps = 4" in text
+    for bad in (0, 2.5, True):
+        with pytest.raises(ValueError, match="fixed_substeps"):
+            package.export_fmu(tmp_path / "g.fmu", fixed_substeps=bad, hdw=HDW)
+
+
 def test_closed_loop_fmu_matches_hdw_simulate(tmp_path):
     """A sampled PID with friction compensation (its step reference runs inside the FMU),
     a constant load torque through T_load."""

@@ -86,10 +86,10 @@ fn run_fmu(a: FmuArgs) -> Result<()> {
         out: PathBuf::new(),
     };
     let cfg = super::simulate::config(&sim)?;
-    if let Some(m) = a.fixed_substeps {
-        if let Err(e) = hd_model::compliant::fixed_drive(&cfg) {
-            bail!("--fixed-substeps {m}: {e}");
-        }
+    if let Some(m) = a.fixed_substeps
+        && let Err(e) = hd_model::compliant::fixed_drive(&cfg)
+    {
+        bail!("--fixed-substeps {m}: {e}");
     }
     let toml = hd_fmu::config::to_toml_fixed(&cfg, a.fixed_substeps).map_err(anyhow::Error::msg)?;
     let token = hd_fmu::config::token(&toml);
