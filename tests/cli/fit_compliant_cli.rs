@@ -341,3 +341,41 @@ fn bad_compliant_configurations_get_one_line_errors() {
         assert_one_line_error(&o, &[expect, "chirp.csv"]);
     }
 }
+
+/// The integration error is measured again at the fitted values. A count the configuration
+/// gives is kept; where it is too coarse there (one substep per 1 ms sample of the seed
+/// drive's chirp: 70 noise-weighted squares against a budget of 1), the first sentence of
+/// the determination says so and names `substeps`. A chosen count meets the budget at the
+/// fitted values, says nothing, and the check appears among the stages.
+#[test]
+fn a_given_substep_count_too_coarse_at_the_fit_is_reported() {
+    let dir = recorded("fit-compliant-coarse", "1");
+    let sentences = |doc: &serde_json::Value| -> Vec<String> {
+        doc["determination"].as_array().unwrap().iter().map(|s| s.to_string()).collect()
+    };
+    let cfg = config(&dir, "substeps = 1", MOTOR_FIT);
+    let out = dir.join("coarse");
+    ok(&fit_drive(&cfg, &out));
+    let doc = json(&out.join("fit.json"));
+    let first = &sentences(&doc)[0];
+    assert!(
+        first.contains("configuration's 1 Runge–Kutta substeps")
+            && first.contains("raise `substeps`"),
+        "{first}"
+    );
+    let cost: f64 =
+        first.split("costing ").nth(1).unwrap().split(' ').next().unwrap().parse().unwrap();
+    assert!(cost > 1.0, "{first}");
+    let cfg = config(&dir, "", MOTOR_FIT);
+    let out = dir.join("chosen");
+    ok(&fit_drive(&cfg, &out));
+    let doc = json(&out.join("fit.json"));
+    assert!(sentences(&doc).iter().all(|s| !s.contains("integration error costing")));
+    let stages: Vec<&str> = doc["stage_seconds"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|s| s["stage"].as_str().unwrap())
+        .collect();
+    assert!(stages.contains(&"integration accuracy at the fitted values"), "{stages:?}");
+}

@@ -6,7 +6,7 @@ use super::common::ensure_dir;
 use super::fit_drive::DriveArgs;
 use super::fit_drive_compliant_out::{Outcome, write_outputs};
 use anyhow::{Context, Result};
-use hd_ident::drive::compliant::accuracy::accurate_substeps;
+use hd_ident::drive::compliant::accuracy::{ACCURACY_COST, accurate_substeps, integration_error};
 use hd_ident::drive::compliant::config::VoltageExperimentConfig;
 use hd_ident::drive::compliant::fit::{CompliantSpec, score_records};
 use hd_ident::drive::compliant::model::{P, has_load_law, on_law};
@@ -321,6 +321,38 @@ pub fn run(args: &DriveArgs, text: &str) -> Result<()> {
     };
     let mut fit = fit_compliant(&spec, &records, &progress)
         .map_err(|e| anyhow::anyhow!("{file}: the compliant fit failed: {e}"))?;
+    // The count was chosen at the start values (or given), and a fit may end at a stiffer
+    // drive (on a 2 s multisine of the seed drive the gear's stiffness doubles from its
+    // start). At the fitted values the integration error is measured again against the same
+    // budget ([`ACCURACY_COST`]). Over it, a chosen count is raised and the fit runs again
+    // from its end; a given count is kept, and the report says what it costs.
+    let t_check = Instant::now();
+    let at_fit = CompliantSpec { start: fit.values, ..spec.clone() };
+    let err = integration_error(&at_fit, &records);
+    let spec = if !(err < ACCURACY_COST) && cfg.substeps.is_none() {
+        let (m, raised) = accurate_substeps(&at_fit, &records);
+        let before = spec.substeps;
+        let again = CompliantSpec { substeps: m, ..at_fit };
+        let mut refit = fit_compliant(&again, &records, &progress)
+            .map_err(|e| anyhow::anyhow!("{file}: the compliant fit failed: {e}"))?;
+        refit.determination.sentences.insert(0, format!(
+            "At the values first fitted, {before} Runge–Kutta substeps per sample left an integration error costing {err:.3e} noise-weighted squares (the budget is {ACCURACY_COST}); the fit was run again from there at {m} substeps (error cost {raised:.3e})."
+        ));
+        refit.stage_seconds.splice(0..0, fit.stage_seconds.iter().copied());
+        fit = refit;
+        CompliantSpec { substeps: m, ..spec }
+    } else {
+        if !(err < ACCURACY_COST) {
+            fit.determination.sentences.insert(0, format!(
+                "At the fitted values the configuration's {} Runge–Kutta substeps per sample leave an integration error costing {err:.3e} noise-weighted squares (the budget is {ACCURACY_COST}): the parameters follow that error as well as the records; raise `substeps` or leave it out to have it chosen.",
+                spec.substeps
+            ));
+            fit.determination.all_determined = false;
+        }
+        spec
+    };
+    fit.stage_seconds
+        .push(("integration accuracy at the fitted values", t_check.elapsed().as_secs_f64()));
     if let Some(secs) = accuracy_secs {
         fit.stage_seconds.insert(0, ("substeps chosen (integration accuracy check)", secs));
     }

@@ -23,6 +23,20 @@ pub const MAX_SUBSTEPS: usize = 512;
 /// drive (doubling the substeps divides the differences to a reference by 6.2–6.9) [–].
 const ORDER: f64 = 2.7;
 
+/// The estimated cost of the integration error of `spec` at its start values on `records`
+/// (noise-weighted squares): the sum of squares of the difference between runs at
+/// `spec.substeps` and at twice as many. Infinite where either run fails.
+pub fn integration_error(spec: &CompliantSpec, records: &[VoltageRecord]) -> f64 {
+    let run = |m: usize| {
+        residuals_at(&CompliantSpec { substeps: m, ..spec.clone() }, &spec.start, records)
+    };
+    let m = spec.substeps.max(1);
+    match (run(m), run(2 * m)) {
+        (Some(a), Some(b)) => a.iter().zip(&b).map(|(x, y)| (x - y) * (x - y)).sum(),
+        _ => f64::INFINITY,
+    }
+}
+
 /// The substep count for `spec` (from `spec.substeps` up) whose integration error at the
 /// start values costs less than [`ACCURACY_COST`] on `records`, and that error's estimated
 /// cost [–]. The error of a count m is estimated as the cost of the difference between runs
@@ -31,19 +45,16 @@ const ORDER: f64 = 2.7;
 /// stability at the start values: a rate the floor's estimate does not see) is doubled.
 /// Stops at [`MAX_SUBSTEPS`].
 pub fn accurate_substeps(spec: &CompliantSpec, records: &[VoltageRecord]) -> (usize, f64) {
-    let run = |m: usize| {
-        residuals_at(&CompliantSpec { substeps: m, ..spec.clone() }, &spec.start, records)
-    };
     let mut m = spec.substeps.max(1);
     loop {
         if 2 * m > MAX_SUBSTEPS {
             return (m.min(MAX_SUBSTEPS), f64::NAN);
         }
-        let (Some(coarse), Some(fine)) = (run(m), run(2 * m)) else {
+        let err = integration_error(&CompliantSpec { substeps: m, ..spec.clone() }, records);
+        if !err.is_finite() {
             m *= 2;
             continue;
-        };
-        let err: f64 = coarse.iter().zip(&fine).map(|(a, b)| (a - b) * (a - b)).sum();
+        }
         if err < ACCURACY_COST {
             return (m, err);
         }
