@@ -329,7 +329,9 @@ pub fn run(args: &DriveArgs, text: &str) -> Result<()> {
     let t_check = Instant::now();
     let at_fit = CompliantSpec { start: fit.values, ..spec.clone() };
     let err = integration_error(&at_fit, &records);
-    let spec = if !(err < ACCURACY_COST) && cfg.substeps.is_none() {
+    // Over the budget, or not measurable (a run that fails at the fitted values).
+    let over = err.partial_cmp(&ACCURACY_COST) != Some(std::cmp::Ordering::Less);
+    let spec = if over && cfg.substeps.is_none() {
         let (m, raised) = accurate_substeps(&at_fit, &records);
         let before = spec.substeps;
         let again = CompliantSpec { substeps: m, ..at_fit };
@@ -342,7 +344,7 @@ pub fn run(args: &DriveArgs, text: &str) -> Result<()> {
         fit = refit;
         CompliantSpec { substeps: m, ..spec }
     } else {
-        if !(err < ACCURACY_COST) {
+        if over {
             fit.determination.sentences.insert(0, format!(
                 "At the fitted values the configuration's {} Runge–Kutta substeps per sample leave an integration error costing {err:.3e} noise-weighted squares (the budget is {ACCURACY_COST}): the parameters follow that error as well as the records; raise `substeps` or leave it out to have it chosen.",
                 spec.substeps
