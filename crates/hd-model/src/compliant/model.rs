@@ -189,48 +189,39 @@ impl<T: Scalar> Compliant<T> {
         (T::cst(u) - self.p[ix::KE] * omega_j) / self.p[ix::R]
     }
 
-    /// The Stribeck level G(v) [N·m] with its derivatives (the law's own).
+    /// The Stribeck level G(v) [N·m] of the gear's law with its derivatives.
     #[inline(always)]
     fn level(&self, v: T) -> T {
         use ix::*;
-        let vr = v.re();
-        let lg = self.law.level_grad(vr);
-        let slope = lg.slope;
-        // The negative side's levels are their own parameters (a symmetric fit ties them to
-        // Tc and Ts, so their derivatives land there).
-        let g = lg.grad;
-        T::lift(
-            lg.level,
-            &[
-                (slope, v),
-                (g[0], self.p[TC]),
-                (g[1], self.p[TS]),
-                (g[2], self.p[WS]),
-                (g[4], self.p[TC_NEG]),
-                (g[5], self.p[TS_NEG]),
-            ],
-        )
+        self.lugre_level(&self.law, v, [TC, TS, WS, TC_NEG, TS_NEG])
     }
 
-    /// The load-side law's Stribeck level G_L(v) [N·m] with its derivatives (hd-model's
-    /// law, lifted; a symmetric fit ties the negative side's levels to Tc_load and Ts_load,
-    /// so their derivatives land there).
+    /// The load-side law's Stribeck level G_L(v) [N·m] with its derivatives.
     #[inline]
     fn level_load(&self, law: &LuGre, v: T) -> T {
         use ix::*;
-        let vr = v.re();
-        let lg = law.level_grad(vr);
-        let slope = lg.slope;
+        self.lugre_level(law, v, [TC_L, TS_L, WS_L, TC_NEG_L, TS_NEG_L])
+    }
+
+    /// The Stribeck level of LuGre law `law` at speed `v`, lifted with its derivatives
+    /// (hd-model's law): along v, and along its levels and Stribeck speed, the parameters
+    /// `at` = [Tc, Ts, ωs, Tc_neg, Ts_neg] of that law. The negative side's levels are
+    /// their own parameters; a symmetric fit ties them to Tc and Ts, so their derivatives
+    /// land there.
+    #[inline(always)]
+    fn lugre_level(&self, law: &LuGre, v: T, at: [usize; 5]) -> T {
+        let lg = law.level_grad(v.re());
         let g = lg.grad;
+        let p = &self.p;
         T::lift(
             lg.level,
             &[
-                (slope, v),
-                (g[0], self.p[TC_L]),
-                (g[1], self.p[TS_L]),
-                (g[2], self.p[WS_L]),
-                (g[4], self.p[TC_NEG_L]),
-                (g[5], self.p[TS_NEG_L]),
+                (lg.slope, v),
+                (g[0], p[at[0]]),
+                (g[1], p[at[1]]),
+                (g[2], p[at[2]]),
+                (g[4], p[at[3]]),
+                (g[5], p[at[4]]),
             ],
         )
     }
