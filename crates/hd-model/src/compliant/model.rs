@@ -128,30 +128,8 @@ impl<T: Scalar> Compliant<T> {
     /// The drive with parameters `p` ([`NAMES`] order) and ratio `n`.
     pub fn new(p: [T; P], n: f64) -> Self {
         use ix::*;
-        let law = LuGre {
-            tc_neg: p[TC_NEG].re(),
-            ts_neg: p[TS_NEG].re(),
-            ..LuGre::symmetric(
-                p[SIGMA0].re(),
-                p[SIGMA1].re(),
-                p[SIGMA2].re(),
-                p[TC].re(),
-                p[TS].re(),
-                p[WS].re(),
-            )
-        };
-        let law_load = has_load_law(&p.map(|x| x.re())).then(|| LuGre {
-            tc_neg: p[TC_NEG_L].re(),
-            ts_neg: p[TS_NEG_L].re(),
-            ..LuGre::symmetric(
-                p[SIGMA0_L].re(),
-                p[SIGMA1_L].re(),
-                p[SIGMA2_L].re(),
-                p[TC_L].re(),
-                p[TS_L].re(),
-                p[WS_L].re(),
-            )
-        });
+        let law = lugre_at(&p, GEAR_LUGRE);
+        let law_load = has_load_law(&p.map(|x| x.re())).then(|| lugre_at(&p, LOAD_LUGRE));
         // A curve hd-model would refuse (a rate ≤ 0, T2 ≤ T1) runs as NaN: a fit's trial
         // there fails and is not taken, so a fit never ends on a curve `hdw simulate` refuses.
         let catalogue = (p[CAT_K1].re() != 0.0).then(|| {
@@ -192,24 +170,22 @@ impl<T: Scalar> Compliant<T> {
     /// The Stribeck level G(v) [N·m] of the gear's law with its derivatives.
     #[inline(always)]
     fn level(&self, v: T) -> T {
-        use ix::*;
-        self.lugre_level(&self.law, v, [TC, TS, WS, TC_NEG, TS_NEG])
+        self.lugre_level(&self.law, v, GEAR_LUGRE)
     }
 
     /// The load-side law's Stribeck level G_L(v) [N·m] with its derivatives.
     #[inline]
     fn level_load(&self, law: &LuGre, v: T) -> T {
-        use ix::*;
-        self.lugre_level(law, v, [TC_L, TS_L, WS_L, TC_NEG_L, TS_NEG_L])
+        self.lugre_level(law, v, LOAD_LUGRE)
     }
 
     /// The Stribeck level of LuGre law `law` at speed `v`, lifted with its derivatives
     /// (hd-model's law): along v, and along its levels and Stribeck speed, the parameters
-    /// `at` = [Tc, Ts, ωs, Tc_neg, Ts_neg] of that law. The negative side's levels are
+    /// of that law in `at` ([`GEAR_LUGRE`] order). The negative side's levels are
     /// their own parameters; a symmetric fit ties them to Tc and Ts, so their derivatives
     /// land there.
     #[inline(always)]
-    fn lugre_level(&self, law: &LuGre, v: T, at: [usize; 5]) -> T {
+    fn lugre_level(&self, law: &LuGre, v: T, at: [usize; 8]) -> T {
         let lg = law.level_grad(v.re());
         let g = lg.grad;
         let p = &self.p;
@@ -217,11 +193,11 @@ impl<T: Scalar> Compliant<T> {
             lg.level,
             &[
                 (lg.slope, v),
-                (g[0], p[at[0]]),
-                (g[1], p[at[1]]),
-                (g[2], p[at[2]]),
-                (g[4], p[at[3]]),
-                (g[5], p[at[4]]),
+                (g[0], p[at[3]]),
+                (g[1], p[at[4]]),
+                (g[2], p[at[5]]),
+                (g[4], p[at[6]]),
+                (g[5], p[at[7]]),
             ],
         )
     }
@@ -468,7 +444,28 @@ impl<T: Scalar> Compliant<T> {
     }
 }
 
-/// x clamped to [−d, d] (d ≥ 0), carrying the derivative of whichever it is.
+/// The gear's LuGre law's parameters: σ0, σ1, σ2, Tc, Ts, ωs, Tc_neg, Ts_neg.
+const GEAR_LUGRE: [usize; 8] =
+    [ix::SIGMA0, ix::SIGMA1, ix::SIGMA2, ix::TC, ix::TS, ix::WS, ix::TC_NEG, ix::TS_NEG];
+
+/// The load-side LuGre law's parameters, in [`GEAR_LUGRE`] order.
+const LOAD_LUGRE: [usize; 8] = [
+    ix::SIGMA0_L,
+    ix::SIGMA1_L,
+    ix::SIGMA2_L,
+    ix::TC_L,
+    ix::TS_L,
+    ix::WS_L,
+    ix::TC_NEG_L,
+    ix::TS_NEG_L,
+];
+
+/// hd-model's LuGre law at the values of parameters `at` ([`GEAR_LUGRE`] order) of `p`.
+fn lugre_at<T: Scalar>(p: &[T; P], at: [usize; 8]) -> LuGre {
+    let v = at.map(|k| p[k].re());
+    LuGre { tc_neg: v[6], ts_neg: v[7], ..LuGre::symmetric(v[0], v[1], v[2], v[3], v[4], v[5]) }
+}
+
 /// `g` with the sign of `v` (0 at v = 0).
 fn signed<T: Scalar>(v: T, g: T) -> T {
     match v.re() {
@@ -478,6 +475,7 @@ fn signed<T: Scalar>(v: T, g: T) -> T {
     }
 }
 
+/// x clamped to [−d, d] (d ≥ 0), carrying the derivative of whichever it is.
 fn clamp<T: Scalar>(x: T, d: T) -> T {
     let (xr, dr) = (x.re(), d.re());
     if xr.abs() < dr {
