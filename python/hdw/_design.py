@@ -100,7 +100,7 @@ def design(
         criterion: ``"targeted"`` (the prior's weakest directions; default with ``fit``),
             ``"d"`` (default with ``params``) or ``"a"`` (with ``a_params``).
         a_params: the parameters of the A-optimal criterion.
-        family: input families searched: ``chirp``, ``multisine``, ``ramp``, ``mix`` or
+        family: input families searched: ``chirp``, ``multisine``, ``ramp``, ``mix``, ``spectrum`` or
             ``all``.
         evaluations: candidates evaluated per family.
         voltage: peak voltage [V] (default: the fitted records' peak, else 12).

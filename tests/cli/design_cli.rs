@@ -268,3 +268,22 @@ fn a_loop_fit_designs_its_reference_from_another_folder() {
     let peak_ref = d["limits"]["reference_rad"].as_f64().unwrap();
     assert!(peak_ref > 0.0 && d["design"]["peak_reference_rad"].as_f64().unwrap() <= peak_ref);
 }
+
+/// The spectrum family beside the chirp: it is searched, its input meets the limits, and it
+/// does no worse than the chirp it may weigh in (the chirp's best is one of its elements).
+#[test]
+fn the_spectrum_family_weighs_the_chirp_in() {
+    let (_, d) = design_from_start(
+        "design-spectrum",
+        "--free R,Ke,Jj,Cj --duration 0.2 --evaluations 6 --family chirp,spectrum --voltage 6",
+    );
+    let searched = d["searched"].as_array().unwrap();
+    let cost = |name: &str| {
+        searched.iter().find(|s| s["family"] == name).unwrap()["criterion"].as_f64().unwrap()
+    };
+    assert!(cost("spectrum") <= cost("chirp"), "{searched:?}");
+    for p in d["design"]["peaks"].as_array().unwrap() {
+        let (pk, lim) = (p["peak"].as_f64().unwrap(), p["limit"].as_f64().unwrap());
+        assert!(pk <= lim * (1.0 + 1e-9), "{p}");
+    }
+}

@@ -23,7 +23,9 @@ record of it (each output divided by its noise level), in relative (log) coordin
 records' information is the prior. Criteria: targeted (default with --fit: the variance along the\n\
 prior's weakest directions), d (log det over every free parameter), a (relative variances of\n\
 --a-params). Families: chirp, multisine (16 log-spaced lines, amplitude ∝ f^tilt, Schroeder phases),\n\
-ramp (triangles with dwell at zero), mix (a multisine then ramps); each candidate is scaled to the\n\
+ramp (triangles with dwell at zero), mix (a multisine then ramps), spectrum (sines, ramps and the\n\
+other families' best weighed from each one's own information: played one after another or as a\n\
+multisine of chosen lines); each candidate is scaled to the\n\
 largest amplitude whose simulated peak voltage, current, motor and load speed, gear deflection,\n\
 transmitted torque and load travel stay within the limits, and a few family parameters are searched by Nelder–Mead.\n\n\
 In closed loop (--controller FILE.toml, or --fit of a closed-loop fit) the input is the position\n\
@@ -50,7 +52,7 @@ pub struct DesignArgs {
     /// Parameters of the A-optimal criterion (comma-separated).
     #[arg(long, value_delimiter = ',')]
     pub a_params: Vec<String>,
-    /// Families searched: chirp, multisine, ramp, mix, or all (comma-separated).
+    /// Families searched: chirp, multisine, ramp, mix, spectrum, or all (comma-separated).
     #[arg(long, value_delimiter = ',', default_value = "all")]
     pub family: Vec<String>,
     /// Candidates evaluated per family.
@@ -207,7 +209,9 @@ pub fn run(a: DesignArgs) -> Result<()> {
             .iter()
             .map(|f| {
                 Family::parse(f).ok_or_else(|| {
-                    anyhow::anyhow!("--family {f}: expected chirp, multisine, ramp, mix or all")
+                    anyhow::anyhow!(
+                        "--family {f}: expected chirp, multisine, ramp, mix, spectrum or all"
+                    )
                 })
             })
             .collect::<Result<_>>()?

@@ -18,18 +18,49 @@ pub enum Segment {
     /// Triangle wave of frequency `f` [Hz] with a dead band: the share `dwell` ∈ [0, 1) of
     /// each half period held at zero.
     Ramp { f: f64, dwell: f64 },
+    /// Sines at given frequencies [Hz] and relative amplitudes [–] (`tones`: pairs), with
+    /// Schroeder's phases for an uneven spectrum ([`schroeder_phases`]): a multisine whose
+    /// every line is chosen ([`super::spectrum`]).
+    Lines { tones: Vec<(f64, f64)> },
+}
+
+/// Schroeder's phases for the sines `tones` ((frequency [Hz], amplitude [–]) in rising
+/// frequency) over a period `period` [s]: φ_k = −2π Σ_{l<k} (f_k − f_l)·period·p_l, with p_l
+/// line l's share of the power. Line k is then delayed by the power below it, so the
+/// instantaneous frequency sweeps the lines once per period like a chirp and the peak stays
+/// low, for an uneven spectrum and uneven spacing alike [rad].
+pub fn schroeder_phases(tones: &[(f64, f64)], period: f64) -> Vec<f64> {
+    let total: f64 = tones.iter().map(|p| p.1 * p.1).sum::<f64>().max(f64::MIN_POSITIVE);
+    (0..tones.len())
+        .map(|k| {
+            -TAU * (0..k)
+                .map(|l| (tones[k].0 - tones[l].0) * period * tones[l].1 * tones[l].1 / total)
+                .sum::<f64>()
+        })
+        .collect()
 }
 
 impl Segment {
     /// The segment's shape at times `t` [s] from its start (peak 1 over those samples),
     /// `len` its duration [s].
     pub fn shape(&self, t: &[f64], len: f64) -> Vec<f64> {
-        let mut u: Vec<f64> = match *self {
-            Segment::Chirp { f0, f1 } => {
+        let mut u = self.raw(t, len);
+        let peak = u.iter().fold(0.0f64, |p, v| p.max(v.abs()));
+        if peak > 0.0 {
+            u.iter_mut().for_each(|v| *v /= peak);
+        }
+        u
+    }
+
+    /// The segment before it is scaled to peak 1: sines of their own amplitudes, a chirp
+    /// and ramps of unit amplitude.
+    pub fn raw(&self, t: &[f64], len: f64) -> Vec<f64> {
+        match self {
+            &Segment::Chirp { f0, f1 } => {
                 let k = (f1 - f0) / len.max(f64::MIN_POSITIVE);
                 t.iter().map(|&t| (TAU * (f0 * t + 0.5 * k * t * t)).sin()).collect()
             }
-            Segment::Multisine { f0, f1, lines, tilt } => {
+            &Segment::Multisine { f0, f1, lines, tilt } => {
                 let m = lines.max(1);
                 let tones: Vec<(f64, f64, f64)> = (0..m)
                     .map(|k| {
@@ -46,7 +77,19 @@ impl Segment {
                     .map(|&t| tones.iter().map(|(f, a, ph)| a * (TAU * f * t + ph).sin()).sum())
                     .collect()
             }
-            Segment::Ramp { f, dwell } => t
+            Segment::Lines { tones } => {
+                let phases = schroeder_phases(tones, len);
+                t.iter()
+                    .map(|&t| {
+                        tones
+                            .iter()
+                            .zip(&phases)
+                            .map(|((f, a), ph)| a * (TAU * f * t + ph).sin())
+                            .sum()
+                    })
+                    .collect()
+            }
+            &Segment::Ramp { f, dwell } => t
                 .iter()
                 .map(|&t| {
                     // Triangle 0 → 1 → 0 → −1 → 0 over a period, then the dead band.
@@ -62,20 +105,24 @@ impl Segment {
                     tri.signum() * ((tri.abs() - d).max(0.0) / (1.0 - d))
                 })
                 .collect(),
-        };
-        let peak = u.iter().fold(0.0f64, |p, v| p.max(v.abs()));
-        if peak > 0.0 {
-            u.iter_mut().for_each(|v| *v /= peak);
         }
-        u
     }
 
     /// A short description.
     pub fn describe(&self) -> String {
-        match *self {
+        match self {
             Segment::Chirp { f0, f1 } => format!("chirp {f0:.3}–{f1:.3} Hz"),
             Segment::Multisine { f0, f1, lines, tilt } => {
                 format!("multisine of {lines} lines {f0:.3}–{f1:.3} Hz, amplitude ∝ f^{tilt:.2}")
+            }
+            Segment::Lines { tones } if tones.len() == 1 => format!("sine {:.3} Hz", tones[0].0),
+            Segment::Lines { tones } => {
+                let top = tones.iter().fold(0.0f64, |m, p| m.max(p.1)).max(f64::MIN_POSITIVE);
+                let list: Vec<String> = tones
+                    .iter()
+                    .map(|(f, a)| format!("{f:.3} Hz at {:.0} %", 100.0 * a / top))
+                    .collect();
+                format!("multisine of {} chosen lines: {}", tones.len(), list.join(", "))
             }
             Segment::Ramp { f, dwell } => {
                 format!("ramps at {f:.3} Hz, {:.0} % dwell at zero", 100.0 * dwell)
@@ -163,6 +210,10 @@ pub enum Family {
     /// A multisine then ramps: the multisine's three, the ramps' two, the ramps' share of
     /// the time and their relative amplitude.
     Mix,
+    /// A multisine whose lines and their amplitudes are chosen from the information of
+    /// each line alone ([`super::spectrum`]); its parameters are the chosen (frequency
+    /// [Hz], relative amplitude [–]) pairs, flattened.
+    Spectrum,
 }
 
 /// Lines of a designed multisine [–].
@@ -170,7 +221,8 @@ pub const LINES: usize = 16;
 
 impl Family {
     /// Every family.
-    pub const ALL: [Family; 4] = [Family::Chirp, Family::Multisine, Family::Ramp, Family::Mix];
+    pub const ALL: [Family; 5] =
+        [Family::Chirp, Family::Multisine, Family::Ramp, Family::Mix, Family::Spectrum];
 
     /// Its name.
     pub fn name(self) -> &'static str {
@@ -179,6 +231,7 @@ impl Family {
             Family::Multisine => "multisine",
             Family::Ramp => "ramp",
             Family::Mix => "mix",
+            Family::Spectrum => "spectrum",
         }
     }
 
@@ -188,7 +241,8 @@ impl Family {
     }
 
     /// Parameter names, bounds (lower, upper) and start, for a record at `rate` [Hz] of
-    /// `duration` [s]: frequencies by their logarithms, from 1/duration to 0.45·rate.
+    /// `duration` [s]: frequencies by their logarithms, from 1/duration to 0.45·rate. None
+    /// for [`Family::Spectrum`], which is not searched by Nelder–Mead.
     pub fn params(self, rate: f64, duration: f64) -> Vec<(&'static str, f64, f64, f64)> {
         let lo = (1.0 / duration).ln();
         let hi = (0.45 * rate).ln();
@@ -214,11 +268,13 @@ impl Family {
                 v.push(("ramp_weight", 0.05, 1.0, 0.3));
                 v
             }
+            Family::Spectrum => Vec::new(),
         }
     }
 
-    /// The input at parameters `x` (the order of [`Family::params`]); a band given upside
-    /// down is played upwards.
+    /// The input at parameters `x` (the order of [`Family::params`]; for
+    /// [`Family::Spectrum`], (frequency, amplitude) pairs); a band given upside down is
+    /// played upwards.
     pub fn design(self, x: &[f64]) -> Design {
         let band = |a: f64, b: f64| {
             let (a, b) = (a.exp(), b.exp());
@@ -251,6 +307,9 @@ impl Family {
                     ],
                 }
             }
+            Family::Spectrum => Design::single(Segment::Lines {
+                tones: x.chunks_exact(2).map(|p| (p[0], p[1])).collect(),
+            }),
         }
     }
 }

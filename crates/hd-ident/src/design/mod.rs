@@ -9,7 +9,8 @@
 //! (voltage, current, motor speed, gear deflection, transmitted torque, load travel) stay
 //! within the limits; a few family parameters are searched by Nelder–Mead ([`search`]) on a
 //! D-, A- or targeted criterion of the prior (the fitted records') plus the candidate's
-//! information ([`criterion`]).
+//! information ([`criterion`]). The spectrum family chooses a multisine's every line from
+//! the information of each line alone ([`spectrum`]).
 //!
 //! A drive logged in its own loop is designed for through its position reference
 //! ([`closed`]).
@@ -21,6 +22,7 @@ pub mod criterion;
 pub mod info;
 pub mod input;
 pub mod search;
+pub mod spectrum;
 
 #[cfg(test)]
 mod tests;
@@ -88,10 +90,18 @@ pub fn design(
 ) -> Outcome {
     let (dirs, eig) = weakest(&problem.prior);
     let weakest = (dirs.column(0).into_owned(), eig[0]);
+    // The Nelder–Mead families first: their best inputs are elements of the spectrum's.
     let mut searched: Vec<Optimised> = families
         .iter()
+        .filter(|&&f| f != Family::Spectrum)
         .map(|&f| optimise(problem, f, &criterion, evaluations, &|n, c| progress(f, n, c)))
         .collect();
+    if families.contains(&Family::Spectrum) {
+        let f = Family::Spectrum;
+        let others: Vec<&Evaluated> = searched.iter().map(|o| &o.best).collect();
+        let o = spectrum::optimise(problem, &criterion, &others, &|n, c| progress(f, n, c));
+        searched.push(o);
+    }
     searched.sort_by(|a, b| a.best.cost.total_cmp(&b.best.cost));
     let defaults = defaults(problem.limits.rate)
         .into_iter()

@@ -19,7 +19,7 @@ fn seed() -> ([f64; P], f64) {
     (v, p.n)
 }
 
-fn problem(free: &[usize], limits: Limits) -> Problem {
+pub(super) fn problem(free: &[usize], limits: Limits) -> Problem {
     let (values, n) = seed();
     let mut f = [false; P];
     for &k in free {
@@ -54,7 +54,7 @@ fn problem(free: &[usize], limits: Limits) -> Problem {
     }
 }
 
-fn limits(duration: f64) -> Limits {
+pub(super) fn limits(duration: f64) -> Limits {
     Limits {
         reference: None,
         voltage: 12.0,
