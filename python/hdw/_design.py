@@ -56,7 +56,7 @@ def design(
     out: "os.PathLike[str] | str" = "out/design",
     criterion: Optional[str] = None,
     a_params: Sequence[str] = (),
-    family: Sequence[str] = ("all",),
+    family: Sequence[str] = ("default",),
     evaluations: int = 40,
     voltage: Optional[float] = None,
     current: Optional[float] = None,
@@ -100,8 +100,8 @@ def design(
         criterion: ``"targeted"`` (the prior's weakest directions; default with ``fit``),
             ``"d"`` (default with ``params``) or ``"a"`` (with ``a_params``).
         a_params: the parameters of the A-optimal criterion.
-        family: input families searched: ``chirp``, ``multisine``, ``ramp``, ``mix``, ``spectrum`` or
-            ``all``.
+        family: input families searched: ``chirp``, ``multisine``, ``ramp``, ``mix``, ``spectrum``;
+            ``default`` (the first four) or ``all``.
         evaluations: candidates evaluated per family.
         voltage: peak voltage [V] (default: the fitted records' peak, else 12).
         current: peak current [A].

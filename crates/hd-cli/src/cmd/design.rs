@@ -20,12 +20,14 @@ use std::time::Instant;
     allow_negative_numbers = true,
     after_help = "The information of a candidate input is the compliant fit's own exact Jacobian on a noise-free\n\
 record of it (each output divided by its noise level), in relative (log) coordinates; the fitted\n\
-records' information is the prior. Criteria: targeted (default with --fit: the variance along the\n\
+records' information is the prior; samples where an encoder moves less than 1.5 counts to the next\n\
+(its rounding a staircase, not noise) are not counted. Criteria: targeted (default with --fit: the variance along the\n\
 prior's weakest directions), d (log det over every free parameter), a (relative variances of\n\
 --a-params). Families: chirp, multisine (16 log-spaced lines, amplitude ∝ f^tilt, Schroeder phases),\n\
 ramp (triangles with dwell at zero), mix (a multisine then ramps), spectrum (sines, ramps and the\n\
 other families' best weighed from each one's own information: played one after another or as a\n\
-multisine of chosen lines); each candidate is scaled to the\n\
+multisine of chosen lines; searched only when named or with --family all: a design of few lines\n\
+can be predicted better than its refits reach); each candidate is scaled to the\n\
 largest amplitude whose simulated peak voltage, current, motor and load speed, gear deflection,\n\
 transmitted torque and load travel stay within the limits, and a few family parameters are searched by Nelder–Mead.\n\n\
 In closed loop (--controller FILE.toml, or --fit of a closed-loop fit) the input is the position\n\
@@ -52,8 +54,9 @@ pub struct DesignArgs {
     /// Parameters of the A-optimal criterion (comma-separated).
     #[arg(long, value_delimiter = ',')]
     pub a_params: Vec<String>,
-    /// Families searched: chirp, multisine, ramp, mix, spectrum, or all (comma-separated).
-    #[arg(long, value_delimiter = ',', default_value = "all")]
+    /// Families searched: chirp, multisine, ramp, mix, spectrum (comma-separated); default
+    /// (the first four) or all (every one).
+    #[arg(long, value_delimiter = ',', default_value = "default")]
     pub family: Vec<String>,
     /// Candidates evaluated per family.
     #[arg(long, default_value_t = 40)]
@@ -204,13 +207,15 @@ fn limits(a: &DesignArgs) -> Result<Limits> {
 pub fn run(a: DesignArgs) -> Result<()> {
     let families: Vec<Family> = if a.family.iter().any(|f| f == "all") {
         Family::ALL.to_vec()
+    } else if a.family.iter().any(|f| f == "default") {
+        Family::DEFAULT.to_vec()
     } else {
         a.family
             .iter()
             .map(|f| {
                 Family::parse(f).ok_or_else(|| {
                     anyhow::anyhow!(
-                        "--family {f}: expected chirp, multisine, ramp, mix, spectrum or all"
+                        "--family {f}: expected chirp, multisine, ramp, mix, spectrum, default or all"
                     )
                 })
             })

@@ -175,6 +175,16 @@ pub fn write(
         };
         verdicts.push(format!("{what}; {dflt}."));
     }
+    // The figures are linear: a refit may wander along what stays undetermined and carry
+    // the newly determined parameters with it (measured on the docs' worked example).
+    let loose: Vec<&str> = (0..k).filter(|&s| !judged[0].together[s].2).map(|s| names[s]).collect();
+    let gained = (0..k).any(|s| judged[0].together[s].2 && !(has_prior && prior_pred[s].2));
+    if check.is_none() && gained && !loose.is_empty() {
+        verdicts.push(format!(
+            "These figures linearise the fit at one point; {} stay undetermined, and a refit may wander along them and carry the parameters the design determines with it: run --check 20 to measure the spread and coverage the refits reach.",
+            loose.join(", ")
+        ));
+    }
     for (name, r) in ratios.iter().filter(|_| has_prior) {
         verdicts.push(format!("Along the prior's weakest direction the designed record leaves {r:.3} times less variance than the {name}."));
     }

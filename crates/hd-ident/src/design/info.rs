@@ -4,8 +4,16 @@
 //! JᵀJ is the information the fit would get from it. Columns are taken with respect to
 //! the parameters' logarithms (relative changes), as the fit steps them. The input is
 //! scaled to the largest amplitude whose simulated peaks stay within the rig's limits.
+//!
+//! Samples where an encoder creeps (moves less than 1.5 counts to the next sample) are not
+//! counted, in a candidate's information or in the prior: there the rounding error is a
+//! staircase fixed by the true angle, which a fit can follow, not independent noise of
+//! count/√12 ([`crate::drive::compliant::creeping`], the rule the fit's own verdict
+//! applies). A design whose motion stays under a count per sample would otherwise be
+//! credited with information its refits do not find.
 
 use super::closed::Loop;
+use crate::drive::compliant::creeping::{drop_creeping, masks};
 use crate::drive::compliant::fit::{CompliantSpec, residuals_and_jacobian, simulate_on_zeros};
 use crate::drive::compliant::model::{P, State};
 use crate::drive::compliant::{CurrentSampled, Signal, VoltageRecord};
@@ -300,14 +308,28 @@ impl Problem {
     }
 
     /// The information of the noise-free record of voltage `u` over [`Problem::free`], log
-    /// coordinates, or None where the drive cannot be simulated.
+    /// coordinates, or None where the drive cannot be simulated: the samples where an
+    /// encoder creeps not counted (the module's note).
     pub fn information(&self, u: &[f64]) -> Option<DMatrix<f64>> {
+        self.information_of(u, true)
+    }
+
+    /// [`Problem::information`] with every sample counted, creeping or not: JᵀJ of the
+    /// fit's own Jacobian.
+    pub fn information_all(&self, u: &[f64]) -> Option<DMatrix<f64>> {
+        self.information_of(u, false)
+    }
+
+    fn information_of(&self, u: &[f64], drop_creep: bool) -> Option<DMatrix<f64>> {
         let rec = self.record(u);
         let spec = self.record_spec();
-        let (r, mut j) =
-            residuals_and_jacobian(&spec, &self.values, &self.free, std::slice::from_ref(&rec));
+        let records = std::slice::from_ref(&rec);
+        let (r, mut j) = residuals_and_jacobian(&spec, &self.values, &self.free, records);
         if !r.iter().all(|v| v.is_finite()) || !j.iter().all(|v| v.is_finite()) {
             return None;
+        }
+        if drop_creep {
+            drop_creeping(&mut j, &masks(&spec, records, is_encoder));
         }
         for (c, s) in self.scales().iter().enumerate() {
             j.column_mut(c).scale_mut(*s);
@@ -334,6 +356,11 @@ pub struct Scaled {
     pub amplitude: f64,
 }
 
+/// Whether `o` is an encoder, whose samples creep (a current or a command does not count).
+fn is_encoder(o: Signal) -> bool {
+    matches!(o, Signal::Motor | Signal::Load)
+}
+
 /// Information of `records` (log coordinates) over `free` at `values`, each output divided
 /// by `spec`'s noise levels: the prior of a design (zeros without records).
 pub fn prior_information(
@@ -347,6 +374,7 @@ pub fn prior_information(
         return DMatrix::zeros(k, k);
     }
     let (_, mut j) = residuals_and_jacobian(spec, values, free, records);
+    drop_creeping(&mut j, &masks(spec, records, is_encoder));
     for (c, &p) in free.iter().enumerate() {
         let s = if values[p] != 0.0 { values[p].abs() } else { 1.0 };
         j.column_mut(c).scale_mut(s);

@@ -224,6 +224,14 @@ impl Family {
     pub const ALL: [Family; 5] =
         [Family::Chirp, Family::Multisine, Family::Ramp, Family::Mix, Family::Spectrum];
 
+    /// The families searched unless asked otherwise: every one but [`Family::Spectrum`].
+    /// Its best on the docs' worked example (A-optimal on the load and the gear) is a
+    /// single sine just above the load's resonance, predicted better than the searched
+    /// families' 224–366 Hz chirp (relative SE of Jz 0.21 against 0.30 at the truth) but
+    /// worse in 20 refits each (spread 0.38 against 0.25, 1.8 times its prediction against
+    /// 0.8, Jz biased 25 % low): one line leaves the friction free to wander with the load.
+    pub const DEFAULT: [Family; 4] = [Family::Chirp, Family::Multisine, Family::Ramp, Family::Mix];
+
     /// Its name.
     pub fn name(self) -> &'static str {
         match self {

@@ -233,10 +233,20 @@ fn infos(elements: &[Element]) -> Vec<DMatrix<f64>> {
     elements.iter().map(|e| e.info.clone()).collect()
 }
 
+/// The largest of `v` (0 for an empty or all-negative slice: weights and amplitudes).
+fn largest(v: &[f64]) -> f64 {
+    v.iter().fold(0.0f64, |m, x| m.max(*x))
+}
+
+/// The largest magnitude in `v` (a signal's peak) [its unit].
+fn largest_magnitude(v: &[f64]) -> f64 {
+    v.iter().fold(0.0f64, |m, x| m.max(x.abs()))
+}
+
 /// The sines of `sines` weighted by `w` played together: line k at amplitude ∝ its
 /// full-limit amplitude times √wₖ (weights below [`DROP`] of the largest dropped).
 fn together(sines: &[Element], w: &[f64]) -> Vec<(f64, f64)> {
-    let top = w.iter().fold(0.0f64, |m, v| m.max(*v));
+    let top = largest(w);
     sines
         .iter()
         .zip(w)
@@ -252,7 +262,7 @@ fn power_reached(problem: &Problem, sines: &[Element], tones: &[(f64, f64)], e: 
     let rate = problem.limits.rate;
     let t: Vec<f64> = (0..n).map(|j| j as f64 / rate).collect();
     let raw = Segment::Lines { tones: tones.to_vec() }.raw(&t, n as f64 / rate);
-    let peak = raw.iter().fold(0.0f64, |p, v| p.max(v.abs())).max(f64::MIN_POSITIVE);
+    let peak = largest_magnitude(&raw).max(f64::MIN_POSITIVE);
     let scale = e.scaled.amplitude / peak;
     tones
         .iter()
@@ -315,7 +325,7 @@ fn one_after_another(
     for _ in 0..4 * elements.len() {
         let info: Vec<DMatrix<f64>> = kept.iter().map(|&i| elements[i].info.clone()).collect();
         let wk = weights(criterion, &problem.prior, &info, 1.0, w.as_deref());
-        let top = wk.iter().fold(0.0f64, |m, v| m.max(*v));
+        let top = largest(&wk);
         // How far each kept element is from long enough (below 1: too short).
         let ratio: Vec<f64> = kept
             .iter()
@@ -337,7 +347,7 @@ fn one_after_another(
     }
     let w = w.unwrap_or_default();
     let mut share = vec![0.0; elements.len()];
-    let top = w.iter().fold(0.0f64, |m, v| m.max(*v));
+    let top = largest(&w);
     for (&i, &wk) in kept.iter().zip(&w) {
         if wk >= DROP * top {
             share[i] = wk;
@@ -374,7 +384,7 @@ fn one_after_another(
 /// Grid frequencies [Hz] between each sine of weight ≥ 1 % of the largest and its
 /// neighbours (geometric means, on the grid of `df` [Hz]), not already among `sines`.
 fn between(sines: &[Element], w: &[f64], df: f64) -> Vec<f64> {
-    let top = w.iter().fold(0.0f64, |m, v| m.max(*v));
+    let top = largest(w);
     let f: Vec<f64> = sines.iter().filter_map(Element::sine).collect();
     let mut extra: Vec<f64> = Vec::new();
     for (i, &fi) in f.iter().enumerate() {

@@ -133,7 +133,7 @@ fn information_matches_central_differences() {
         .iter()
         .map(|v| 12.0 * v)
         .collect();
-    let info = pr.information(&u).unwrap();
+    let info = pr.information_all(&u).unwrap();
     let outputs = |values: [f64; P]| -> Vec<f64> {
         let q = Problem { values, ..pr.clone() };
         let rec = q.record(&u);
@@ -174,7 +174,7 @@ fn information_of_a_linear_drive_grows_with_the_square_of_the_amplitude() {
     pr.values[ix::B] = 0.0;
     let shape = Design::single(Segment::Multisine { f0: 5.0, f1: 300.0, lines: 8, tilt: 0.0 })
         .shape(pr.limits.samples(), 1000.0);
-    let at = |a: f64| pr.information(&shape.iter().map(|v| a * v).collect::<Vec<_>>()).unwrap();
+    let at = |a: f64| pr.information_all(&shape.iter().map(|v| a * v).collect::<Vec<_>>()).unwrap();
     let (one, three) = (at(1.0), at(3.0));
     let k = one.nrows();
     for i in 0..k {
@@ -348,7 +348,7 @@ fn loop_information_matches_central_differences() {
         .iter()
         .map(|v| 0.5 * v)
         .collect();
-    let info = pr.information(&r).unwrap();
+    let info = pr.information_all(&r).unwrap();
     let cn = pr.closed.as_ref().unwrap().command_noise;
     let outputs = |values: [f64; P]| -> Vec<f64> {
         let q = Problem { values, ..pr.clone() };
@@ -405,4 +405,44 @@ fn a_loop_reference_starts_and_ends_at_rest() {
     assert!(ends.iter().any(|&k| shape[k].abs() > 0.1), "the shape is small at its ends");
     assert!((u[n - 2] / (a * shape[n - 2])).abs() < 0.05, "{} {}", u[n - 2], shape[n - 2]);
     assert!(e.scaled.peaks.reference <= 0.5 * (1.0 + 1e-9));
+}
+
+/// On a linear drive, where both encoders creep throughout (an input of a millivolt), their
+/// samples carry no information: what is left is the current's alone, the information of the same record
+/// with both encoders' noise a million million times larger (to 1e-9 of the diagonal).
+/// At 12 V the encoders move and count: the information exceeds the current's.
+#[test]
+fn creeping_encoders_count_for_nothing() {
+    let free = [ix::R, ix::KE, ix::JJ, ix::CJ];
+    let mut pr = problem(&free, limits(0.2));
+    // Linear (as above), so that every output's sensitivity scales with the amplitude alike.
+    for k in [ix::SIGMA0, ix::SIGMA1, ix::MEM_A, ix::A, ix::B] {
+        pr.values[k] = 0.0;
+    }
+    let shape =
+        Design::single(Segment::Chirp { f0: 2.0, f1: 40.0 }).shape(pr.limits.samples(), 1000.0);
+    let deaf = Problem {
+        noise: Noise { motor: pr.noise.motor * 1e12, load: pr.noise.load * 1e12, ..pr.noise },
+        ..pr.clone()
+    };
+    let at = |a: f64| shape.iter().map(|v| a * v).collect::<Vec<_>>();
+    let (counted, current) =
+        (pr.information(&at(1e-3)).unwrap(), deaf.information_all(&at(1e-3)).unwrap());
+    let all = pr.information_all(&at(1e-3)).unwrap();
+    for i in 0..free.len() {
+        for j in 0..free.len() {
+            let scale = (current[(i, i)] * current[(j, j)]).sqrt();
+            assert!(
+                (counted[(i, j)] - current[(i, j)]).abs() < 1e-9 * scale,
+                "{i} {j}: {counted} {current}"
+            );
+        }
+        assert!(
+            all[(i, i)] > 1.5 * current[(i, i)],
+            "the encoders' rows were there to drop: {all} {current}"
+        );
+    }
+    let (moving, current) =
+        (pr.information(&at(12.0)).unwrap(), deaf.information_all(&at(12.0)).unwrap());
+    assert!((0..free.len()).all(|i| moving[(i, i)] > 1.5 * current[(i, i)]), "{moving} {current}");
 }

@@ -7,6 +7,8 @@
 //! draws most of its information ([`CREEPING_SHARE`]) from such samples is reported as not
 //! determined.
 
+use super::fit::{CompliantSpec, Signal, blocks};
+use super::record::VoltageRecord;
 use nalgebra::DMatrix;
 use std::ops::Range;
 
@@ -46,6 +48,34 @@ pub fn creeping_share(jac: &DMatrix<f64>, masks: &[(Range<usize>, Vec<bool>)]) -
             if total > 0.0 { creep / total } else { 0.0 }
         })
         .collect()
+}
+
+/// The creeping masks of `records` as `spec` compares them: for every residual block of an
+/// output `keep` accepts, its rows and whether each sample creeps, with the output's count
+/// taken from its noise level ([`count_of`]).
+pub fn masks(
+    spec: &CompliantSpec,
+    records: &[VoltageRecord],
+    keep: impl Fn(Signal) -> bool,
+) -> Vec<(Range<usize>, Vec<bool>)> {
+    blocks(spec, records)
+        .into_iter()
+        .filter(|(_, o, _)| keep(*o))
+        .filter_map(|(k, o, range)| {
+            let sigma = spec.outputs.iter().find(|(s, _)| *s == o)?.1[k];
+            Some((range, creeping(o.measured(&records[k])?, count_of(sigma))))
+        })
+        .collect()
+}
+
+/// Zero the rows of `jac` the masks mark: what the information keeps once the creeping
+/// samples' staircase is not counted as independent noise.
+pub fn drop_creeping(jac: &mut DMatrix<f64>, masks: &[(Range<usize>, Vec<bool>)]) {
+    for (range, mask) in masks {
+        for (i, _) in range.clone().zip(mask).filter(|(_, m)| **m) {
+            jac.row_mut(i).fill(0.0);
+        }
+    }
 }
 
 #[cfg(test)]

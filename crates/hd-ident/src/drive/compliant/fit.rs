@@ -32,7 +32,7 @@ const CORRELATED_KAPPA: f64 = 1.5;
 
 /// The residual blocks of `spec` on `records`, in the order of [`residuals_at`]: (record,
 /// output, range).
-fn blocks(
+pub(crate) fn blocks(
     spec: &CompliantSpec,
     records: &[VoltageRecord],
 ) -> Vec<(usize, Signal, std::ops::Range<usize>)> {
@@ -507,15 +507,7 @@ pub(super) fn fit_stage(
     }
     // Information from samples where an encoder creeps is a quantisation staircase, not
     // noise ([`super::creeping`]).
-    let masks: Vec<_> = blocks
-        .iter()
-        .filter(|(_, o, _)| *o != Signal::Current)
-        .filter_map(|(k, o, range)| {
-            let sigma = spec.outputs.iter().find(|(s, _)| s == o)?.1[*k];
-            let count = super::creeping::count_of(sigma);
-            Some((range.clone(), super::creeping::creeping(o.measured(&records[*k])?, count)))
-        })
-        .collect();
+    let masks = super::creeping::masks(spec, records, |o| o != Signal::Current);
     let shares = super::creeping::creeping_share(&widened, &masks);
     for (slot, &k) in free_idx.iter().enumerate() {
         if determined[k] && shares[slot] > super::creeping::CREEPING_SHARE {
