@@ -35,7 +35,6 @@ pub mod friction;
 pub mod hysteresis;
 pub mod linear;
 pub mod lm;
-mod lm_secant;
 pub mod memory_profile;
 pub mod nnls;
 pub mod path;

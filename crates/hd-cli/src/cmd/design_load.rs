@@ -9,7 +9,7 @@ use hd_ident::drive::compliant::config::CompliantConfig;
 use hd_ident::drive::compliant::fit::CompliantSpec;
 use hd_ident::drive::compliant::model::{P, on_law};
 use hd_ident::drive::compliant::{Between, NAMES, Signal, VoltageRecord, substeps_for};
-use hd_ident::drive::lm::LmSettings;
+use hd_ident::lm::LmOptions;
 use serde_json::Value;
 use std::path::{Path, PathBuf};
 
@@ -71,7 +71,12 @@ fn spec_for(
         current_offset: true,
         friction_velocity: hd_model::FrictionVelocity::Motor,
         substeps,
-        settings: LmSettings { max_iterations: 300, cost_tolerance: 1e-8, geodesic: true },
+        settings: LmOptions {
+            max_iterations: 300,
+            cost_tolerance: 1e-8,
+            geodesic: true,
+            ..LmOptions::drive()
+        },
     }
 }
 

@@ -16,7 +16,7 @@ use hd_ident::drive::compliant::{
     Amplifier, CompliantConfig, NAMES, Signal, VoltageRecord, fit_compliant, substeps_of,
 };
 use hd_ident::drive::fit::noise_level;
-use hd_ident::drive::lm::LmSettings;
+use hd_ident::lm::LmOptions;
 use hd_model::HystLaw;
 use std::path::Path;
 use std::time::Instant;
@@ -29,7 +29,7 @@ const COST_TOLERANCE: f64 = 1e-8;
 
 /// Iteration budget of each pass, unless `[fit] max_iterations` says otherwise. The valleys
 /// of a gear the record barely sees take many small steps. With geodesic steps
-/// ([`LmSettings::geodesic`]) a full fit of a 2–200 Hz multisine converges in about 150
+/// ([`LmOptions::geodesic`]) a full fit of a 2–200 Hz multisine converges in about 150
 /// iterations (260 without).
 const MAX_ITERATIONS: usize = 300;
 
@@ -290,10 +290,11 @@ pub fn run(args: &DriveArgs, text: &str) -> Result<()> {
         friction_velocity,
         current_offset: cfg.fit.current_offset.unwrap_or(true),
         substeps: floor,
-        settings: LmSettings {
+        settings: LmOptions {
             max_iterations: cfg.fit.max_iterations.unwrap_or(MAX_ITERATIONS),
             cost_tolerance: COST_TOLERANCE,
             geodesic: true,
+            ..LmOptions::drive()
         },
     };
     // Followers start at their leaders' values (as the fit holds them).

@@ -6,7 +6,7 @@ use super::*;
 use crate::drive::compliant::fit::CompliantSpec;
 use crate::drive::compliant::model::{NAMES, P, ix};
 use crate::drive::compliant::{Between, Signal};
-use crate::drive::lm::LmSettings;
+use crate::lm::LmOptions;
 
 fn seed() -> ([f64; P], f64) {
     let p = hd_model::Params::default();
@@ -40,7 +40,7 @@ pub(super) fn problem(free: &[usize], limits: Limits) -> Problem {
         current_offset: false,
         friction_velocity: hd_model::FrictionVelocity::Motor,
         substeps: 20,
-        settings: LmSettings::default(),
+        settings: LmOptions::drive(),
     };
     let k = free.len();
     Problem {

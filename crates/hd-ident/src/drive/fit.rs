@@ -14,12 +14,14 @@
 use super::controller::Controller;
 use super::dual::{Dual, NP, SIZES, Scalar};
 use super::identifiability::{Determination, determination_r};
-use super::lm::{Accumulator, LeastSquares, LmResult, LmSettings, Normal, minimise_problem};
 use super::model::FrictionLaw;
 use super::record::Experiment;
 use super::score::Score;
 use super::simulate::Run;
 use crate::error::FitError;
+use crate::lm::{
+    Accumulator, LeastSquares, LmOptions, LmOutcome, Normal, minimise, not_finite, pairs,
+};
 use crate::qr_stream::StreamingQr;
 use nalgebra::DVector;
 
@@ -83,7 +85,7 @@ pub struct FitSpec {
     /// Upper bounds.
     pub upper: Vec<f64>,
     /// Optimiser settings.
-    pub settings: LmSettings,
+    pub settings: LmOptions,
 }
 
 /// Scores of one experiment.
@@ -279,20 +281,20 @@ impl Problem<'_> {
 }
 
 impl LeastSquares for Problem<'_> {
-    fn normal(&self, x: &[f64]) -> Option<Normal> {
+    fn normal(&self, x: &[f64]) -> Result<Normal, FitError> {
         let mut acc = Accumulator::new(self.free_idx.len());
         self.visit(x, None, &mut |r, j, _| acc.push(r, j));
         acc.finish()
     }
 
-    fn cost(&self, x: &[f64]) -> Option<f64> {
+    fn cost(&self, x: &[f64]) -> Result<f64, FitError> {
         let p = self.full(x);
         let (mut cost, mut finite) = (0.0, true);
         residuals(self.spec, &p, self.experiments).for_each(|r| {
             finite &= r.is_finite();
             cost += r * r;
         });
-        finite.then_some(cost)
+        if finite { Ok(cost) } else { Err(not_finite()) }
     }
 
     fn curvature(&self, x: &[f64], v: &DVector<f64>, h: f64) -> Option<DVector<f64>> {
@@ -326,8 +328,8 @@ pub fn fit_drive(
     let x0: Vec<f64> = free_idx.iter().map(|&k| spec.start[k]).collect();
     let lo: Vec<f64> = free_idx.iter().map(|&k| spec.lower[k]).collect();
     let hi: Vec<f64> = free_idx.iter().map(|&k| spec.upper[k]).collect();
-    let LmResult { x, cost, iterations, failed_trials, termination } =
-        minimise_problem(&problem, &x0, &lo, &hi, &spec.settings, progress).ok_or_else(|| {
+    let LmOutcome { x, cost, iterations, failed_trials, termination, .. } =
+        minimise(&problem, &x0, &pairs(&lo, &hi), &spec.settings, progress).map_err(|_| {
             FitError::Optimiser(format!(
                 "the {} drive cannot be simulated at the start values",
                 spec.law.name()
@@ -441,7 +443,7 @@ mod tests {
             free,
             lower: vec![f64::NEG_INFINITY; n],
             upper: vec![f64::INFINITY; n],
-            settings: LmSettings { max_iterations, ..LmSettings::default() },
+            settings: LmOptions { max_iterations, ..LmOptions::drive() },
         }
     }
 

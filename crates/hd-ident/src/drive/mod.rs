@@ -21,7 +21,6 @@ pub mod fit;
 pub mod frf;
 pub mod identifiability;
 pub mod idim;
-pub mod lm;
 pub mod lugre;
 pub mod model;
 pub mod nested;

@@ -7,9 +7,9 @@ use super::controller::{Controller, Reproduction, reproduce};
 use super::error::DriveError;
 use super::fit::{DriveFit, FitSpec, OutputKind, noise_level};
 use super::idim::{IdimFit, idim_ls};
-use super::lm::LmSettings;
 use super::model::FrictionLaw;
 use super::record::Experiment;
+use crate::lm::LmOptions;
 
 /// Relative cost change below which a LuGre fit stops.
 pub const LUGRE_COST_TOLERANCE: f64 = 1e-7;
@@ -203,17 +203,17 @@ pub fn spec(
         free,
         lower,
         upper,
-        settings: LmSettings {
-            max_iterations: cfg.fit.max_iterations.unwrap_or(LmSettings::default().max_iterations),
+        settings: LmOptions {
+            max_iterations: cfg.fit.max_iterations.unwrap_or(LmOptions::drive().max_iterations),
             // LuGre's σ0–σ1 valley is long and flat: stop once an iteration gains less than a
             // ten-millionth of the cost (for EMPS, 0.04 in the noise-weighted sum of squares,
             // far below a significant change).
             cost_tolerance: if law.is_lugre() {
                 LUGRE_COST_TOLERANCE
             } else {
-                LmSettings::default().cost_tolerance
+                LmOptions::drive().cost_tolerance
             },
-            geodesic: false,
+            ..LmOptions::drive()
         },
     })
 }

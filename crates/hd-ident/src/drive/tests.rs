@@ -7,10 +7,10 @@ use super::controller::{Controller, reproduce};
 use super::dual::{Dual, Scalar};
 use super::fit::{FitSpec, OutputKind, fit_drive};
 use super::idim::{IdimOptions, idim_ls};
-use super::lm::LmSettings;
 use super::model::{Drive, FrictionLaw, Motion, Rigid};
 use super::record::Experiment;
 use super::simulate::simulate;
+use crate::lm::LmOptions;
 
 /// The Coulomb–viscous laws (LuGre has its own tests, tests_lugre.rs).
 pub(super) const RIGID: [FrictionLaw; 2] = [FrictionLaw::CoulombViscous, FrictionLaw::Directional];
@@ -227,7 +227,7 @@ fn output_error_fit_recovers_the_parameters_from_a_poor_start() {
             free,
             lower: vec![f64::NEG_INFINITY; n],
             upper: vec![f64::INFINITY; n],
-            settings: LmSettings::default(),
+            settings: LmOptions::drive(),
         };
         let mut spec = spec;
         spec.start[n - 1] = truth[n - 1];

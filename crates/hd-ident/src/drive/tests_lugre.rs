@@ -4,11 +4,11 @@
 
 use super::dual::{Dual, Scalar};
 use super::fit::{FitSpec, OutputKind, fit_drive};
-use super::lm::LmSettings;
 use super::lugre::LuGreDrive;
 use super::model::{Drive, FrictionLaw, Motion};
 use super::simulate::simulate;
 use super::tests::{assert_exact_derivatives, controller, record};
+use crate::lm::LmOptions;
 
 /// EMPS-like directional LuGre values (order of [`FrictionLaw::names`]): M, Fv_pos, Fc_pos,
 /// Fv_neg, Fc_neg, Fs_pos, Fs_neg, vs, sigma0, sigma1, gain.
@@ -137,7 +137,7 @@ fn output_error_fit_recovers_a_lugre_drive() {
                 .map(|(l, m)| if *m == "offset" { f64::NEG_INFINITY } else { *l })
                 .collect(),
             upper: vec![f64::INFINITY; n],
-            settings: LmSettings::default(),
+            settings: LmOptions::drive(),
         };
         let fit = fit_drive(&spec, std::slice::from_ref(&e), &|_, _| {}).unwrap();
         for k in 0..n - 1 {
@@ -193,7 +193,7 @@ fn lugre_start_values_and_the_second_start() {
         free: vec![true; n],
         lower: vec![0.0; n],
         upper: vec![f64::INFINITY; n],
-        settings: LmSettings::default(),
+        settings: LmOptions::drive(),
     };
     let v = stribeck_variants(&cfg(""), &spec);
     assert_eq!(v.len(), 2);

@@ -4,10 +4,10 @@
 
 use super::controller::Controller;
 use super::fit::{FitSpec, OutputKind, fit_drive};
-use super::lm::LmSettings;
 use super::model::FrictionLaw;
 use super::simulate::simulate;
 use super::tests::{RIGID, TRUTH, record};
+use crate::lm::LmOptions;
 
 /// Without restarts a model error integrates into a drift off the record; with them each
 /// segment starts on it, and the fit from a start 20 % off recovers the parameters to
@@ -57,7 +57,7 @@ fn multiple_shooting_recovers_a_drive_from_its_command_alone() {
             free,
             lower: vec![f64::NEG_INFINITY; n],
             upper: vec![f64::INFINITY; n],
-            settings: LmSettings::default(),
+            settings: LmOptions::drive(),
         };
         let fit = fit_drive(&spec, std::slice::from_ref(&e), &|_, _| {}).unwrap();
         for (k, truth_k) in truth.iter().enumerate().take(n - 1) {

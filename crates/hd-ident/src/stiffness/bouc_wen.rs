@@ -13,7 +13,7 @@ use super::{LawFit, LawOptions};
 use crate::data::HysteresisData;
 use crate::error::FitError;
 use crate::linear::least_squares;
-use crate::lm::{LmOptions, levenberg_marquardt_exact};
+use crate::lm::{Formed, LmOptions, Normal, minimise, silent};
 use crate::report::{Estimate, Explanation};
 use crate::varpro::{Moving, projected_jacobian};
 use hd_model::laws::bouc_wen::{BoucWen, BoucWenStiffness};
@@ -136,7 +136,8 @@ pub fn fit(data: &HysteresisData, opts: &LawOptions) -> Result<LawFit, FitError>
         starts.par_iter().map(|x| (cost(x).unwrap_or(f64::INFINITY), *x)).collect();
     scored.sort_by(|a, b| a.0.total_cmp(&b.0));
     let lm_opts = LmOptions { max_iterations: 40, max_step: 1.0, ..Default::default() };
-    let model = |x: &[f64]| problem.residuals_exact(x);
+    let model =
+        |x: &[f64]| problem.residuals_exact(x).map(|(r, j)| Normal::from_model_columns(&j, &r));
     let mut best: Option<crate::lm::LmOutcome> = None;
     let (mut iterations, mut evaluations, mut failed) = (0, starts.len(), 0);
     // The two best grid points refined in parallel.
@@ -145,7 +146,7 @@ pub fn fit(data: &HysteresisData, opts: &LawOptions) -> Result<LawFit, FitError>
         .take(2)
         .collect::<Vec<_>>()
         .into_par_iter()
-        .map(|(_, x0)| levenberg_marquardt_exact(&model, x0, &lm_opts))
+        .map(|(_, x0)| minimise(&Formed(model), x0, &[], &lm_opts, &silent))
         .collect();
     for out in outs {
         let Ok(out) = out else { continue };

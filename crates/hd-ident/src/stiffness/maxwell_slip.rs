@@ -10,7 +10,7 @@ use super::report::{Entry, OFFSET_REMARK, Work, build, spring_entries};
 use super::{LawFit, LawOptions};
 use crate::data::HysteresisData;
 use crate::error::FitError;
-use crate::lm::{LmOptions, levenberg_marquardt_exact};
+use crate::lm::{Formed, LmOptions, Normal, minimise, silent};
 use crate::nnls::nnls;
 use crate::report::{Estimate, Explanation};
 use crate::varpro::{Moving, projected_jacobian};
@@ -140,7 +140,9 @@ pub fn fit(data: &HysteresisData, opts: &LawOptions) -> Result<LawFit, FitError>
     let spring = super::spring_columns(theta, opts.offset);
     let problem = Problem { theta, y, spring };
     let start = yield_grid(theta, opts.elements);
-    let model = |u: &[f64]| problem.residuals_and_jacobian(u);
+    let model = Formed(|u: &[f64]| {
+        problem.residuals_and_jacobian(u).map(|(r, j)| Normal::from_model_columns(&j, &r))
+    });
     let u0: Vec<f64> = start.iter().map(|d| d.ln()).collect();
     let lm_opts = LmOptions {
         max_iterations: 100,
@@ -148,7 +150,7 @@ pub fn fit(data: &HysteresisData, opts: &LawOptions) -> Result<LawFit, FitError>
         cost_tolerance: 1e-10,
         ..Default::default()
     };
-    let out = levenberg_marquardt_exact(&model, &u0, &lm_opts)?;
+    let out = minimise(&model, &u0, &[], &lm_opts, &silent)?;
     let mut deltas: Vec<f64> = out.x.iter().map(|v| v.exp()).collect();
     deltas.sort_by(f64::total_cmp);
     let s = problem.solve(&deltas);

@@ -10,8 +10,8 @@ use super::record::{Between, VoltageRecord};
 use super::simulate::{Outputs, on_current_zero, on_encoder_zeros, simulate};
 use crate::drive::dual::{Dual, Scalar};
 use crate::drive::identifiability::{Determination, determination};
-use crate::drive::lm::{LmResult, LmSettings, minimise};
 use crate::drive::score::{Score, score};
+use crate::lm::{Columns, LmOptions, LmOutcome, minimise, pairs};
 use nalgebra::DMatrix;
 use rayon::prelude::*;
 
@@ -149,7 +149,7 @@ pub struct CompliantSpec {
     /// Runge–Kutta substeps per sample (fixed for the whole fit, so the objective is smooth).
     pub substeps: usize,
     /// Optimiser settings.
-    pub settings: LmSettings,
+    pub settings: LmOptions,
 }
 
 impl CompliantSpec {
@@ -472,9 +472,10 @@ pub(super) fn fit_stage(
     let x0: Vec<f64> = free_idx.iter().enumerate().map(|(s, &k)| to_x(s, spec.start[k])).collect();
     let lo: Vec<f64> = free_idx.iter().enumerate().map(|(s, &k)| to_x(s, spec.lower[k])).collect();
     let hi: Vec<f64> = free_idx.iter().enumerate().map(|(s, &k)| to_x(s, spec.upper[k])).collect();
-    let LmResult { x, cost, iterations, failed_trials, termination } =
-        minimise(&with_jac, &plain, &x0, &lo, &hi, &spec.settings, progress).ok_or(
-            "the drive cannot be simulated at the start values (a residual is not finite)",
+    let problem = Columns::new(&with_jac, &plain);
+    let LmOutcome { x, cost, iterations, failed_trials, termination, .. } =
+        minimise(&problem, &x0, &pairs(&lo, &hi), &spec.settings, progress).map_err(
+            |_| "the drive cannot be simulated at the start values (a residual is not finite)",
         )?;
     let values = full(&x);
     let (r, jac) = residuals_and_jacobian(spec, &values, &free_idx, records);

@@ -4,7 +4,7 @@
 use super::fit::{CompliantSpec, Report, Signal, fit_stage};
 use super::model::{P, has_load_law, ix::*};
 use super::record::VoltageRecord;
-use crate::drive::lm::LmSettings;
+use crate::lm::LmOptions;
 use rayon::prelude::*;
 
 /// Stiffness scales of the load pass's starts: the gear's resonance at 0.5, 0.71, 1, 1.41
@@ -222,7 +222,7 @@ pub(super) fn pass(
     for &k in which {
         free[k] = spec.free[k];
     }
-    let settings = LmSettings {
+    let settings = LmOptions {
         max_iterations: spec.settings.max_iterations.min(PASS_ITERATIONS),
         ..spec.settings.clone()
     };

@@ -19,7 +19,7 @@
 use super::fit::{CompliantFit, CompliantSpec, Report, Signal, fit_stage, simulate_on_zeros};
 use super::model::{NAMES, P};
 use super::record::VoltageRecord;
-use crate::drive::lm::LmSettings;
+use crate::lm::LmOptions;
 use rayon::prelude::*;
 
 /// Number of re-rounded records the fit is repeated on [–].
@@ -146,7 +146,7 @@ pub fn rounding_spread(
     for &k in &fit.held {
         free[k] = false;
     }
-    let settings = LmSettings {
+    let settings = LmOptions {
         max_iterations: REFIT_ITERATIONS,
         cost_tolerance: REFIT_TOLERANCE,
         ..spec.settings.clone()

@@ -6,7 +6,7 @@ use super::model::{Compliant, NAMES, P};
 use super::record::{Between, VoltageRecord};
 use super::simulate::simulate;
 use super::stages::fit_compliant;
-use crate::drive::lm::LmSettings;
+use crate::lm::LmOptions;
 use hd_model::{
     FrictionVelocity, HystLaw, Input, Params, Profile, SimConfig, SolverOptions, simulate_streaming,
 };
@@ -156,7 +156,12 @@ pub(super) fn test_spec(
         friction_velocity: hd_model::FrictionVelocity::Motor,
         current_offset: false,
         substeps,
-        settings: LmSettings { max_iterations: 300, cost_tolerance: 1e-8, geodesic: true },
+        settings: LmOptions {
+            max_iterations: 300,
+            cost_tolerance: 1e-8,
+            geodesic: true,
+            ..LmOptions::drive()
+        },
     }
 }
 

@@ -39,9 +39,7 @@ use crate::data::TransientData;
 use crate::error::FitError;
 use crate::fix::Fixed;
 use crate::linear::bounded_least_squares;
-use crate::lm::{
-    LmOptions, LmPaused, LmStep, levenberg_marquardt_normal, lm_normal_paused, lm_normal_resume,
-};
+use crate::lm::{Formed, LmOptions, LmPaused, LmStep, minimise, minimise_paused, resume, silent};
 use crate::report::Explanation;
 use hd_model::laws::friction::LuGre;
 use hd_model::registry::lookup;
@@ -304,8 +302,8 @@ impl<'a> JointProblem<'a> {
     /// Levenberg–Marquardt over the free nonlinear parameters' logarithms from `x0`, the
     /// Coulomb levels bounded below by their floor ([`JointProblem::bounds`]).
     fn refine(&self, x0: &[f64], lm: &LmOptions) -> Result<crate::lm::LmOutcome, FitError> {
-        let model = |x: &[f64]| self.pool.with(|ws| self.normal_at(x, ws));
-        levenberg_marquardt_normal(&model, x0, &self.bounds(), lm)
+        let model = Formed(|x: &[f64]| self.pool.with(|ws| self.normal_at(x, ws)));
+        minimise(&model, x0, &self.bounds(), lm, &silent)
     }
 
     /// [`JointProblem::refine`], paused after `iterations` unless it ends before.
@@ -315,14 +313,14 @@ impl<'a> JointProblem<'a> {
         lm: &LmOptions,
         iterations: usize,
     ) -> Result<LmStep, FitError> {
-        let model = |x: &[f64]| self.pool.with(|ws| self.normal_at(x, ws));
-        lm_normal_paused(&model, x0, &self.bounds(), lm, iterations)
+        let model = Formed(|x: &[f64]| self.pool.with(|ws| self.normal_at(x, ws)));
+        minimise_paused(&model, x0, &self.bounds(), lm, iterations)
     }
 
     /// Resume a paused [`JointProblem::refine_paused`] to its end.
     fn resume(&self, paused: LmPaused, lm: &LmOptions) -> Result<crate::lm::LmOutcome, FitError> {
-        let model = |x: &[f64]| self.pool.with(|ws| self.normal_at(x, ws));
-        lm_normal_resume(&model, paused, &self.bounds(), lm)
+        let model = Formed(|x: &[f64]| self.pool.with(|ws| self.normal_at(x, ws)));
+        resume(&model, paused, &self.bounds(), lm)
     }
 
     /// Range of σ0 worth searching, from the record: see [`super::transient`].

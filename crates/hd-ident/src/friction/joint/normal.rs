@@ -68,11 +68,7 @@ impl JointProblem<'_> {
 
     /// The cost ‖r‖² and the normal equations of the projected residual at x (logarithms
     /// of the free nonlinear parameters), in `ws`.
-    pub(super) fn normal_at(
-        &self,
-        x: &[f64],
-        ws: &mut Workspace,
-    ) -> Result<(f64, Normal), FitError> {
+    pub(super) fn normal_at(&self, x: &[f64], ws: &mut Workspace) -> Result<Normal, FitError> {
         let v = self.values(x);
         self.grad_run(&v, ws)?;
         let solved = {
@@ -148,7 +144,7 @@ impl JointProblem<'_> {
             let r = &resid[span.clone()];
             for a in 0..q {
                 let ja = &dw[a][span.clone()];
-                jtr[a] += dot(ja, r);
+                jtr[a] -= dot(ja, r); // J = ∂r/∂x = −∂model/∂x
                 for b in 0..=a {
                     jtj[(a, b)] += dot(ja, &dw[b][span.clone()]);
                 }
@@ -159,6 +155,6 @@ impl JointProblem<'_> {
                 jtj[(b, a)] = jtj[(a, b)];
             }
         }
-        Ok((dot(resid, resid), Normal { jtj, jtr }))
+        Ok(Normal { cost: dot(resid, resid), jtj, jtr })
     }
 }

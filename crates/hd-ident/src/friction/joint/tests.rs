@@ -44,8 +44,9 @@ fn exact_jacobian_matches_central_differences() {
         let (r, jac) = problem.residuals_and_jacobian(&x).unwrap();
         assert_eq!(jac.len(), problem.nonlinear.len());
         // The fit's own evaluation (workspace, Gram solve) gives the same normal equations.
-        let reference = crate::lm::Normal::from_columns(&jac, &r);
-        let (cost, normal) = problem.pool.with(|ws| problem.normal_at(&x, ws)).unwrap();
+        let reference = crate::lm::Normal::from_model_columns(&jac, &r);
+        let normal = problem.pool.with(|ws| problem.normal_at(&x, ws)).unwrap();
+        let cost = normal.cost;
         let rss: f64 = r.iter().map(|v| v * v).sum();
         assert!((cost - rss).abs() <= 1e-12 * rss, "{cost} vs {rss}");
         let close = |a: f64, b: f64, scale: f64| (a - b).abs() <= 1e-9 * scale;
