@@ -12,7 +12,8 @@
 //! radius on the largest move ([`LmOptions::max_step`]), the geodesic acceleration
 //! ([`LmOptions::geodesic`]), a secant estimate of the curvature Gauss–Newton leaves out
 //! ([`LmOptions::secant`], [`secant`]), and a pause after a number of iterations that a
-//! resume continues bit for bit ([`minimise_paused`], [`resume`]).
+//! resume continues bit for bit ([`minimise_paused`], [`resume`], [`resume_until`]; the
+//! `argmin_frame` example drives it through argmin's `Executor` one iteration at a time).
 
 mod engine;
 mod problem;
@@ -167,8 +168,21 @@ pub fn resume(
     bounds: &[(f64, f64)],
     opts: &LmOptions,
 ) -> Result<LmOutcome, FitError> {
+    resume_until(problem, paused, bounds, opts, None).map(LmStep::ended)
+}
+
+/// [`resume`], paused again once `pause_after` iterations are done in all (counting those
+/// before the pause) unless it ends before: a run resumed one iteration at a time ends bit
+/// for bit where the uninterrupted one does.
+pub fn resume_until(
+    problem: &dyn LeastSquares,
+    paused: LmPaused,
+    bounds: &[(f64, f64)],
+    opts: &LmOptions,
+    pause_after: Option<usize>,
+) -> Result<LmStep, FitError> {
     let start = engine::Start::Resume(Box::new(paused));
-    engine::run(problem, start, bounds, opts, None, &silent).map(LmStep::ended)
+    engine::run(problem, start, bounds, opts, pause_after, &silent)
 }
 
 /// (lower, upper) pairs of two bound vectors.

@@ -97,6 +97,17 @@ fn a_paused_run_resumes_exactly() {
     let resumed = resume(&problem, paused, &[], &opts).unwrap();
     assert_eq!(resumed, whole);
     assert!(whole.iterations > 3, "{whole:?}");
+    // One iteration at a time, as a frame such as argmin's would drive it.
+    let mut step = minimise_paused(&problem, &[0.0, 1.0], &[], &opts, 0).unwrap();
+    let mut pauses = 0;
+    while let LmStep::Paused(p) = step {
+        pauses += 1;
+        let next = p.iterations() + 1;
+        step = resume_until(&problem, p, &[], &opts, Some(next)).unwrap();
+    }
+    let LmStep::Done(stepped) = step else { unreachable!() };
+    assert_eq!(stepped, whole);
+    assert_eq!(pauses, whole.iterations);
 }
 
 /// y = a·e^{−k·t} in whole columns from a poor start, with k bounded above the
