@@ -6,14 +6,16 @@ use super::common::ensure_dir;
 use super::fit_drive::DriveArgs;
 use super::fit_drive_compliant_out::{Outcome, write_outputs};
 use anyhow::{Context, Result};
-use hd_ident::drive::compliant::accuracy::{ACCURACY_COST, accurate_substeps, integration_error};
+use hd_ident::drive::compliant::accuracy::{
+    ACCURACY_COST, accurate_substeps, first_substeps, integration_error,
+};
 use hd_ident::drive::compliant::config::VoltageExperimentConfig;
 use hd_ident::drive::compliant::fit::{CompliantSpec, score_records};
 use hd_ident::drive::compliant::model::{P, has_load_law, on_law};
 use hd_ident::drive::compliant::scale_check::{check_command, check_current};
 use hd_ident::drive::compliant::supported::load_law_problem;
 use hd_ident::drive::compliant::{
-    Amplifier, CompliantConfig, NAMES, Signal, VoltageRecord, fit_compliant, substeps_of,
+    Amplifier, CompliantConfig, NAMES, Signal, VoltageRecord, fit_compliant,
 };
 use hd_ident::drive::fit::noise_level;
 use hd_ident::lm::LmOptions;
@@ -271,7 +273,7 @@ pub fn run(args: &DriveArgs, text: &str) -> Result<()> {
     let floor = cfg.substeps.unwrap_or_else(|| {
         let d = hd_ident::drive::compliant::Compliant::new(start, n)
             .with_friction_velocity(friction_velocity);
-        substeps_of(&d, h)
+        first_substeps(&d, h)
     });
     let noise_estimated =
         outputs.iter().map(|(o, _)| !cfg.fit.noise.contains_key(o.name())).collect();

@@ -23,7 +23,8 @@ pub type Progress<'a> = &'a (dyn Fn(usize, f64) + Sync);
 /// the checks), the iteration and cost are its optimiser's. Stages may run in parallel.
 pub type Report<'a> = &'a (dyn Fn(&str, usize, f64) + Sync);
 
-/// Largest (fastest rate × substep) the substep count allows [–].
+/// Largest (fastest rate × substep) of a substep count taken without measuring its
+/// integration error [–] (`hdw fit drive` measures it: [`super::accuracy`]).
 pub(super) const RATE_STEP: f64 = 0.1;
 
 /// Long-run variance ratio from which a sentence says an output's residuals are

@@ -180,10 +180,9 @@ fn kept_ends(
     }
 }
 
-/// Largest (fastest rate × substep) of the motor and load passes [–]: three times the full
-/// fit's [`super::fit::RATE_STEP`], still about a ninth of where the Runge–Kutta step's
-/// stability ends (2.8).
-const PASS_RATE_STEP: f64 = 3.0 * super::fit::RATE_STEP;
+/// Largest (fastest rate × substep) of the motor and load passes [–]: the coarsest step the
+/// fit integrates at ([`super::accuracy::SEARCH_RATE_STEP`]).
+const PASS_RATE_STEP: f64 = super::accuracy::SEARCH_RATE_STEP;
 
 /// Substeps per sample of the motor and load passes: half the full fit's (rounded up), not
 /// below [`PASS_RATE_STEP`]'s floor at the start values nor above the full fit's. The passes
