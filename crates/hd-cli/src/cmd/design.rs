@@ -241,20 +241,18 @@ pub fn run(a: DesignArgs) -> Result<()> {
     // Defaults from the fitted records: their rate and peak voltage.
     if let Some(r) = loaded.records.first() {
         let p = &mut loaded.problem;
+        let same_rate = a.rate.is_none() || (p.limits.rate * r.h - 1.0).abs() <= 1e-9;
         if a.rate.is_none() {
             p.limits.rate = 1.0 / r.h;
-            // The fit measured its count's integration error on its own records only. A
-            // designed input may reach further up in frequency, and nothing measures its
-            // integration, so the design takes at least the count the drive's rates alone ask
-            // for (on the docs' worked example, a 3-427 Hz design integrated at the fit's 6
-            // substeps instead of 18 had the predicted SE of Jz 16 % higher).
-            let unmeasured =
-                hd_ident::drive::compliant::substeps_for(&p.values, p.spec.n, 1.0 / p.limits.rate);
-            p.spec.substeps = p.spec.substeps.max(unmeasured);
-        } else if (p.limits.rate * r.h - 1.0).abs() > 1e-9 {
-            p.spec.substeps =
-                hd_ident::drive::compliant::substeps_for(&p.values, p.spec.n, 1.0 / p.limits.rate);
         }
+        // The fit measured its count's integration error on its own records only. A designed
+        // input may reach further up in frequency, and nothing measures its integration, so
+        // the design takes at least the count the drive's rates alone ask for (on the docs'
+        // worked example, a 3-427 Hz design integrated at the fit's 6 substeps instead of 18
+        // had the predicted SE of Jz 16 % higher); at another rate, that count.
+        let unmeasured =
+            hd_ident::drive::compliant::substeps_for(&p.values, p.spec.n, 1.0 / p.limits.rate);
+        p.spec.substeps = if same_rate { p.spec.substeps.max(unmeasured) } else { unmeasured };
         let peak = |x: &mut dyn Iterator<Item = &f64>| x.fold(0.0f64, |m, v| m.max(v.abs()));
         let voltage_driven = p.closed.as_ref().is_none_or(|l| l.amplifier == Amplifier::Voltage);
         if a.voltage.is_none() && voltage_driven {

@@ -10,12 +10,12 @@
 //! error at m (the method's error falls about sixfold per doubling), is below
 //! [`ACCURACY_COST`]. `hdw fit drive` measures it again at the fitted values.
 //!
-//! The search starts where the fastest rate times the substep is [`SEARCH_RATE_STEP`], not
-//! at the third of that which a count used without a measurement takes
+//! The search starts where the fastest rate times the substep is [`SEARCH_RATE_STEP`]
+//! (0.3), not at 0.1, the rule for a count used without measuring its error
 //! ([`super::fit::substeps_of`]). On a 2 s, 5 kHz multisine of a 50:1 drive with a stiff
-//! gear that third asked for 14 substeps, and 3 already met the budget at the start values
-//! (error cost 0.08); 4 met it at the truth (0.02). On the seed drive it asked for 4, and 2
-//! already met the budget (0.22 at the start values, 0.04 at the truth).
+//! gear, 0.1 asked for 14 substeps, and 3 already met the budget at the start values (error
+//! cost 0.08); 4 met it at the truth (0.02). On the seed drive it asked for 4, and 2 already
+//! met the budget (0.22 at the start values, 0.04 at the truth).
 
 use super::fit::{CompliantSpec, residuals_at};
 use super::model::Compliant;
@@ -36,8 +36,7 @@ pub const SEARCH_RATE_STEP: f64 = 0.3;
 /// Where the search for the substep count of drive `d` on samples of `h` [s] starts: the
 /// fastest rate times the substep at most [`SEARCH_RATE_STEP`], at least 2 substeps.
 pub fn first_substeps(d: &Compliant<f64>, h: f64) -> usize {
-    let m = (d.fastest_rate() * h / SEARCH_RATE_STEP).ceil();
-    if m.is_finite() { (m as usize).clamp(2, MAX_SUBSTEPS) } else { 2 }
+    super::fit::substeps_at(d, h, SEARCH_RATE_STEP)
 }
 
 /// Order of the integration error's amplitude in the substep, as measured on the seed

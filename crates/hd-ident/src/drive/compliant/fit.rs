@@ -200,7 +200,13 @@ pub fn substeps_for(p: &[f64; P], n: f64, h: f64) -> usize {
 
 /// [`substeps_for`] of drive `d`.
 pub fn substeps_of(d: &Compliant<f64>, h: f64) -> usize {
-    ((d.fastest_rate() * h / RATE_STEP).ceil() as usize).clamp(2, 512)
+    substeps_at(d, h, RATE_STEP)
+}
+
+/// Substeps per sample of `h` [s] that keep drive `d`'s fastest rate times the substep at
+/// most `rate_step` [–]: at least 2, at most 512.
+pub(super) fn substeps_at(d: &Compliant<f64>, h: f64, rate_step: f64) -> usize {
+    ((d.fastest_rate() * h / rate_step).ceil() as usize).clamp(2, 512)
 }
 
 /// Scores of one record.
