@@ -75,17 +75,16 @@ fn load_friction_exact_derivatives() {
 /// The load-side drive fitted to a 2 s, 2–200 Hz, 12 V chirp logged as a rig logs it, from
 /// a start 25–30 % off on the motor, the gear, the load's friction and inertia, and TL at
 /// zero (a user who does not know it): residuals at the noise and every parameter reported
-/// as determined within 3 standard errors of the truth; TL is among them. Measured:
-/// residuals 1.02, 0.99 and 0.99 times the noise; TL 0.6000 ± 8.4e-4 N·m (0.04 standard
-/// errors off), Tc 1.1, σ0 1.4, the worst (mem_A) 2.1 standard errors off; Ts named as
-/// not determined (the encoders' rounding), Cz held. (Measured with the integration before
-/// the bristle was carried about the value it relaxes to, in 130 s; with the exact bristle
-/// it crawled past 20 minutes and was ignored. Since the equations' coefficients are fitted
-/// as they are, not by their logarithms, and the passes integrate coarser, it passed in
-/// 253 s on the 2-core machine within the suite, 130 s alone at 61 substeps, the rate rule's
-/// count. At the count the CLI chooses, 21 (error cost 0.002), it passes in 74 s alone, every
-/// parameter within 0.04 standard errors of its distance to the truth at 61, and Ts now
-/// called determined, 0.62 standard errors off.)
+/// as determined within 3 standard errors of the truth; TL is among them. Measured at the
+/// count `hdw fit drive` chooses (21 substeps, integration error cost 0.002): residuals
+/// 1.02, 0.99 and 0.99 times the noise; TL 0.6000 ± 8.6e-4 N·m (0.03 standard errors off),
+/// Tc 1.1, σ0 1.4, the worst (mem_A) 2.05 standard errors off; Ts determined (0.62 off), Cz
+/// held; 74 s alone on the 2-core machine. (At 61 substeps, the unmeasured rate rule's
+/// count, it took 130 s alone and 253 s within the suite, each parameter within 0.04
+/// standard errors of where it ends now, and Ts was named as not determined by the
+/// encoders' rounding. Before the bristle was carried about the value it relaxes to it took
+/// 130 s; with the exact bristle, before the coefficients were fitted as they are and the
+/// passes integrated coarser, it crawled past 20 minutes and was ignored.)
 #[test]
 fn fits_friction_on_the_load_and_its_torque() {
     let (params, truth) = load_side();
