@@ -58,6 +58,16 @@ pub trait Scalar:
     fn abs(self) -> Self {
         if self.re() < 0.0 { -self } else { self }
     }
+    /// self·a + b; for `f64` rounded once where the CPU fuses it ([`crate::fma::fmadd`]).
+    #[inline(always)]
+    fn fmadd(self, a: Self, b: Self) -> Self {
+        self * a + b
+    }
+    /// self·a + b with a plain factor `a`; for `f64` as [`Scalar::fmadd`].
+    #[inline(always)]
+    fn fmadd_f(self, a: f64, b: Self) -> Self {
+        self * a + b
+    }
 }
 
 impl Scalar for f64 {
@@ -78,6 +88,14 @@ impl Scalar for f64 {
     }
     fn lift(value: f64, _parts: &[(f64, Self)]) -> Self {
         value
+    }
+    #[inline(always)]
+    fn fmadd(self, a: f64, b: f64) -> f64 {
+        crate::fma::fmadd(self, a, b)
+    }
+    #[inline(always)]
+    fn fmadd_f(self, a: f64, b: f64) -> f64 {
+        crate::fma::fmadd(self, a, b)
     }
 }
 

@@ -13,6 +13,7 @@
 //! No I/O happens here; everything is `Send + Sync` and the integration allocates nothing
 //! per step.
 
+pub mod balance;
 pub mod closed_loop;
 pub mod compliant;
 pub mod control;

@@ -1,7 +1,9 @@
 //! The assembled drive: motor, gear (stiffness + friction) and load, as an ODE system
 //! with its analytic Jacobian (docs/model.md §2.6).
 
+use crate::balance::{Chain, GearTorques};
 use crate::control::{Controller, CtlEval, Hold};
+use crate::dual::{Dual, Scalar};
 use crate::fma::fmadd;
 use crate::laws::friction::LuGre;
 use crate::laws::friction::{Friction, FrictionEval, FrictionLaw};
@@ -193,25 +195,22 @@ impl DriveSystem {
         y[THETA_J] / self.n - y[THETA]
     }
 
-    /// `(∂v/∂ωj, ∂v/∂ωz)`.
-    fn v_coeffs(&self) -> (f64, f64) {
-        match self.friction_velocity {
-            FrictionVelocity::Motor => (self.inv_n, 0.0),
-            FrictionVelocity::Deflection => (self.inv_n, -1.0),
-            FrictionVelocity::Load => (0.0, 1.0),
+    /// The chain's torque balance ([`crate::balance`]) at this drive's constants.
+    #[inline(always)]
+    fn chain(&self) -> Chain<f64> {
+        Chain {
+            inv_n: self.inv_n,
+            inv_jj: self.inv_jj,
+            inv_jz: self.inv_jz,
+            cj: self.cj,
+            cz: self.cz,
+            friction_velocity: self.friction_velocity,
         }
     }
 
-    /// The share of the friction torque Tf the load feels (+1 across the gear, −1 on the
-    /// load alone) and the share the gear passes to the wave generator (1, or 0 when the
-    /// friction is on the load alone).
-    #[inline(always)]
-    fn friction_shares(&self) -> (f64, f64) {
-        match self.friction_velocity {
-            FrictionVelocity::Motor => (0.0, 1.0),
-            FrictionVelocity::Deflection => (1.0, 1.0),
-            FrictionVelocity::Load => (-1.0, 0.0),
-        }
+    /// `(∂v/∂ωj, ∂v/∂ωz)`.
+    fn v_coeffs(&self) -> (f64, f64) {
+        self.chain().v_coeffs()
     }
 
     /// Evaluate the laws at (t, y).
@@ -221,11 +220,10 @@ impl DriveSystem {
     }
 
     /// The gear's deflection rate θ̇ = ωj/N − ωz and the friction law's sliding speed v
-    /// [rad/s] in state y: the one place the laws' speeds come from.
+    /// [rad/s] in state y ([`Chain::speeds`]).
     #[inline(always)]
     fn gear_speeds(&self, y: &State) -> (f64, f64) {
-        let (a, b) = self.v_coeffs();
-        (fmadd(y[OMEGA_J], self.inv_n, -y[OMEGA_Z]), fmadd(a, y[OMEGA_J], b * y[OMEGA_Z]))
+        self.chain().speeds(y[OMEGA_J], y[OMEGA_Z])
     }
 
     /// Evaluate the laws at (t, y), the friction law by `friction(v, Tb)` (sliding speed
@@ -249,8 +247,8 @@ impl DriveSystem {
         let st = self.stiffness.eval(y[THETA], theta_dot, y[Z], slots(y));
         let fr = friction(v, st.torque);
         let fr_load = self.load_friction(y);
-        let (t_out, ta) = self.gear_torques(st.torque, fr.torque);
-        let t_out = t_out - fr_load.torque;
+        let g = self.chain().gear_torques(st.torque, fr.torque, fr_load.torque);
+        let (t_out, ta) = (g.on_load, g.on_motor);
         let tl = self.load.value(t) + self.tl;
         Parts { u, i, theta_dot, v, st, fr, fr_load, t_out, ta, tl, ctl }
     }
@@ -280,14 +278,6 @@ impl DriveSystem {
         (tb, self.friction.eval_loaded(v, y[W], tb))
     }
 
-    /// The torque on the load and on the wave generator [N·m] from the stiffness torque
-    /// Tb and the friction torque Tf [N·m].
-    #[inline]
-    fn gear_torques(&self, tb: f64, tf: f64) -> (f64, f64) {
-        let (on_load, on_motor) = self.friction_shares();
-        (fmadd(on_load, tf, tb), fmadd(on_motor * tf, self.inv_n, tb * self.inv_n))
-    }
-
     /// The state rates from the laws' values `p` at (t, y).
     #[inline]
     pub(crate) fn rates(&self, y: &State, p: &Parts) -> State {
@@ -303,10 +293,9 @@ impl DriveSystem {
         let (wj, wz) = (y[OMEGA_J], y[OMEGA_Z]);
         *d = State::zeros();
         d[THETA_J] = wj;
-        // The gear's torque, ready last, meets one multiply–add.
-        d[OMEGA_J] = fmadd(-p.ta, self.inv_jj, fmadd(-self.cj, wj, m.torque(p.i)) * self.inv_jj);
+        let g = GearTorques { on_load: p.t_out, on_motor: p.ta };
+        (d[OMEGA_J], d[OMEGA_Z]) = self.chain().accelerations(wj, wz, m.torque(p.i), &g, p.tl);
         d[THETA] = p.theta_dot;
-        d[OMEGA_Z] = fmadd(p.t_out, self.inv_jz, -fmadd(self.cz, wz, p.tl) * self.inv_jz);
         d[Z] = p.st.z_rate;
         d[W] = p.fr.w_rate;
         d[W_LOAD] = p.fr_load.w_rate;
@@ -403,6 +392,7 @@ impl OdeSystem<DIM> for DriveSystem {
 
     fn jacobian(&self, t: f64, y: &State) -> (SMatrix<f64, DIM, DIM>, State) {
         type G = SVector<f64, COUPLED>;
+        type D = Dual<COUPLED>;
         let unit = |k: usize| G::ith(k, 1.0);
         let p = self.parts(t, y);
         // The command's gradient over the coupled states and its explicit time rate: zero
@@ -414,29 +404,47 @@ impl OdeSystem<DIM> for DriveSystem {
         };
         let m = &self.motor;
         let (wj, wz) = (y[OMEGA_J], y[OMEGA_Z]);
-        let (va, vb) = self.v_coeffs();
         let inductive = m.has_inductance();
 
-        // Gradients (over the coupled states) of the intermediate quantities.
-        let g_thd = unit(OMEGA_J) / self.n - unit(OMEGA_Z);
-        let g_v = va * unit(OMEGA_J) + vb * unit(OMEGA_Z);
+        // Gradients (over the coupled states) of the intermediate quantities; the chain's
+        // balance ([`Chain`]) is differentiated by running it on numbers that carry them.
+        let c = self.chain();
+        let dual = |v: f64, g: G| D { v, d: std::array::from_fn(|k| g[k]) };
+        let grad = |x: D| G::from(x.d);
+        let cst = <D as Scalar>::cst;
+        let chain = Chain {
+            inv_n: c.inv_n,
+            inv_jj: cst(c.inv_jj),
+            inv_jz: cst(c.inv_jz),
+            cj: cst(c.cj),
+            cz: cst(c.cz),
+            friction_velocity: c.friction_velocity,
+        };
+        let (wj_d, wz_d) = (dual(wj, unit(OMEGA_J)), dual(wz, unit(OMEGA_Z)));
+        let (thd_d, v_d) = chain.speeds(wj_d, wz_d);
+        let (g_thd, g_v) = (grad(thd_d), grad(v_d));
         let g_tb = p.st.d_theta * unit(THETA) + p.st.d_z * unit(Z);
         let g_tf = p.fr.d_v * g_v + p.fr.d_w * unit(W) + p.fr.d_tb * g_tb;
         let g_i = if inductive { unit(CURRENT) } else { (g_u - m.ke * unit(OMEGA_J)) / m.r };
-        let (on_load, on_motor) = self.friction_shares();
         let g_tf_load = p.fr_load.d_v * unit(OMEGA_Z) + p.fr_load.d_w * unit(W_LOAD);
-        let g_out = g_tb + on_load * g_tf - g_tf_load;
-        let g_ta = (g_tb + on_motor * g_tf) / self.n;
+        let torques = chain.gear_torques(
+            dual(p.st.torque, g_tb),
+            dual(p.fr.torque, g_tf),
+            dual(p.fr_load.torque, g_tf_load),
+        );
+        let motor = dual(m.torque(p.i), m.km * g_i);
+        let (wj_rate, wz_rate) = chain.accelerations(wj_d, wz_d, motor, &torques, cst(p.tl));
+        let (g_out, g_ta) = (grad(torques.on_load), grad(torques.on_motor));
         // ∂(u-dependent terms)/∂t: only the current depends on u directly.
         let di_dt = if inductive { 0.0 } else { du / m.r };
 
         let mut rows: [G; DIM] = [G::zeros(); DIM];
         let mut dfdt = State::zeros();
         rows[THETA_J] = unit(OMEGA_J);
-        rows[OMEGA_J] = (m.km * g_i - self.cj * unit(OMEGA_J) - g_ta) / self.jj;
+        rows[OMEGA_J] = grad(wj_rate);
         dfdt[OMEGA_J] = m.km * di_dt / self.jj;
         rows[THETA] = g_thd;
-        rows[OMEGA_Z] = (g_out - self.cz * unit(OMEGA_Z)) / self.jz;
+        rows[OMEGA_Z] = grad(wz_rate);
         dfdt[OMEGA_Z] = -self.load.rate(t) / self.jz;
         rows[Z] = p.st.z_rate_d_thetadot * g_thd + p.st.z_rate_d_z * unit(Z);
         rows[W] = p.fr.w_rate_d_v * g_v + p.fr.w_rate_d_w * unit(W) + p.fr.w_rate_d_tb * g_tb;

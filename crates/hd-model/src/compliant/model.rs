@@ -38,6 +38,7 @@
 //! runs carrying the exact sensitivities to the parameters.
 
 use crate::FrictionVelocity;
+use crate::balance::Chain;
 use crate::dual::Scalar;
 use crate::laws::bouc_wen::BoucWen;
 use crate::laws::catalogue::{CatalogueCurve, DEFAULT_SMOOTHING};
@@ -122,6 +123,9 @@ pub struct Compliant<T> {
     pub(crate) law_load: Option<LuGre>,
     /// The catalogue curve at the current values, when the gear has it ([`gear_law`]).
     catalogue: Option<CatalogueCurve>,
+    /// The torque balance at the values of Jj, Jz, Cj and Cz (read when the drive is
+    /// made: changing those in `p` afterwards does not reach it).
+    chain: Chain<T>,
 }
 
 impl<T: Scalar> Compliant<T> {
@@ -143,23 +147,27 @@ impl<T: Scalar> Compliant<T> {
                 smoothing: DEFAULT_SMOOTHING,
             })
         });
-        Compliant { p, n, friction_velocity: FrictionVelocity::Motor, law, law_load, catalogue }
+        let fv = FrictionVelocity::Motor;
+        let chain = Chain::new(n, p[JJ], p[JZ], p[CJ], p[CZ], fv);
+        Compliant { p, n, friction_velocity: fv, law, law_load, catalogue, chain }
     }
 
     /// The same drive with its gear's friction law acting where `fv` says.
     pub fn with_friction_velocity(self, fv: FrictionVelocity) -> Self {
-        Compliant { friction_velocity: fv, ..self }
+        let chain = Chain { friction_velocity: fv, ..self.chain };
+        Compliant { friction_velocity: fv, chain, ..self }
+    }
+
+    /// The drive's torque balance ([`crate::balance`]).
+    pub fn chain(&self) -> &Chain<T> {
+        &self.chain
     }
 
     /// The friction law's sliding speed v [rad/s] in state `y`: ωj/N on the wave
-    /// generator, ωz on the load, θ̇ = ωj/N − ωz across the gear.
+    /// generator, ωz on the load, θ̇ = ωj/N − ωz across the gear ([`Chain::speeds`]).
     #[inline(always)]
     pub fn sliding_speed(&self, y: &State<T>) -> T {
-        match self.friction_velocity {
-            FrictionVelocity::Motor => y.omega_j * (1.0 / self.n),
-            FrictionVelocity::Load => y.omega_z,
-            FrictionVelocity::Deflection => y.omega_j * (1.0 / self.n) - y.omega_z,
-        }
+        self.chain.speeds(y.omega_j, y.omega_z).1
     }
 
     /// Armature current at voltage `u` [V] and motor speed ωj [A].
@@ -374,9 +382,7 @@ impl<T: Scalar> Compliant<T> {
     pub fn rates(&self, y: &State<T>, u: f64, o: &[T]) -> State<T> {
         use ix::*;
         let p = &self.p;
-        let inv_n = 1.0 / self.n;
-        let theta_dot = y.omega_j * inv_n - y.omega_z;
-        let v = self.sliding_speed(y);
+        let (theta_dot, v) = self.chain.speeds(y.omega_j, y.omega_z);
         let bouc_wen = p[BW_ALPHA].re() != 0.0;
         let tb = self.gear_torque(y, o);
         let g = self.level(v);
@@ -384,19 +390,14 @@ impl<T: Scalar> Compliant<T> {
         let tf = y.w + p[SIGMA1] * s_rate + p[SIGMA2] * v;
         let i = self.current(u, y.omega_j);
         let (w_load_rate, tf_load) = self.load_friction(y.omega_z, y.w_load);
-        // The friction torque acts on the wave generator through the gear, on the load, or
-        // across the gear on both; the load-side law's on the load.
-        let (on_motor, on_load) = match self.friction_velocity {
-            FrictionVelocity::Motor => (tb + tf, tb),
-            FrictionVelocity::Load => (tb, tb - tf),
-            FrictionVelocity::Deflection => (tb + tf, tb + tf),
-        };
-        let on_load = on_load - tf_load;
+        let g = self.chain.gear_torques(tb, tf, tf_load);
+        let (omega_j, omega_z) =
+            self.chain.accelerations(y.omega_j, y.omega_z, p[KM] * i, &g, p[TL]);
         State {
             theta_j: y.omega_j,
-            omega_j: (p[KM] * i - p[CJ] * y.omega_j - on_motor * inv_n) / p[JJ],
+            omega_j,
             theta: theta_dot,
-            omega_z: (on_load - p[CZ] * y.omega_z - p[TL]) / p[JZ],
+            omega_z,
             z: self.memory_rate(theta_dot, y.z),
             w: p[SIGMA0] * s_rate,
             h: if bouc_wen { self.bouc_wen_rate(theta_dot, y.h) } else { T::cst(0.0) },

@@ -125,7 +125,7 @@ fn rates_held<T: Scalar>(
         Amplifier::Voltage => command / p[ix::R],
         Amplifier::Current => command + p[ix::KE] * y.omega_j / p[ix::R],
     };
-    r.omega_j = r.omega_j + p[ix::KM] * current / p[ix::JJ];
+    r.omega_j = r.omega_j + p[ix::KM] * current * d.chain().inv_jj;
     r
 }
 
