@@ -14,7 +14,7 @@
 //! configuration's. Scale mistakes of the current and the command are checked before the
 //! fit ([`super::scale_check`]).
 
-use super::fit::{CompliantFit, CompliantSpec, Signal, fit_stage};
+use super::fit::{CompliantFit, CompliantSpec, Signal, optimise};
 use super::model::ix::*;
 use super::passes::pass;
 use super::record::{Between, VoltageRecord};
@@ -39,7 +39,7 @@ struct Trial {
 /// cannot be fitted.
 fn cost(spec: &CompliantSpec, records: &[VoltageRecord]) -> Option<f64> {
     let quiet = |_: usize, _: f64| {};
-    fit_stage(spec, records, &quiet).ok().map(|f| f.cost)
+    optimise(spec, records, &quiet).ok().map(|f| f.cost)
 }
 
 /// Sentences naming the likely causes of `best`'s misfit under `spec` on `records`: the

@@ -1,7 +1,7 @@
 //! The motor and load passes of the compliant fit ([`super::stages`], steps 1 and 2): the
 //! cheap fits on one side of the gear at a time that choose the full fits' starts.
 
-use super::fit::{CompliantSpec, Report, Signal, fit_stage};
+use super::fit::{CompliantSpec, Report, Signal, optimise};
 use super::model::{P, has_load_law, ix::*};
 use super::record::VoltageRecord;
 use crate::lm::LmOptions;
@@ -60,7 +60,7 @@ pub(super) fn staged_starts(
     let coarse = CompliantSpec { substeps: pass_substeps(spec, records), ..spec.clone() };
     let spec = &coarse;
     let motor = start_pass(spec, motor_set, first_outputs, spec.start);
-    let values = fit_stage(&motor, records, &|it, c| report("motor pass", it, c))
+    let values = optimise(&motor, records, &|it, c| report("motor pass", it, c))
         .map_or(spec.start, |f| f.values);
     let load_outputs: Vec<_> =
         spec.outputs.iter().filter(|(s, _)| *s == Signal::Load).cloned().collect();
@@ -152,7 +152,7 @@ fn kept_ends(
             } else {
                 format!("start with the stiffness × {g}")
             };
-            fit_stage(&s, records, &|it, c| report(&stage, it, c)).ok().map(|f| (f.cost, f.values))
+            optimise(&s, records, &|it, c| report(&stage, it, c)).ok().map(|f| (f.cost, f.values))
         })
         .collect();
     tried.sort_by(|a, b| a.0.total_cmp(&b.0));

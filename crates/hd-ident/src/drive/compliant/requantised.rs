@@ -16,7 +16,7 @@
 //! or more is set by the rounding more than by the record's information: the spread becomes
 //! its standard error, and a sentence says so.
 
-use super::fit::{CompliantFit, CompliantSpec, Report, Signal, fit_stage, simulate_on_zeros};
+use super::fit::{CompliantFit, CompliantSpec, Report, Signal, optimise, simulate_on_zeros};
 use super::model::{NAMES, P};
 use super::record::VoltageRecord;
 use crate::lm::LmOptions;
@@ -162,7 +162,7 @@ pub fn rounding_spread(
                 .map(|(k, r)| redrawn(spec, &fit.values, r, k, &mut draws))
                 .collect();
             let stage = format!("rounding check: refit {} of {REPLICATES}", j + 1);
-            let f = fit_stage(&refit, &recs, &|it, c| report(&stage, it, c)).ok()?;
+            let f = optimise(&refit, &recs, &|it, c| report(&stage, it, c)).ok()?;
             Some(f.values)
         })
         .collect();
