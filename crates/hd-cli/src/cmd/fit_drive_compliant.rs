@@ -390,6 +390,9 @@ pub fn run(args: &DriveArgs, text: &str) -> Result<()> {
         })
         .remove(0)
     });
+    if let Some(v) = &validation_scores {
+        hd_ident::drive::compliant::determined::doubt_from_validation(&mut fit, v);
+    }
     let outcome = Outcome {
         config: file,
         spec,

@@ -7,7 +7,7 @@
 //! record sees Cz/Jz and the resonance); the spring and the memory are reported together,
 //! as the load's resonance and the stiffness there.
 
-use super::fit::{CompliantFit, Signal};
+use super::fit::{CompliantFit, RecordScore, Signal};
 use super::model::{NAMES, P, gear_law, ix};
 use hd_model::HystLaw;
 
@@ -290,6 +290,63 @@ pub fn misfit_sentences(fit: &CompliantFit, given: impl Fn(Signal) -> bool) -> V
         }
     }
     out
+}
+
+/// Put `fit` in doubt where it calls every free parameter determined and still misses a
+/// validation record's noise: each output of `validation` whose residuals stay above
+/// [`MISFIT_RATIO`] times its level while the fitted records' stay at or below it. A drive
+/// the records pin down in every direction predicts any record of it within its standard
+/// errors, so such a miss is a local optimum (or a model that lacks what the validation
+/// record shows), not an input the records did not excite: that one leaves a parameter
+/// undetermined, and then this rule does not speak. Returns the sentences added (the first
+/// of the determination's, and `fit.doubt`).
+pub fn doubt_from_validation(fit: &mut CompliantFit, validation: &RecordScore) -> Vec<String> {
+    // Every parameter with a standard error determined, none held for want of one (a
+    // symmetric law's negative-side levels follow its own and carry no verdict).
+    let all_determined = fit.held.is_empty()
+        && (0..NAMES.len())
+            .filter(|&k| fit.free[k] && fit.std_errors[k].is_some())
+            .all(|k| fit.determined[k]);
+    if !fit.doubt.is_empty() || !all_determined {
+        return Vec::new();
+    }
+    let fitted = |o: Signal| {
+        fit.scores
+            .iter()
+            .filter_map(|s| s.outputs.iter().find(|x| x.0 == o).map(|x| x.3))
+            .fold(0.0, f64::max)
+    };
+    let missed: Vec<(Signal, f64)> = validation
+        .outputs
+        .iter()
+        .filter(|(o, _, _, ratio)| *ratio > MISFIT_RATIO && fitted(*o) <= MISFIT_RATIO)
+        .map(|(o, _, _, ratio)| (*o, *ratio))
+        .collect();
+    let list = |f: &dyn Fn(&(Signal, f64)) -> String| {
+        let items: Vec<String> = missed.iter().map(f).collect();
+        match items.len() {
+            0 | 1 => items.concat(),
+            n => format!("{} and {}", items[..n - 1].join(", "), items[n - 1]),
+        }
+    };
+    let added: Vec<String> = if missed.is_empty() {
+        Vec::new()
+    } else {
+        vec![format!(
+            "Every free parameter is called determined by the fitted records, yet the fit predicts the validation record's {} at {} times the noise (the fitted records' at {}): a drive the records pin down would predict it within its standard errors. The fit has likely ended at a local optimum (or the model lacks what the validation record shows), so every value below is in doubt; try other starts, or fit the validation record with the others.",
+            list(&|(o, _)| o.name().to_string()),
+            list(&|(_, r)| format!("{r:.2}")),
+            list(&|(o, _)| format!("{:.2}", fitted(*o))),
+        )]
+    };
+    if !added.is_empty() {
+        let d = &mut fit.determination;
+        d.sentences.retain(|s| !s.starts_with("Every free parameter is determined"));
+        d.sentences.splice(0..0, added.iter().cloned());
+        d.all_determined = false;
+        fit.doubt.extend(added.iter().cloned());
+    }
+    added
 }
 
 /// `v ± se` with as many decimals as the standard error's two significant digits need, or

@@ -182,11 +182,27 @@ pub fn fit_compliant(
         let best_cost = best.cost;
         let mut kept_held = false;
         let progress = |it, c| report("bounds: refit with the bounded parameters held", it, c);
+        let mut freed_again = false;
         if let Ok(mut alt) = settle(&held, start, records, &progress) {
             spent += alt.iterations;
             failed += alt.failed_trials;
             alt.free = used.free;
             alt.held.extend(bounded.iter().copied());
+            // A fit with more parameters free can always do at least as well as one it
+            // contains: a full fit that ended above the held refit was stuck on its way
+            // (a bound it ran into, a ridge), not at an optimum. It runs once more from the
+            // held refit's end with everything free, and that end replaces it where lower.
+            if alt.cost < best.cost {
+                let progress = |it, c| report("bounds: full fit again from the held refit", it, c);
+                if let Ok(again) = settle(used, alt.values, records, &progress) {
+                    spent += again.iterations;
+                    failed += again.failed_trials;
+                    if again.cost < best.cost {
+                        ok.push(std::mem::replace(&mut best, again));
+                        freed_again = true;
+                    }
+                }
+            }
             gap = alt.cost - best.cost;
             let dof = (best.n as f64 - best.free.iter().filter(|&&f| f).count() as f64).max(1.0);
             let price = bounded.len() as f64 * (best.n as f64).ln() * best.cost / dof;
@@ -196,7 +212,15 @@ pub fn fit_compliant(
             }
             ok.push(alt);
         }
+        let still = on_bound(used, &best);
         for (&k, v) in bounded.iter().zip(at_bound) {
+            if freed_again && !kept_held && !still.contains(&k) {
+                best.determination.sentences.push(format!(
+                    "{} ran to its bound ({v:.4e}) in the first full fits, which ended above a refit with it held at its start value {:.4e}; the full fit run again from that refit's end, with it free, ends lower (cost {:.4e}, first {best_cost:.4e}) with {} at {:.4e}, off its bound.",
+                    NAMES[k], used.start[k], best.cost, NAMES[k], best.values[k]
+                ));
+                continue;
+            }
             best.determined[k] = false;
             let verdict = if kept_held {
                 "the record does not justify freeing it (BIC), so it is held there"

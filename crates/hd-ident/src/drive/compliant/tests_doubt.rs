@@ -167,3 +167,53 @@ fn the_directional_fit_never_ends_above_the_symmetric_one() {
         assert!(d.cost <= s_here * (1.0 + 1e-9), "factor {factor}: {} > {s_here}", d.cost);
     }
 }
+
+/// A fit that calls every free parameter determined is judged by a validation record too
+/// (determined::doubt_from_validation): scored on the record it was fitted to it stays out
+/// of doubt; scored on a record of a drive whose friction levels are twice its own (which
+/// no drive these values describe would produce) it is put in doubt, that said first.
+#[test]
+fn a_determined_fit_that_misses_its_validation_is_in_doubt() {
+    use super::determined::doubt_from_validation;
+    use super::fit::score_records;
+    let truth = seed();
+    let (rec, outputs) = held_record(&truth, CurrentSampled::After);
+    // Ts held at the truth: this short chirp leaves it undetermined.
+    let mut spec = spec_for(&truth, outputs, Between::Hold);
+    for k in [TS, TS_NEG] {
+        spec.free[k] = false;
+        spec.start[k] = truth[TS];
+    }
+    let f = fit(&spec, &rec);
+    assert_right(&f);
+    let free: Vec<usize> = (0..P).filter(|&k| f.free[k] && f.std_errors[k].is_some()).collect();
+    let named: Vec<_> = free.iter().map(|&k| (super::model::NAMES[k], f.determined[k])).collect();
+    assert!(
+        free.iter().all(|&k| f.determined[k]) && f.held.is_empty(),
+        "{named:?}, held {:?}",
+        f.held
+    );
+    let level =
+        |o: Signal, _: usize| spec.outputs.iter().find(|x| x.0 == o).map_or(1.0, |x| x.1[0]);
+    let score_on = |r: &VoltageRecord| {
+        score_records(&spec, &f.values, std::slice::from_ref(r), &level).remove(0)
+    };
+    let mut same = f.clone();
+    assert!(doubt_from_validation(&mut same, &score_on(&rec)).is_empty());
+    assert!(same.doubt.is_empty());
+    let mut other = truth;
+    for k in [TC, TS, TC_NEG, TS_NEG] {
+        other[k] *= 2.0;
+    }
+    let (elsewhere, _) = held_record(&other, CurrentSampled::After);
+    let judged = score_on(&elsewhere);
+    for (o, _, _, ratio) in &judged.outputs {
+        println!("validation {}: ratio {ratio:.2}", o.name());
+    }
+    let mut missed = f.clone();
+    let added = doubt_from_validation(&mut missed, &judged);
+    assert_eq!(added.len(), 1, "{added:?}");
+    assert_eq!(missed.doubt, added);
+    assert!(missed.determination.sentences[0].starts_with("Every free parameter is called"));
+    assert!(!missed.determination.all_determined);
+}
