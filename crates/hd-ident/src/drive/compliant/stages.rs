@@ -180,6 +180,8 @@ pub fn fit_compliant(
         }
         let mut gap = f64::NAN;
         let best_cost = best.cost;
+        // The free fit the held one is weighed against (the first, or its run again).
+        let mut free_cost = best_cost;
         let mut kept_held = false;
         let progress = |it, c| report("bounds: refit with the bounded parameters held", it, c);
         let mut freed_again = false;
@@ -204,6 +206,7 @@ pub fn fit_compliant(
                 }
             }
             gap = alt.cost - best.cost;
+            free_cost = best.cost;
             let dof = (best.n as f64 - best.free.iter().filter(|&&f| f).count() as f64).max(1.0);
             let price = bounded.len() as f64 * (best.n as f64).ln() * best.cost / dof;
             if gap < price {
@@ -229,7 +232,7 @@ pub fn fit_compliant(
             };
             best.determination.sentences.push(format!(
                 "{} ran to its bound ({v:.4e}); held at its start value {:.4e} instead, the fit's cost changes by {gap:+.3e} ({:+.2} % of the best fit's {:.4e}): {verdict}.",
-                NAMES[k], used.start[k], 100.0 * gap / best_cost, best_cost
+                NAMES[k], used.start[k], 100.0 * gap / free_cost, free_cost
             ));
         }
     }
