@@ -27,6 +27,7 @@ pub mod sentences;
 pub mod simulate;
 pub mod split;
 pub mod stages;
+pub mod structured;
 /// What the generic assembly can stand for (hd-model's).
 pub use hd_model::compliant::supported;
 pub mod synth_loop;

@@ -250,7 +250,10 @@ pub fn fit_compliant(
     };
     let has_current = used.outputs.iter().any(|(o, _)| *o == Signal::Current);
     super::sentences::group_pairs(&mut best.determination.sentences, has_current);
-    let misfit = super::determined::misfit_sentences(&best, given);
+    let mut misfit = super::determined::misfit_sentences(&best, given);
+    if misfit.is_empty() {
+        misfit = super::structured::structured_misfit(used, &best, records);
+    }
     if !misfit.is_empty() {
         let mut doubt = misfit;
         report("misfit diagnosis: fitting the alternatives", 0, f64::NAN);

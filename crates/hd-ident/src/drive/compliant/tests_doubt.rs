@@ -217,3 +217,32 @@ fn a_determined_fit_that_misses_its_validation_is_in_doubt() {
     assert!(missed.determination.sentences[0].starts_with("Every free parameter is called"));
     assert!(!missed.determination.all_determined);
 }
+
+/// Model error the input explains (structured::structured_misfit): at the fitted values of a
+/// rightly configured record the residuals are at the noise and nothing is said; at those
+/// values with the motor inertia 0.2 % off, the load's residuals are 1.25 times its noise
+/// (below the doubt ratio of 1.5) and follow the voltage, and the output is named.
+#[test]
+fn residuals_that_follow_the_voltage_are_named() {
+    use super::fit::score_records;
+    use super::structured::structured_misfit;
+    let truth = seed();
+    let (rec, outputs) = held_record(&truth, CurrentSampled::After);
+    let spec = spec_for(&truth, outputs, Between::Hold);
+    let f = fit(&spec, &rec);
+    assert_right(&f);
+    let records = std::slice::from_ref(&rec);
+    assert!(structured_misfit(&spec, &f, records).is_empty());
+    let level =
+        |o: Signal, _: usize| spec.outputs.iter().find(|x| x.0 == o).map_or(1.0, |x| x.1[0]);
+    let mut off = f.clone();
+    off.values[JJ] *= 1.002;
+    off.scores = score_records(&spec, &off.values, records, &level);
+    for (o, _, _, ratio) in &off.scores[0].outputs {
+        println!("{}: ratio {ratio:.2}", o.name());
+    }
+    let said = structured_misfit(&spec, &off, records);
+    println!("{said:?}");
+    assert!(!said.is_empty());
+    assert!(said.iter().all(|s| s.contains("the residuals follow the voltage")));
+}
