@@ -208,11 +208,6 @@ impl DriveSystem {
         }
     }
 
-    /// `(∂v/∂ωj, ∂v/∂ωz)`.
-    fn v_coeffs(&self) -> (f64, f64) {
-        self.chain().v_coeffs()
-    }
-
     /// Evaluate the laws at (t, y).
     #[inline]
     pub fn parts(&self, t: f64, y: &State) -> Parts {
@@ -508,7 +503,7 @@ impl OdeSystem<DIM> for DriveSystem {
         // only the load-side law, that is where the load reverses; with both, the gear law's
         // kink is located and the load law's is left to error control.
         let (a, b) = if self.friction.has_state() {
-            self.v_coeffs()
+            self.chain().v_coeffs()
         } else if self.friction_load.is_some() {
             (0.0, 1.0)
         } else {

@@ -12,6 +12,7 @@ pub mod creeping;
 pub mod determined;
 pub mod diagnose;
 pub mod fit;
+pub mod jacobian;
 pub mod loop_config;
 /// The drive's generic assembly (hd-model's).
 pub use hd_model::compliant::model;
