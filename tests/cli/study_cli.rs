@@ -227,3 +227,20 @@ fn study_file_errors_name_file_line_and_key() {
         }
     }
 }
+
+/// Without `--threads`, a study runs on RAYON_NUM_THREADS threads where the environment sets
+/// it (a job script's, a user sharing the machine), as its first line says.
+#[test]
+fn a_study_without_threads_follows_rayon_num_threads() {
+    let dir = scratch("rayon-threads");
+    let file = write_study(&dir, SMALL);
+    let out_dir = dir.join("out");
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_hdw"))
+        .args(["study", file.to_str().unwrap(), "--out", out_dir.to_str().unwrap()])
+        .env("RAYON_NUM_THREADS", "1")
+        .output()
+        .unwrap();
+    ok(&out);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains(" on 1 threads"), "{err}");
+}

@@ -160,3 +160,14 @@ impl EarlierOutputs {
         removed
     }
 }
+
+/// Worker threads when `--threads` is not given: `RAYON_NUM_THREADS` where the environment
+/// sets it (as batch schedulers' job scripts and users do to share a machine), else every
+/// core. Rayon's global pool reads the variable the same way.
+pub fn default_threads() -> usize {
+    std::env::var("RAYON_NUM_THREADS")
+        .ok()
+        .and_then(|v| v.trim().parse::<usize>().ok())
+        .filter(|&n| n > 0)
+        .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()))
+}

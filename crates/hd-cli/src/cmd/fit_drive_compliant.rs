@@ -361,13 +361,7 @@ pub fn run(args: &DriveArgs, text: &str) -> Result<()> {
     if let Some(secs) = accuracy_secs {
         fit.stage_seconds.insert(0, ("substeps chosen (integration accuracy check)", secs));
     }
-    if !doubt.is_empty() {
-        let d = &mut fit.determination;
-        d.sentences.retain(|s| !s.starts_with("Every free parameter is determined"));
-        d.sentences.splice(0..0, doubt.iter().cloned());
-        d.all_determined = false;
-        fit.doubt.splice(0..0, doubt);
-    }
+    hd_ident::drive::compliant::determined::put_in_doubt(&mut fit, doubt);
     let secs = t0.elapsed().as_secs_f64();
     bar.finish_and_clear();
     // The noise levels the fit ended with (estimated ones replaced by the residuals' RMS).

@@ -135,7 +135,7 @@ pub struct FleetArgs {
     /// one part's work.
     #[arg(long, value_name = "N", default_value_t = 0)]
     pub part_logs: usize,
-    /// Worker threads (default: all cores).
+    /// Worker threads (default: RAYON_NUM_THREADS where set, else all cores).
     #[arg(long, value_name = "N")]
     pub threads: Option<usize>,
     #[command(flatten)]
@@ -347,8 +347,7 @@ pub fn run(args: FleetArgs) -> Result<()> {
     let (k, n) = shard.unwrap_or((1, 1));
     let todo: Vec<&LogSpec> =
         plan.logs.iter().filter(|l| l.index % n == k - 1 && !done.contains(&l.index)).collect();
-    let threads =
-        args.threads.unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()));
+    let threads = args.threads.unwrap_or_else(crate::cmd::common::default_threads);
     // Large stacks: the fits run rayon inside (the grid search), and a worker blocked
     // there may steal further logs onto its own stack.
     let pool = rayon::ThreadPoolBuilder::new()

@@ -28,7 +28,7 @@ pub struct StudyArgs {
     /// Output folder (default out/<study name>).
     #[arg(long, value_name = "DIR")]
     pub out: Option<PathBuf>,
-    /// Worker threads (default: all cores).
+    /// Worker threads (default: RAYON_NUM_THREADS where set, else all cores).
     #[arg(long, value_name = "N")]
     pub threads: Option<usize>,
     /// Continue an interrupted sweep in DIR: runs already committed are not run again.
@@ -129,8 +129,7 @@ pub fn run(args: StudyArgs) -> Result<()> {
         if args.resume { committed(&mut store, &plan, k, n, &dir)? } else { Done::default() };
     write_study_json(&dir, &plan, shard_kn)?;
 
-    let threads =
-        args.threads.unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()));
+    let threads = args.threads.unwrap_or_else(crate::cmd::common::default_threads);
     let pool =
         rayon::ThreadPoolBuilder::new().num_threads(threads).build().context("thread pool")?;
     let todo = planned - done.count;

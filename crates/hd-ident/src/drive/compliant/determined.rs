@@ -339,14 +339,22 @@ pub fn doubt_from_validation(fit: &mut CompliantFit, validation: &RecordScore) -
             list(&|(o, _)| format!("{:.2}", fitted(*o))),
         )]
     };
-    if !added.is_empty() {
-        let d = &mut fit.determination;
-        d.sentences.retain(|s| !s.starts_with("Every free parameter is determined"));
-        d.sentences.splice(0..0, added.iter().cloned());
-        d.all_determined = false;
-        fit.doubt.extend(added.iter().cloned());
-    }
+    put_in_doubt(fit, added.clone());
     added
+}
+
+/// Put `fit` in doubt for `reasons`, said first: before its other reasons and before every
+/// sentence of what the records determine (which then no longer says all are). Nothing
+/// changes when `reasons` is empty.
+pub fn put_in_doubt(fit: &mut CompliantFit, reasons: Vec<String>) {
+    if reasons.is_empty() {
+        return;
+    }
+    let d = &mut fit.determination;
+    d.sentences.retain(|s| !s.starts_with("Every free parameter is determined"));
+    d.sentences.splice(0..0, reasons.iter().cloned());
+    d.all_determined = false;
+    fit.doubt.splice(0..0, reasons);
 }
 
 /// `v ± se` with as many decimals as the standard error's two significant digits need, or

@@ -258,11 +258,7 @@ pub fn fit_compliant(
         let mut doubt = misfit;
         report("misfit diagnosis: fitting the alternatives", 0, f64::NAN);
         doubt.extend(super::diagnose::diagnose(used, records, &best));
-        let d = &mut best.determination;
-        d.sentences.retain(|s| !s.starts_with("Every free parameter is determined"));
-        d.sentences.splice(0..0, doubt.iter().cloned());
-        d.all_determined = false;
-        best.doubt = doubt;
+        super::determined::put_in_doubt(&mut best, doubt);
         clock.lap("misfit diagnosis", true);
     }
     best.stage_seconds = clock.done;
