@@ -7,7 +7,7 @@ use super::fit_drive::DriveArgs;
 use super::fit_drive_compliant_out::{Outcome, write_outputs};
 use anyhow::{Context, Result};
 use hd_ident::drive::compliant::accuracy::{
-    ACCURACY_COST, accurate_substeps, first_substeps, integration_error,
+    ACCURACY_COST, accurate_substeps, first_substeps, integration_error, raised_substeps,
 };
 use hd_ident::drive::compliant::config::VoltageExperimentConfig;
 use hd_ident::drive::compliant::fit::{CompliantSpec, score_records};
@@ -335,7 +335,8 @@ pub fn run(args: &DriveArgs, text: &str) -> Result<()> {
     // Over the budget, or not measurable (a run that fails at the fitted values).
     let over = err.partial_cmp(&ACCURACY_COST) != Some(std::cmp::Ordering::Less);
     let spec = if over && cfg.substeps.is_none() {
-        let (m, raised) = accurate_substeps(&at_fit, &records);
+        // The error at the first count is the one just measured.
+        let (m, raised) = raised_substeps(&at_fit, &records, Some(err));
         let before = spec.substeps;
         let again = CompliantSpec { substeps: m, ..at_fit };
         let mut refit = fit_compliant(&again, &records, &progress)

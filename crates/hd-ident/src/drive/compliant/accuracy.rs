@@ -65,12 +65,25 @@ pub fn integration_error(spec: &CompliantSpec, records: &[VoltageRecord]) -> f64
 /// stability at the start values: a rate the floor's estimate does not see) is doubled.
 /// Stops at [`MAX_SUBSTEPS`].
 pub fn accurate_substeps(spec: &CompliantSpec, records: &[VoltageRecord]) -> (usize, f64) {
+    raised_substeps(spec, records, None)
+}
+
+/// [`accurate_substeps`] where the error at `spec.substeps` may already be known
+/// (`measured`, from [`integration_error`] at the same values and count): it is not run
+/// again, and the counts tried and the result are the same.
+pub fn raised_substeps(
+    spec: &CompliantSpec,
+    records: &[VoltageRecord],
+    mut measured: Option<f64>,
+) -> (usize, f64) {
     let mut m = spec.substeps.max(1);
     loop {
         if 2 * m > MAX_SUBSTEPS {
             return (m.min(MAX_SUBSTEPS), f64::NAN);
         }
-        let err = integration_error(&CompliantSpec { substeps: m, ..spec.clone() }, records);
+        let err = measured.take().unwrap_or_else(|| {
+            integration_error(&CompliantSpec { substeps: m, ..spec.clone() }, records)
+        });
         if !err.is_finite() {
             m *= 2;
             continue;
