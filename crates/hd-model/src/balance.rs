@@ -111,6 +111,21 @@ impl<T: Scalar> Chain<T> {
     }
 }
 
+impl Chain<f64> {
+    /// The same chain in number type `U`, its constants carrying no derivatives (to
+    /// differentiate the balance along the states only).
+    pub fn as_constants<U: Scalar>(&self) -> Chain<U> {
+        Chain {
+            inv_n: self.inv_n,
+            inv_jj: U::cst(self.inv_jj),
+            inv_jz: U::cst(self.inv_jz),
+            cj: U::cst(self.cj),
+            cz: U::cst(self.cz),
+            friction_velocity: self.friction_velocity,
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

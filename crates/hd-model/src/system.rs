@@ -403,18 +403,10 @@ impl OdeSystem<DIM> for DriveSystem {
 
         // Gradients (over the coupled states) of the intermediate quantities; the chain's
         // balance ([`Chain`]) is differentiated by running it on numbers that carry them.
-        let c = self.chain();
+        let chain: Chain<D> = self.chain().as_constants();
         let dual = |v: f64, g: G| D { v, d: std::array::from_fn(|k| g[k]) };
         let grad = |x: D| G::from(x.d);
         let cst = <D as Scalar>::cst;
-        let chain = Chain {
-            inv_n: c.inv_n,
-            inv_jj: cst(c.inv_jj),
-            inv_jz: cst(c.inv_jz),
-            cj: cst(c.cj),
-            cz: cst(c.cz),
-            friction_velocity: c.friction_velocity,
-        };
         let (wj_d, wz_d) = (dual(wj, unit(OMEGA_J)), dual(wz, unit(OMEGA_Z)));
         let (thd_d, v_d) = chain.speeds(wj_d, wz_d);
         let (g_thd, g_v) = (grad(thd_d), grad(v_d));
